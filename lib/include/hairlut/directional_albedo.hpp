@@ -1,0 +1,41 @@
+// Energy of the full model: the directional albedo (white-furnace energy)
+//   E(θi) = ∫_{−π/2}^{π/2} ∫_{−π}^{π} Σ_p M_p(θi, θr) N_p(φ; θd) cos θr dφ dθr
+//         = Σ_p ∫ M_p(v_p, θi, θr − α_p) e_p(θd) cos θr dθr,   θd = (θr − θi)/2,
+// which is 1 for σa = 0 with every lobe included, the same roughness everywhere and no tilt
+// (d'Eon 2011 §4); and the energy of the longitudinal functions alone.
+#pragma once
+
+#include <vector>
+
+#include "hairlut/hair_model.hpp"
+#include "hairlut/longitudinal_mp.hpp"
+#include "hairlut/quadrature.hpp"
+
+namespace hairlut {
+
+/// E(θi) in total and per lobe (explicit lobes, then the residual if the model has one).
+struct AlbedoResult {
+  double theta_i = 0.0;
+  double total = 0.0;
+  std::vector<double> per_lobe;
+  double error = 0.0;      ///< estimated absolute quadrature error of total
+  bool converged = false;  ///< the θr integral met its tolerance
+};
+
+/// E(θi) for θi in [−π/2, π/2]: adaptive Gauss–Kronrod over θr (split at each lobe's specular cone
+/// and tilt fold) of M_p · e_p(θd) · cos θr, the lobe energies e_p by Gauss–Legendre of
+/// energy_order nodes in γ. Throws DomainError for an invalid model or θi.
+AlbedoResult directional_albedo(const HairModel& model, double theta_i, double rel_tol = 1e-11,
+                                int energy_order = 128);
+
+/// ∫_{−π/2}^{π/2} M(v, θi, θr − α) cos θr dθr for d'Eon's M_p (1 without tilt; tilted lobes lose or
+/// gain energy near grazing). Adaptive to rel_tol; converged in the result.
+AdaptiveResult longitudinal_energy_deon(double v, double alpha, double theta_i, double rel_tol = 1e-12);
+
+/// ∫_{−π/2}^{π/2} M_G(β; θi, θr) cos²θr dθr for Marschner's Gaussian with 1/cos²θd (the
+/// reciprocal-problem energy of d'Eon 2011 eq. 5 with N_R integrating to 1): near 2 for small β
+/// with the θh argument, near 1 with 2θh; not 1 in general.
+AdaptiveResult longitudinal_energy_gaussian(double beta, double alpha, double theta_i, GaussianArgument argument,
+                                            double rel_tol = 1e-12);
+
+}  // namespace hairlut

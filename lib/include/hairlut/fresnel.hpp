@@ -1,0 +1,38 @@
+// Exact unpolarized dielectric Fresnel reflectance and the Bravais indices of a circular fiber.
+#pragma once
+
+#include <cmath>
+
+namespace hairlut {
+
+/// Unpolarized Fresnel reflectance F(η, cos θi) of a smooth dielectric interface, for light
+/// arriving at angle θi in a medium of index n_i on a medium of index n_t, with η = n_t / n_i:
+///   F = ½ (r_s² + r_p²),  r_s = (cos θi − η cos θt)/(cos θi + η cos θt),
+///   r_p = (η cos θi − cos θt)/(η cos θi + cos θt),  η² sin²θt = sin²θi   (Snell).
+/// Total internal reflection (η < 1 and sin θi > η) gives 1.
+/// Domain: η > 0, cos θi in [0, 1]. Result in [0, 1]; F(η, 0) = 1.
+double fresnel_reflectance(double eta, double cos_theta_i);
+
+/// 1 − F(η, cos θi), evaluated without cancellation (accurate when F is close to 1):
+///   1 − r_s² = 4η cos θi cos θt / (cos θi + η cos θt)²,  1 − r_p² = 4η cos θi cos θt / (η cos θi + cos θt)².
+/// Same domain as fresnel_reflectance; result in [0, 1].
+double fresnel_transmittance(double eta, double cos_theta_i);
+
+/// η² − sin²θd for a fiber of index η, evaluated as (η − 1)(η + 1) + cos²θd so that it keeps its
+/// digits for η close to 1 and θd close to π/2.
+inline double eta_squared_minus_sin2(double eta, double cos_theta_d) {
+  return (eta - 1.0) * (eta + 1.0) + cos_theta_d * cos_theta_d;
+}
+
+/// Bravais index for the azimuthal (normal-plane) problem: η' = √(η² − sin²θd) / cos θd.
+/// Domain: η > 1, θd in [−π/2, π/2]; returns +∞ at |θd| = π/2 (use inverse_bravais_eta_prime there).
+double bravais_eta_prime(double eta, double theta_d);
+
+/// 1/η' = cos θd / √(η² − sin²θd); finite on the whole domain (0 at |θd| = π/2).
+double inverse_bravais_eta_prime(double eta, double theta_d);
+
+/// Bravais index for the polarization-mixing Fresnel factor of Marschner 2003:
+/// η'' = η² cos θd / √(η² − sin²θd). Domain: η > 1, θd in [−π/2, π/2]; 0 at |θd| = π/2.
+double bravais_eta_double_prime(double eta, double theta_d);
+
+}  // namespace hairlut

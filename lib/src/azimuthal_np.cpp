@@ -1,0 +1,149 @@
+#include "hairlut/azimuthal_np.hpp"
+
+#include <algorithm>
+#include <boost/math/tools/roots.hpp>
+#include <boost/math/tools/toms748_solve.hpp>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "hairlut/angles.hpp"
+#include "hairlut/error.hpp"
+#include "hairlut/gaussian_detector.hpp"
+
+namespace hairlut {
+namespace {
+
+void check_np_args(int p, double beta, double phi) {
+  if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
+  require_positive("beta", beta);
+  if (!std::isfinite(phi)) throw_domain_error("phi", "must be finite", phi);
+}
+
+// ½ A(p) cos γ [D(φ − Φ) + D(φ + Φ)] at γ in [0, π/2]: the integrand of N_p folded onto h ≥ 0.
+double folded_integrand(const AttenuationSlice& slice, int p, double beta, double phi, double gamma) {
+  const PathPoint q = slice.at_gamma(gamma);
+  const double a = q.attenuation(p);
+  if (a == 0.0) return 0.0;
+  const double Phi = q.exit_azimuth(p);
+  return 0.5 * a * q.cos_gamma_i * (gaussian_detector(beta, phi - Phi) + gaussian_detector(beta, phi + Phi));
+}
+
+// Φ(p, γ) for the geometry, unwrapped.
+double exit_azimuth_at(const FiberGeometry& g, int p, double gamma) {
+  return exit_azimuth(p, gamma, std::asin(std::sin(gamma) * g.inv_eta_prime));
+}
+
+}  // namespace
+
+std::string_view to_string(IntegrationVariable v) { return v == IntegrationVariable::gamma ? "gamma" : "h"; }
+
+IntegrationVariable parse_integration_variable(std::string_view text, std::string_view what) {
+  if (text == "gamma") return IntegrationVariable::gamma;
+  if (text == "h") return IntegrationVariable::h;
+  throw DomainError(std::string(what) + " must be \"gamma\" or \"h\" (got \"" + std::string(text) + "\")");
+}
+
+double azimuthal_np(const AttenuationSlice& slice, int p, double beta, double phi, const GaussLegendreRule& rule,
+                    IntegrationVariable variable) {
+  check_np_args(p, beta, phi);
+  const auto x = rule.nodes();
+  const auto w = rule.weights();
+  const std::size_t n = x.size();
+  // Nodes n/2 … n−1 are the non-negative ones; an odd rule's centre node counts half in the pair.
+  double sum = 0.0;
+  for (std::size_t i = n / 2; i < n; ++i) {
+    const bool centre = (n % 2 == 1) && i == n / 2;
+    double value;
+    if (variable == IntegrationVariable::gamma) {
+      value = kHalfPi * folded_integrand(slice, p, beta, phi, kHalfPi * x[i]);  // dh = cos γ dγ inside
+    } else {
+      const PathPoint q = slice.at_h(x[i]);
+      const double a = q.attenuation(p);
+      const double Phi = q.exit_azimuth(p);
+      value = a == 0.0 ? 0.0 : 0.5 * a * (gaussian_detector(beta, phi - Phi) + gaussian_detector(beta, phi + Phi));
+    }
+    sum += (centre ? 0.5 : 1.0) * w[i] * value;
+  }
+  return sum;
+}
+
+AdaptiveResult azimuthal_np_reference(const AttenuationSlice& slice, int p, double beta, double phi, double rel_tol) {
+  check_np_args(p, beta, phi);
+  // Each peak of the integrand sits at a root γ0 of Φ ≡ ±φ and is about w = β/|dΦ/dγ| wide
+  // (√β near a caustic). Breakpoints at γ0 ± w·4^k make every panel next to a peak no more than
+  // four times wider than the peak, so no panel can miss a narrow peak between its nodes.
+  const FiberGeometry& geo = slice.geometry();
+  std::vector<double> bp = {0.0, kHalfPi};
+  for (double g : azimuthal_roots(geo, p, phi)) {
+    const PathPoint q = slice.at_gamma(g);
+    const double slope = std::abs(exit_azimuth_derivative(p, q.cos_gamma_i, q.cos_gamma_t, geo.inv_eta_prime));
+    const double centre = std::abs(g);
+    bp.push_back(centre);
+    for (double w = beta / std::max(slope, 2.0 * std::sqrt(beta)); w < kHalfPi; w *= 4.0) {
+      bp.push_back(centre - w);
+      bp.push_back(centre + w);
+    }
+  }
+  if (const double gc = caustic_gamma(p, geo); gc > 0.0) bp.push_back(gc);
+  std::erase_if(bp, [](double g) { return !(g >= 0.0 && g <= kHalfPi); });
+  std::sort(bp.begin(), bp.end());
+  bp.erase(std::unique(bp.begin(), bp.end()), bp.end());
+  AdaptiveOptions opt;
+  opt.rel_tol = rel_tol;
+  return integrate_adaptive(
+      [&](double g, std::span<double> out) { out[0] = folded_integrand(slice, p, beta, phi, g); }, 1, bp, opt);
+}
+
+std::vector<double> azimuthal_roots(const FiberGeometry& geometry, int p, double phi) {
+  if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
+  if (!std::isfinite(phi)) throw_domain_error("phi", "must be finite", phi);
+  phi = wrap_azimuth(phi);
+  std::vector<double> edges = {-kHalfPi, kHalfPi};
+  if (const double gc = caustic_gamma(p, geometry); gc > 0.0) edges = {-kHalfPi, -gc, gc, kHalfPi};
+  std::vector<double> roots;
+  for (std::size_t e = 0; e + 1 < edges.size(); ++e) {
+    const double lo = edges[e], hi = edges[e + 1];
+    const double f_lo = exit_azimuth_at(geometry, p, lo), f_hi = exit_azimuth_at(geometry, p, hi);
+    const double mn = std::min(f_lo, f_hi), mx = std::max(f_lo, f_hi);
+    const auto k_min = static_cast<long>(std::ceil((mn - phi) / kTwoPi));
+    const auto k_max = static_cast<long>(std::floor((mx - phi) / kTwoPi));
+    for (long k = k_min; k <= k_max; ++k) {
+      const double target = phi + kTwoPi * static_cast<double>(k);
+      auto f = [&](double g) { return exit_azimuth_at(geometry, p, g) - target; };
+      const double a_val = f(lo), b_val = f(hi);
+      if (a_val == 0.0) { roots.push_back(lo); continue; }
+      if (b_val == 0.0) { roots.push_back(hi); continue; }
+      if ((a_val < 0.0) == (b_val < 0.0)) continue;  // target only touches the piece at rounding level
+      std::uintmax_t iterations = 200;
+      const auto bracket = boost::math::tools::toms748_solve(f, lo, hi, a_val, b_val,
+                                                             boost::math::tools::eps_tolerance<double>(52), iterations);
+      roots.push_back(0.5 * (bracket.first + bracket.second));
+    }
+  }
+  std::sort(roots.begin(), roots.end());
+  roots.erase(std::unique(roots.begin(), roots.end(), [](double a, double b) { return std::abs(a - b) < 1e-13; }),
+              roots.end());
+  return roots;
+}
+
+double azimuthal_np_smooth(const AttenuationSlice& slice, int p, double phi) {
+  double sum = 0.0;
+  const FiberGeometry& g = slice.geometry();
+  for (double gamma : azimuthal_roots(g, p, phi)) {
+    const PathPoint q = slice.at_gamma(gamma);
+    const double a = q.attenuation(p) * q.cos_gamma_i;
+    if (a == 0.0) continue;
+    const double d = std::abs(exit_azimuth_derivative(p, q.cos_gamma_i, q.cos_gamma_t, g.inv_eta_prime));
+    if (d == 0.0) return std::numeric_limits<double>::infinity();
+    sum += a / (2.0 * d);
+  }
+  return sum;
+}
+
+double azimuthal_residual_np(const AttenuationSlice& slice, int P, const GaussLegendreRule& energy_rule) {
+  const std::vector<double> e = lobe_energies(slice, LobeSet{P, true}, energy_rule);
+  return e.back() / kTwoPi;
+}
+
+}  // namespace hairlut

@@ -1,0 +1,17 @@
+#include "hairlut/error.hpp"
+
+#include <cstdio>
+
+namespace hairlut {
+
+void throw_domain_error(std::string_view name, std::string_view requirement, double value) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", value);
+  throw DomainError(std::string(name) + " " + std::string(requirement) + " (got " + buf + ")");
+}
+
+void throw_domain_error(std::string_view name, std::string_view requirement, long long value) {
+  throw DomainError(std::string(name) + " " + std::string(requirement) + " (got " + std::to_string(value) + ")");
+}
+
+}  // namespace hairlut

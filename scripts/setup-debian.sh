@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs hairlut's build and test dependencies from Debian packages (Debian 12 "bookworm" or
+# newer). Idempotent: packages already installed are left alone, and nothing is downloaded when
+# everything is present. Uses sudo when not run as root.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libopenexr-dev libimath-dev openexr      # OpenEXR 3 (+ exrheader)
+  libhdf5-dev hdf5-tools                   # HDF5 (+ h5dump)
+  libcli11-dev                             # command lines
+  catch2                                   # tests
+  libboost-dev libboost-math-dev           # Bessel functions, quadrature, multiprecision
+  nlohmann-json3-dev                       # configs and metadata
+  libomp-dev                               # OpenMP runtime headers (GCC uses libgomp)
+  python3 python3-numpy python3-h5py python3-jsonschema   # independent checks in tests
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup-debian: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "setup-debian: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "setup-debian: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  SUDO="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
