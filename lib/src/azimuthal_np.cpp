@@ -44,28 +44,37 @@ IntegrationVariable parse_integration_variable(std::string_view text, std::strin
   throw DomainError(std::string(what) + " must be \"gamma\" or \"h\" (got \"" + std::string(text) + "\")");
 }
 
-double azimuthal_np(const AttenuationSlice& slice, int p, double beta, double phi, const GaussLegendreRule& rule,
-                    IntegrationVariable variable) {
-  check_np_args(p, beta, phi);
+NpQuadratureSlab::NpQuadratureSlab(const AttenuationSlice& slice, int p, const GaussLegendreRule& rule,
+                                   IntegrationVariable variable) {
+  if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
   const auto x = rule.nodes();
   const auto w = rule.weights();
   const std::size_t n = x.size();
-  // Nodes n/2 … n−1 are the non-negative ones; an odd rule's centre node counts half in the pair.
-  double sum = 0.0;
+  // Nodes n/2 … n−1 are the non-negative ones; their mirror images contribute D(φ + Φ). An odd
+  // rule's centre node is its own mirror and counts half in the pair.
   for (std::size_t i = n / 2; i < n; ++i) {
     const bool centre = (n % 2 == 1) && i == n / 2;
-    double value;
-    if (variable == IntegrationVariable::gamma) {
-      value = kHalfPi * folded_integrand(slice, p, beta, phi, kHalfPi * x[i]);  // dh = cos γ dγ inside
-    } else {
-      const PathPoint q = slice.at_h(x[i]);
-      const double a = q.attenuation(p);
-      const double Phi = q.exit_azimuth(p);
-      value = a == 0.0 ? 0.0 : 0.5 * a * (gaussian_detector(beta, phi - Phi) + gaussian_detector(beta, phi + Phi));
-    }
-    sum += (centre ? 0.5 : 1.0) * w[i] * value;
+    const PathPoint q = variable == IntegrationVariable::gamma ? slice.at_gamma(kHalfPi * x[i]) : slice.at_h(x[i]);
+    const double jacobian = variable == IntegrationVariable::gamma ? kHalfPi * q.cos_gamma_i : 1.0;  // dh/dx
+    const double a = q.attenuation(p);
+    if (a == 0.0) continue;
+    weight_.push_back((centre ? 0.5 : 1.0) * w[i] * 0.5 * a * jacobian);
+    phi_.push_back(q.exit_azimuth(p));
   }
+}
+
+double NpQuadratureSlab::operator()(double beta, double phi) const {
+  check_np_args(0, beta, phi);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < weight_.size(); ++i)
+    sum += weight_[i] * (gaussian_detector(beta, phi - phi_[i]) + gaussian_detector(beta, phi + phi_[i]));
   return sum;
+}
+
+double azimuthal_np(const AttenuationSlice& slice, int p, double beta, double phi, const GaussLegendreRule& rule,
+                    IntegrationVariable variable) {
+  check_np_args(p, beta, phi);
+  return NpQuadratureSlab(slice, p, rule, variable)(beta, phi);
 }
 
 AdaptiveResult azimuthal_np_reference(const AttenuationSlice& slice, int p, double beta, double phi, double rel_tol) {

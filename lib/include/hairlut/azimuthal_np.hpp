@@ -32,6 +32,21 @@ IntegrationVariable parse_integration_variable(std::string_view text, std::strin
 double azimuthal_np(const AttenuationSlice& slice, int p, double beta, double phi, const GaussLegendreRule& rule,
                     IntegrationVariable variable = IntegrationVariable::gamma);
 
+/// N_p(φ) at many (β, φ) for one slice and lobe by the Gauss–Legendre rule: the node factors
+/// (which depend on neither β nor φ) are computed once. azimuthal_np() is this with one call.
+class NpQuadratureSlab {
+ public:
+  /// Domain: p ≥ 0. Throws DomainError.
+  NpQuadratureSlab(const AttenuationSlice& slice, int p, const GaussLegendreRule& rule,
+                   IntegrationVariable variable = IntegrationVariable::gamma);
+  /// N_p(φ) for detector width β > 0 (radians) and finite φ.
+  double operator()(double beta, double phi) const;
+
+ private:
+  std::vector<double> weight_;  // ½ w_i A(p, h_i) (dh/dx)_i, mirror pairs folded
+  std::vector<double> phi_;     // Φ(p, h_i)
+};
+
 /// Reference value of N_p(φ): adaptive Gauss–Kronrod over γ in [0, π/2], split at every γ where
 /// Φ(p, ±γ) ≡ φ (the centres of the detector's peaks) and at the caustic. Tolerance rel_tol
 /// relative to N_p(φ) (default 1e−12); converged = false says when it could not reach it.

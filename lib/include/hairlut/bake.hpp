@@ -1,0 +1,54 @@
+// The baker: evaluates the tables a BakeConfig asks for, in parallel with OpenMP.
+//
+// Every entry is computed independently from the config alone, so the result is bit-identical
+// for any number of threads. Long bakes report progress through a callback and stop early when
+// the caller raises a cancellation flag.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hairlut/config.hpp"
+#include "hairlut/tables.hpp"
+
+namespace hairlut {
+
+/// Thrown by bake() when the cancellation flag was raised.
+class BakeCancelled : public std::runtime_error {
+ public:
+  BakeCancelled() : std::runtime_error("bake cancelled") {}
+};
+
+struct BakeOptions {
+  int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default (all cores)
+  /// Called from one thread at a time with the work done so far and the total (arbitrary units).
+  std::function<void(std::string_view stage, std::size_t done, std::size_t total)> progress;
+  const std::atomic<bool>* cancel = nullptr;  ///< polled between work items
+};
+
+/// What the baker decided and measured, for the tool to print and the metadata to record.
+struct BakeReport {
+  struct Folded {
+    std::string lobe;
+    double max_energy;
+  };
+  std::vector<Folded> folded;           ///< explicit lobes folded into the residual
+  int explicit_lobes = 0;               ///< lobes baked explicitly after folding
+  std::vector<std::string> notes;       ///< one line each (e.g. restricted ranges of scene mode)
+  std::size_t entries = 0;              ///< values computed
+  double seconds = 0.0;
+};
+
+/// Bakes every table of the config. Throws BakeCancelled or DomainError.
+TableSet bake(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr);
+
+/// The generic N_p axes a scene in restrict-generic mode ends up with: sigma_a and beta ranges
+/// narrowed to [min, max] of what its materials use (counts kept; one node if min = max).
+std::vector<GridAxis> restricted_np_axes(const BakeConfig& config, std::vector<std::string>* notes = nullptr);
+
+}  // namespace hairlut

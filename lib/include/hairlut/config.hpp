@@ -1,0 +1,99 @@
+// Bake configurations: the JSON that `bake-hair-luts --config FILE` reads, checked against
+// schemas/hairlut-config.schema.json (embedded in the library) and then against the rules JSON
+// Schema cannot express, with one-line errors that name the file and the key path.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "hairlut/attenuation.hpp"
+#include "hairlut/azimuthal_np.hpp"
+#include "hairlut/grid.hpp"
+#include "hairlut/hash.hpp"
+
+namespace hairlut {
+
+/// A config that cannot be used. what() is one line: "<file>: <key.path>: <reason>".
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// How N_p entries are integrated.
+struct NpQuadratureConfig {
+  enum class Method { gauss_legendre, adaptive };
+  Method method = Method::gauss_legendre;
+  int order = 256;                                   ///< Gauss–Legendre order (gauss_legendre)
+  IntegrationVariable variable = IntegrationVariable::gamma;
+  double tolerance = 1e-10;                          ///< relative tolerance (adaptive)
+  int energy_order = 128;                            ///< Gauss–Legendre order of lobe energies
+};
+
+/// One hair material of a scene.
+struct MaterialConfig {
+  std::string name;
+  std::array<double, 3> sigma_a{};          ///< RGB absorption per unit radius (from melanin if given)
+  std::optional<std::array<double, 2>> melanin;  ///< (eumelanin, pheomelanin) when given as melanin
+  std::string melanin_model;                ///< "rgb" or "spectral" when given as melanin
+  std::vector<double> beta_m;               ///< longitudinal roughness per explicit lobe (radians)
+  std::vector<double> beta_n;               ///< azimuthal roughness per explicit lobe (radians)
+  double residual_beta_m = 0.0, residual_beta_n = 0.0;
+};
+
+struct SceneConfig {
+  enum class Mode { per_material, restrict_generic };
+  Mode mode = Mode::per_material;
+  std::vector<MaterialConfig> materials;
+};
+
+struct OutputConfig {
+  std::filesystem::path directory;  ///< absolute, or relative to the process's working directory
+  std::string basename;
+  bool hdf5 = false, exr = false;
+  bool hdf5_double = false;         ///< float64 instead of float32
+  int hdf5_deflate = 6;
+  bool exr_half = false;            ///< half instead of float
+  std::string exr_compression = "zip";
+};
+
+/// A validated config, with defaults applied and angles in radians.
+struct BakeConfig {
+  std::string name, description;
+  std::string model = "deon2011";
+  double eta = 1.55;
+  AbsorptionPath path = AbsorptionPath::chord;
+  int lobe_count = 4;                ///< explicit lobes p = 0 … lobe_count − 1
+  bool residual = true;
+  double fold_below = 0.0;
+  std::vector<double> tilt;          ///< α_p per explicit lobe (radians)
+  double residual_tilt = 0.0;
+  NpQuadratureConfig quadrature;
+  /// Table axes, in storage order (row-major, last fastest).
+  std::optional<std::vector<GridAxis>> np_axes;       ///< beta, sigma_a, theta_d, phi
+  std::optional<std::vector<GridAxis>> mp_axes;       ///< beta, theta_i, theta_r
+  std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
+  double melanin_path_length = 2.0;
+  std::optional<SceneConfig> scene;
+  OutputConfig output;
+
+  nlohmann::json normalized;  ///< the config with every default filled in, angles in radians
+  std::string hash;           ///< FNV-1a 64 of normalized + library version, 16 hex digits
+};
+
+/// Parses and validates a config document. `source` names it in error messages (the file name).
+/// `base_dir` resolves a relative output.directory. Throws ConfigError.
+BakeConfig parse_config(const nlohmann::json& document, const std::string& source,
+                        const std::filesystem::path& base_dir);
+
+/// Reads, parses and validates a config file (JSON syntax errors report line and column).
+BakeConfig load_config(const std::filesystem::path& file);
+
+/// The embedded text of schemas/hairlut-config.schema.json.
+const char* config_schema_text();
+
+}  // namespace hairlut

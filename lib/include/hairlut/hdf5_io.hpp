@@ -1,0 +1,40 @@
+// HDF5 files of hairlut tables.
+//
+// Layout: one group per table group ("np", "mp", "melanin", "materials/<name>"); in each group one
+// dataset per table and one dimension scale (H5DS) per axis, named like the axis ("theta_d",
+// "phi", "sigma_a", "beta", ...) with `units` and `long_name` attributes, so that h5py, xarray and
+// netCDF tools see real coordinates. Datasets are chunked with shuffle + deflate and a Fletcher-32
+// checksum; the file uses the HDF5 1.10 format (superblock v3, checksummed metadata, compact chunk indexes) and records no
+// time stamps, so the same tables give the same bytes. The root carries the provenance
+// (version, model, eta, lobes, quadrature, config text and hash) as attributes.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "hairlut/tables.hpp"
+
+namespace hairlut {
+
+/// A file that cannot be written or read as hairlut tables. what() is one line: "<file>: <reason>".
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Hdf5WriteOptions {
+  int deflate = 6;  ///< 0 … 9; 0 stores without deflate (shuffle and checksum stay)
+};
+
+/// Writes the tables to `file` (created or truncated). Throws IoError.
+void write_hdf5(const TableSet& set, const std::filesystem::path& file, const Hdf5WriteOptions& options = {});
+
+/// Reads a file written by write_hdf5 back into memory, exactly as stored. Rejects files that are
+/// not hairlut tables, are truncated or corrupted, or lack metadata, with an IoError.
+TableSet read_hdf5(const std::filesystem::path& file);
+
+/// The same from a file image in memory (`name` is used in error messages).
+TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name);
+
+}  // namespace hairlut

@@ -1,0 +1,48 @@
+// The files of one bake: HDF5 and/or OpenEXR tables plus a JSON sidecar that describes every
+// table (schemas/hairlut-tables.schema.json). Files are written to temporary names in the output
+// directory and renamed into place only when complete, so an interrupted bake never leaves a
+// partial file at the destination.
+#pragma once
+
+#include <atomic>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hairlut/bake.hpp"
+#include "hairlut/config.hpp"
+#include "hairlut/exr_io.hpp"
+#include "hairlut/hdf5_io.hpp"
+#include "hairlut/tables.hpp"
+
+namespace hairlut {
+
+/// Where a config's outputs go.
+struct OutputPaths {
+  std::filesystem::path hdf5, exr, sidecar;
+};
+OutputPaths output_paths(const BakeConfig& config);
+
+/// True when the sidecar records this config's hash and library version and every file it lists
+/// exists with the recorded size: re-baking would change nothing.
+bool outputs_up_to_date(const BakeConfig& config);
+
+/// The sidecar document for a table set written to the given files.
+nlohmann::ordered_json sidecar_json(const TableSet& set, const BakeConfig& config, const BakeReport& report,
+                                    const std::vector<std::pair<std::string, std::filesystem::path>>& files);
+
+/// Writes every requested format and the sidecar (temporary names, then rename). Before each
+/// rename it checks `cancel`; if raised, it removes the temporaries and throws BakeCancelled.
+/// Returns the final paths written. Throws IoError.
+std::vector<std::filesystem::path> write_outputs(const TableSet& set, const BakeConfig& config, const BakeReport& report,
+                                                 const std::atomic<bool>* cancel = nullptr);
+
+/// Removes temporary files a killed bake of this config may have left in the output directory.
+void remove_stale_temporaries(const BakeConfig& config);
+
+/// Loads a table file written by hairlut, choosing the reader by the file's magic bytes
+/// (HDF5 or OpenEXR). Throws IoError.
+TableSet load_tables(const std::filesystem::path& file);
+
+}  // namespace hairlut

@@ -1,0 +1,421 @@
+#include "hairlut/bake.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <mutex>
+
+#include "hairlut/angles.hpp"
+#include "hairlut/azimuthal_np.hpp"
+#include "hairlut/error.hpp"
+#include "hairlut/hair_model.hpp"
+#include "hairlut/lobe_energy.hpp"
+#include "hairlut/longitudinal_mp.hpp"
+#include "hairlut/melanin.hpp"
+#include "hairlut/version.hpp"
+
+namespace hairlut {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// Runs body(k) for k in [0, n) on the configured threads with dynamic scheduling, reports
+// progress from one thread at a time, stops at the cancellation flag and rethrows the first
+// exception after the loop. The work items are independent, so the result does not depend on the
+// thread count.
+template <class Body>
+void parallel_for(std::size_t n, const BakeOptions& opt, std::string_view stage, std::size_t weight, Body&& body) {
+  std::atomic<std::size_t> done{0};
+  std::exception_ptr error;
+  std::mutex report_mutex;
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const auto total = n * weight;
+  if (opt.progress) opt.progress(stage, 0, total);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t k = 0; k < n; ++k) {
+    if (error || (opt.cancel && opt.cancel->load(std::memory_order_relaxed))) continue;
+    try {
+      body(k);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(report_mutex);
+      if (!error) error = std::current_exception();
+    }
+    const std::size_t d = (done += 1) * weight;
+    if (opt.progress && report_mutex.try_lock()) {
+      opt.progress(stage, d, total);
+      report_mutex.unlock();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  if (opt.cancel && opt.cancel->load()) throw BakeCancelled();
+  if (opt.progress) opt.progress(stage, total, total);
+}
+
+Table make_table(std::string group, std::string name, std::string quantity, std::string units, std::string long_name,
+                 std::vector<GridAxis> axes, Precision precision) {
+  Table t;
+  t.group = std::move(group);
+  t.name = std::move(name);
+  t.quantity = std::move(quantity);
+  t.units = std::move(units);
+  t.long_name = std::move(long_name);
+  t.axes = std::move(axes);
+  t.allocate(precision);
+  return t;
+}
+
+const GridAxis& axis_named(const std::vector<GridAxis>& axes, const std::string& name) {
+  for (const GridAxis& a : axes)
+    if (a.name == name) return a;
+  throw DomainError("internal: no axis named " + name);
+}
+
+// Everything the N_p bake of one (σa, θd) pair needs from the config.
+struct NpSettings {
+  const BakeConfig* config;
+  int lobes;  // explicit lobes after folding
+  GaussLegendreRule rule;
+  GaussLegendreRule energy_rule;
+};
+
+// N_p of lobe p at one slice for every (β, φ) pair, written through out(ib, iphi, value).
+template <class Out>
+void np_slab(const NpSettings& s, const AttenuationSlice& slice, int p, const std::vector<double>& betas,
+             const std::vector<double>& phis, std::size_t& unconverged, Out&& out) {
+  const NpQuadratureConfig& q = s.config->quadrature;
+  if (q.method == NpQuadratureConfig::Method::gauss_legendre) {
+    const NpQuadratureSlab slab(slice, p, s.rule, q.variable);
+    for (std::size_t ib = 0; ib < betas.size(); ++ib)
+      for (std::size_t ip = 0; ip < phis.size(); ++ip) out(ib, ip, slab(betas[ib], phis[ip]));
+  } else {
+    for (std::size_t ib = 0; ib < betas.size(); ++ib)
+      for (std::size_t ip = 0; ip < phis.size(); ++ip) {
+        const AdaptiveResult r = azimuthal_np_reference(slice, p, betas[ib], phis[ip], q.tolerance);
+        if (!r.converged) ++unconverged;
+        out(ib, ip, r.value[0]);
+      }
+  }
+}
+
+json quadrature_json(const NpQuadratureConfig& q) {
+  return {{"method", q.method == NpQuadratureConfig::Method::adaptive ? "adaptive" : "gauss-legendre"},
+          {"order", q.order},
+          {"variable", to_string(q.variable)},
+          {"tolerance", q.tolerance},
+          {"energy_order", q.energy_order},
+          {"energy_method", "gauss-legendre in gamma over [0, pi/2]"}};
+}
+
+// Largest energy of each explicit lobe over the σa values and θd nodes that will be baked.
+std::vector<double> max_lobe_energies(const BakeConfig& c, const std::vector<double>& sigmas, const std::vector<double>& thetas,
+                                      const GaussLegendreRule& rule) {
+  std::vector<double> best(static_cast<std::size_t>(c.lobe_count), 0.0);
+  for (double s : sigmas)
+    for (double t : thetas) {
+      const auto e = lobe_energies(AttenuationSlice(c.eta, t, s, c.path), {c.lobe_count, false}, rule);
+      for (std::size_t p = 0; p < e.size(); ++p) best[p] = std::max(best[p], e[p]);
+    }
+  return best;
+}
+
+}  // namespace
+
+std::vector<GridAxis> restricted_np_axes(const BakeConfig& c, std::vector<std::string>* notes) {
+  std::vector<GridAxis> axes = *c.np_axes;
+  if (!c.scene || c.scene->mode != SceneConfig::Mode::restrict_generic) return axes;
+  double s_lo = INFINITY, s_hi = -INFINITY, b_lo = INFINITY, b_hi = -INFINITY;
+  for (const MaterialConfig& m : c.scene->materials) {
+    for (double s : m.sigma_a) s_lo = std::min(s_lo, s), s_hi = std::max(s_hi, s);
+    for (double b : m.beta_n) b_lo = std::min(b_lo, b), b_hi = std::max(b_hi, b);
+  }
+  auto restrict_axis = [&](GridAxis& a, double lo, double hi, const char* what) {
+    a.values.clear();
+    if (a.spacing == Spacing::explicit_values) a.spacing = Spacing::uniform;
+    if (a.spacing == Spacing::log && !(lo > 0.0)) a.spacing = Spacing::sqrt;
+    if (hi - lo <= 1e-12 * std::max(1.0, hi)) {
+      a.count = 1;
+      a.placement = Placement::edges;
+      a.lo = a.hi = lo;
+    } else {
+      a.count = std::max(a.count, 2);
+      a.lo = lo;
+      a.hi = hi;
+    }
+    if (notes) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "scene restricts %s to [%.6g, %.6g] with %d nodes (%s spacing)", what, a.lo, a.hi,
+                    a.count, std::string(to_string(a.spacing)).c_str());
+      notes->push_back(buf);
+    }
+    a.validate("scene-restricted axis " + a.name);
+  };
+  for (GridAxis& a : axes) {
+    if (a.name == "sigma_a") restrict_axis(a, s_lo, s_hi, "sigma_a");
+    if (a.name == "beta") restrict_axis(a, b_lo, b_hi, "beta");
+  }
+  return axes;
+}
+
+TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  BakeReport report;
+  TableSet set;
+  const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
+  const bool per_material = c.scene && c.scene->mode == SceneConfig::Mode::per_material;
+  const bool generic_np = c.np_axes && !per_material;
+
+  NpSettings s{&c, c.lobe_count, GaussLegendreRule(c.quadrature.order), GaussLegendreRule(c.quadrature.energy_order)};
+  std::vector<GridAxis> np_axes;
+  if (c.np_axes) np_axes = restricted_np_axes(c, &report.notes);
+
+  // Fold explicit lobes whose largest energy over everything baked stays below the threshold.
+  if (c.np_axes && c.fold_below > 0.0) {
+    std::vector<double> sigmas;
+    if (generic_np) sigmas = axis_named(np_axes, "sigma_a").nodes();
+    else
+      for (const MaterialConfig& m : c.scene->materials) sigmas.insert(sigmas.end(), m.sigma_a.begin(), m.sigma_a.end());
+    const auto best = max_lobe_energies(c, sigmas, axis_named(np_axes, "theta_d").nodes(), s.energy_rule);
+    while (s.lobes > 1 && best[static_cast<std::size_t>(s.lobes - 1)] < c.fold_below) {
+      report.folded.push_back({lobe_name(s.lobes - 1), best[static_cast<std::size_t>(s.lobes - 1)]});
+      --s.lobes;
+    }
+    std::reverse(report.folded.begin(), report.folded.end());
+  }
+  report.explicit_lobes = s.lobes;
+  const LobeSet lobe_set{s.lobes, c.residual};
+
+  set.metadata["hairlut_version"] = kVersion;
+  set.metadata["model"] = c.model;
+  set.metadata["name"] = c.name;
+  set.metadata["description"] = c.description;
+  set.metadata["conventions"] =
+      "hairlut conventions (docs/conventions.md): angles in radians; S = sum_p M_p N_p; int M cos(theta_r) dtheta_r = 1; "
+      "N_p(phi) = 1/2 int A(p,h) D_beta(phi - Phi(p,h)) dh; sigma_a per unit fiber radius; tilt shifts theta_r";
+  set.metadata["eta"] = c.eta;
+  set.metadata["absorption_path"] = to_string(c.path);
+  set.metadata["lobes"] = json::array();
+  for (int p = 0; p < s.lobes; ++p) set.metadata["lobes"].push_back(lobe_name(p));
+  set.metadata["residual"] = c.residual;
+  set.metadata["residual_from_p"] = s.lobes;
+  set.metadata["folded_lobes"] = json::array();
+  for (const auto& f : report.folded) set.metadata["folded_lobes"].push_back({{"lobe", f.lobe}, {"max_energy", f.max_energy}});
+  set.metadata["quadrature"] = quadrature_json(c.quadrature);
+  set.metadata["config_hash"] = c.hash;
+  set.metadata["config"] = c.normalized.dump();
+  set.metadata["precision"] = precision == Precision::float32 ? "float32" : "float64";
+
+  std::size_t unconverged = 0;
+  std::mutex unconverged_mutex;
+  auto residual_name = [&] { return "residual"; };
+
+  // ---- Generic N_p over (β, σa, θd, φ), lobe energies and the residual over (σa, θd).
+  if (generic_np) {
+    const std::vector<double> betas = axis_named(np_axes, "beta").nodes(), sigmas = axis_named(np_axes, "sigma_a").nodes(),
+                              thetas = axis_named(np_axes, "theta_d").nodes(), phis = axis_named(np_axes, "phi").nodes();
+    const std::vector<GridAxis> st_axes = {axis_named(np_axes, "sigma_a"), axis_named(np_axes, "theta_d")};
+    const std::size_t first = set.tables.size();
+    for (int p = 0; p < s.lobes; ++p) {
+      Table t = make_table("np", lobe_name(p), "N_p", "1/rad", "azimuthal scattering function N_p of lobe " + lobe_name(p),
+                           np_axes, precision);
+      t.attributes = {{"lobe", lobe_name(p)}, {"p", p}};
+      set.tables.push_back(std::move(t));
+    }
+    const std::size_t energy_first = set.tables.size();
+    for (int p = 0; p < lobe_set.size(); ++p) {
+      const bool res = p == s.lobes;
+      const std::string lobe = res ? residual_name() : lobe_name(p);
+      Table t = make_table("np", "energy_" + lobe, "energy", "1",
+                           "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : ""),
+                           st_axes, precision);
+      t.attributes = {{"lobe", lobe}, {"p", p}};
+      set.tables.push_back(std::move(t));
+    }
+    std::size_t residual_index = 0;
+    if (c.residual) {
+      Table t = make_table("np", "residual", "N_p", "1/rad",
+                           "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)",
+                           st_axes, precision);
+      t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
+      residual_index = set.tables.size();
+      set.tables.push_back(std::move(t));
+    }
+    const std::size_t nb = betas.size(), ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
+    parallel_for(ns * nt, opt, "N_p", nb * nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t k) {
+      const std::size_t is = k / nt, it = k % nt;
+      const AttenuationSlice slice(c.eta, thetas[it], sigmas[is], c.path);
+      std::size_t local_unconverged = 0;
+      for (int p = 0; p < s.lobes; ++p) {
+        Table& t = set.tables[first + static_cast<std::size_t>(p)];
+        np_slab(s, slice, p, betas, phis, local_unconverged, [&](std::size_t ib, std::size_t ip, double v) {
+          t.set(((ib * ns + is) * nt + it) * nphi + ip, v);
+        });
+      }
+      const auto e = lobe_energies(slice, lobe_set, s.energy_rule);
+      for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * nt + it, e[p]);
+      if (c.residual) set.tables[residual_index].set(is * nt + it, e.back() / kTwoPi);
+      if (local_unconverged) {
+        std::lock_guard<std::mutex> lock(unconverged_mutex);
+        unconverged += local_unconverged;
+      }
+    });
+    report.entries += (nb * nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size())) * ns * nt;
+  }
+
+  // ---- Per-material RGB tables over (channel, θd, φ).
+  if (per_material) {
+    const GridAxis theta_axis = axis_named(np_axes, "theta_d"), phi_axis = axis_named(np_axes, "phi");
+    const std::vector<double> thetas = theta_axis.nodes(), phis = phi_axis.nodes();
+    const GridAxis channel = channel_axis({"R", "G", "B"}, "colour channel (linear sRGB primaries)");
+    for (const MaterialConfig& m : c.scene->materials) {
+      const std::string group = "materials/" + m.name;
+      const std::size_t first = set.tables.size();
+      for (int p = 0; p < s.lobes; ++p) {
+        Table t = make_table(group, "np_" + lobe_name(p), "N_p", "1/rad",
+                             "N_p of lobe " + lobe_name(p) + " for material " + m.name + " (RGB sigma_a)",
+                             {channel, theta_axis, phi_axis}, precision);
+        t.attributes = {{"lobe", lobe_name(p)}, {"p", p}, {"material", m.name}, {"beta", m.beta_n[static_cast<std::size_t>(p)]},
+                        {"sigma_a", m.sigma_a}};
+        set.tables.push_back(std::move(t));
+      }
+      const std::size_t energy_first = set.tables.size();
+      for (int p = 0; p < lobe_set.size(); ++p) {
+        const std::string lobe = p == s.lobes ? residual_name() : lobe_name(p);
+        Table t = make_table(group, "energy_" + lobe, "energy", "1", "energy of lobe " + lobe + " for material " + m.name,
+                             {channel, theta_axis}, precision);
+        t.attributes = {{"lobe", lobe}, {"p", p}, {"material", m.name}};
+        set.tables.push_back(std::move(t));
+      }
+      std::size_t residual_index = 0;
+      if (c.residual) {
+        Table t = make_table(group, "np_residual", "N_p", "1/rad",
+                             "residual lobes p >= " + std::to_string(s.lobes) + " for material " + m.name + ", uniform in phi",
+                             {channel, theta_axis}, precision);
+        t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"material", m.name}};
+        residual_index = set.tables.size();
+        set.tables.push_back(std::move(t));
+      }
+      const std::size_t nt = thetas.size(), nphi = phis.size();
+      parallel_for(3 * nt, opt, "N_p " + m.name, nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t k) {
+        const std::size_t ic = k / nt, it = k % nt;
+        const AttenuationSlice slice(c.eta, thetas[it], m.sigma_a[ic], c.path);
+        std::size_t local_unconverged = 0;
+        for (int p = 0; p < s.lobes; ++p) {
+          Table& t = set.tables[first + static_cast<std::size_t>(p)];
+          const std::vector<double> beta = {m.beta_n[static_cast<std::size_t>(p)]};
+          np_slab(s, slice, p, beta, phis, local_unconverged,
+                  [&](std::size_t, std::size_t ip, double v) { t.set((ic * nt + it) * nphi + ip, v); });
+        }
+        const auto e = lobe_energies(slice, lobe_set, s.energy_rule);
+        for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(ic * nt + it, e[p]);
+        if (c.residual) set.tables[residual_index].set(ic * nt + it, e.back() / kTwoPi);
+        if (local_unconverged) {
+          std::lock_guard<std::mutex> lock(unconverged_mutex);
+          unconverged += local_unconverged;
+        }
+      });
+      report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
+    }
+  }
+
+  // ---- M_p: generic over (β, θi, θr) per lobe; per material over (θi, θr).
+  if (c.mp_axes) {
+    const GridAxis ti_axis = axis_named(*c.mp_axes, "theta_i"), tr_axis = axis_named(*c.mp_axes, "theta_r");
+    const std::vector<double> tis = ti_axis.nodes(), trs = tr_axis.nodes();
+    const int n_mp = s.lobes + (c.residual ? 1 : 0);
+    auto tilt_of = [&](int p) { return p == s.lobes ? c.residual_tilt : c.tilt[static_cast<std::size_t>(p)]; };
+    auto lobe_of = [&](int p) { return p == s.lobes ? std::string(residual_name()) : lobe_name(p); };
+    const std::size_t ni = tis.size(), nr = trs.size();
+    if (!per_material) {
+      const std::vector<double> betas = axis_named(*c.mp_axes, "beta").nodes();
+      const std::size_t first = set.tables.size();
+      for (int p = 0; p < n_mp; ++p) {
+        Table t = make_table("mp", lobe_of(p), "M_p", "1/rad",
+                             "d'Eon longitudinal function M(beta^2, theta_i, theta_r - alpha) of lobe " + lobe_of(p), *c.mp_axes,
+                             precision);
+        t.attributes = {{"lobe", lobe_of(p)}, {"p", p}, {"alpha", tilt_of(p)}};
+        set.tables.push_back(std::move(t));
+      }
+      const std::size_t nb = betas.size();
+      parallel_for(nb * ni, opt, "M_p", nr * static_cast<std::size_t>(n_mp), [&](std::size_t k) {
+        const std::size_t ib = k / ni, ii = k % ni;
+        const double v = betas[ib] * betas[ib];
+        for (int p = 0; p < n_mp; ++p) {
+          Table& t = set.tables[first + static_cast<std::size_t>(p)];
+          for (std::size_t ir = 0; ir < nr; ++ir)
+            t.set((ib * ni + ii) * nr + ir, longitudinal_deon_tilted(v, tilt_of(p), tis[ii], trs[ir]));
+        }
+      });
+      report.entries += nb * ni * nr * static_cast<std::size_t>(n_mp);
+    } else {
+      for (const MaterialConfig& m : c.scene->materials) {
+        const std::string group = "materials/" + m.name;
+        const std::size_t first = set.tables.size();
+        for (int p = 0; p < n_mp; ++p) {
+          const double beta = p == s.lobes ? m.residual_beta_m : m.beta_m[static_cast<std::size_t>(p)];
+          Table t = make_table(group, "mp_" + lobe_of(p), "M_p", "1/rad",
+                               "M_p of lobe " + lobe_of(p) + " for material " + m.name, {ti_axis, tr_axis}, precision);
+          t.attributes = {{"lobe", lobe_of(p)}, {"p", p}, {"material", m.name}, {"beta", beta}, {"alpha", tilt_of(p)}};
+          set.tables.push_back(std::move(t));
+        }
+        std::vector<double> betas;
+        for (int p = 0; p < n_mp; ++p) betas.push_back(p == s.lobes ? m.residual_beta_m : m.beta_m[static_cast<std::size_t>(p)]);
+        parallel_for(ni, opt, "M_p " + m.name, nr * static_cast<std::size_t>(n_mp), [&](std::size_t ii) {
+          for (int p = 0; p < n_mp; ++p) {
+            Table& t = set.tables[first + static_cast<std::size_t>(p)];
+            const double beta = betas[static_cast<std::size_t>(p)];
+            for (std::size_t ir = 0; ir < nr; ++ir)
+              t.set(ii * nr + ir, longitudinal_deon_tilted(beta * beta, tilt_of(p), tis[ii], trs[ir]));
+          }
+        });
+        report.entries += ni * nr * static_cast<std::size_t>(n_mp);
+      }
+    }
+  }
+
+  // ---- Melanin → RGB σa, by d'Eon's cross-sections and by the spectral model.
+  if (c.melanin_axes) {
+    const GridAxis channel = channel_axis({"R", "G", "B"}, "colour channel (linear sRGB primaries)");
+    std::vector<GridAxis> axes = *c.melanin_axes;
+    axes.push_back(channel);
+    const std::vector<double> ce = axes[0].nodes(), cp = axes[1].nodes();
+    SpectralMelanin::Options so;
+    so.path_length = c.melanin_path_length;
+    const SpectralMelanin spectral = SpectralMelanin::builtin(so);
+    const SpectralMelanin::Fit fit = spectral.fit_rgb_cross_sections();
+    Table deon = make_table("melanin", "sigma_a_deon", "sigma_a", "1/radius",
+                            "absorption per unit radius from d'Eon 2011's RGB cross-sections", axes, precision);
+    deon.attributes = {{"eumelanin_cross_section", {0.419, 0.697, 1.37}}, {"pheomelanin_cross_section", {0.187, 0.4, 1.05}},
+                       {"method", "sigma_a = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05) (d'Eon 2011 sec. 6.1)"}};
+    Table spec = make_table("melanin", "sigma_a_spectral", "sigma_a", "1/radius",
+                            "RGB-equivalent absorption from the Donner-Jensen 2006 spectra, CIE 1931 2 deg and D65", axes, precision);
+    spec.attributes = {{"path_length", c.melanin_path_length},
+                       {"spectral_scale", spectral.options().spectral_scale},
+                       {"fitted_eumelanin_cross_section", {fit.eumelanin.r, fit.eumelanin.g, fit.eumelanin.b}},
+                       {"fitted_pheomelanin_cross_section", {fit.pheomelanin.r, fit.pheomelanin.g, fit.pheomelanin.b}},
+                       {"fit_rms_relative_error", fit.rms_relative_error},
+                       {"method", "sigma_a_c = -ln(T_c)/L, T_c = linear sRGB (IEC 61966-2-1, white-balanced to D65) of D65 light "
+                                  "through exp(-sigma_a(lambda) L), 380-780 nm in 5 nm steps"}};
+    for (std::size_t i = 0; i < ce.size(); ++i)
+      for (std::size_t j = 0; j < cp.size(); ++j) {
+        const Rgb a = melanin_sigma_a_rgb(ce[i], cp[j]);
+        const Rgb b = spectral.sigma_a_rgb(ce[i], cp[j]);
+        const std::size_t o = (i * cp.size() + j) * 3;
+        deon.set(o, a.r), deon.set(o + 1, a.g), deon.set(o + 2, a.b);
+        spec.set(o, b.r), spec.set(o + 1, b.g), spec.set(o + 2, b.b);
+      }
+    set.tables.push_back(std::move(deon));
+    set.tables.push_back(std::move(spec));
+    report.entries += 2 * ce.size() * cp.size() * 3;
+  }
+
+  if (unconverged) report.notes.push_back(std::to_string(unconverged) + " adaptive N_p entries did not reach the tolerance");
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  set.metadata["notes"] = report.notes;
+  if (report_out) *report_out = report;
+  return set;
+}
+
+}  // namespace hairlut

@@ -1,0 +1,402 @@
+#include "hairlut/config.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "hairlut/angles.hpp"
+#include "hairlut/error.hpp"
+#include "hairlut/hair_model.hpp"
+#include "hairlut/json_schema.hpp"
+#include "hairlut/melanin.hpp"
+#include "hairlut/version.hpp"
+
+namespace hairlut {
+namespace detail {
+extern const char* const config_schema_json;  // generated from schemas/hairlut-config.schema.json
+}
+
+const char* config_schema_text() { return detail::config_schema_json; }
+
+namespace {
+
+using nlohmann::json;
+
+// Thrown inside the parser with a key path; turned into "<source>: <path>: <reason>".
+struct KeyError {
+  std::string path, reason;
+};
+
+[[noreturn]] void fail(const std::string& path, const std::string& reason) { throw KeyError{path, reason}; }
+
+// Runs a library validation that throws DomainError whose message starts with the key path.
+template <class F>
+void checked(F&& f) {
+  try {
+    f();
+  } catch (const DomainError& e) {
+    const std::string m = e.what();
+    const auto space = m.find(' ');
+    fail(m.substr(0, space), space == std::string::npos ? m : m.substr(space + 1));
+  }
+}
+
+double get_number(const json& j, const char* key, double fallback) {
+  return j.contains(key) ? j.at(key).get<double>() : fallback;
+}
+
+// An angle or value axis of the config (schema-checked) to a GridAxis (semantics checked here).
+GridAxis make_axis(const json& j, const std::string& path, const std::string& name, bool angle, double domain_lo,
+                   double domain_hi, const std::string& units, const std::string& long_name) {
+  GridAxis a;
+  a.name = name;
+  a.units = units;
+  a.long_name = long_name;
+  a.placement = parse_placement(j.value("placement", std::string("edges")), path + ".placement");
+  const double scale = angle ? kPi / 180.0 : 1.0;
+  if (j.contains("values") || j.contains("values_deg")) {
+    const bool deg = j.contains("values_deg");
+    a.spacing = Spacing::explicit_values;
+    for (double v : j.at(deg ? "values_deg" : "values").get<std::vector<double>>()) a.values.push_back(deg ? v * scale : v);
+    a.count = static_cast<int>(a.values.size());
+    a.lo = a.values.front();
+    a.hi = a.values.back();
+    for (std::size_t i = 1; i < a.values.size(); ++i)
+      if (!(a.values[i] > a.values[i - 1]))
+        fail(path + (deg ? ".values_deg[" : ".values[") + std::to_string(i) + "]", "must be greater than the value before it");
+  } else {
+    const bool deg = j.contains("range_deg");
+    const auto range = j.at(deg ? "range_deg" : "range").get<std::vector<double>>();
+    const std::string rpath = path + (deg ? ".range_deg" : ".range");
+    a.lo = range[0] * (deg ? scale : 1.0);
+    a.hi = range[1] * (deg ? scale : 1.0);
+    a.count = j.at("count").get<int>();
+    a.spacing = parse_spacing(j.value("spacing", std::string("uniform")), path + ".spacing");
+    if (!(range[0] < range[1]) && !(a.count == 1 && range[0] == range[1]))
+      fail(rpath, "must be increasing, [low, high] with low < high (got [" + json(range[0]).dump() + ", " +
+                      json(range[1]).dump() + "])");
+    if (a.spacing == Spacing::log && !(a.lo > 0.0)) fail(rpath, "must be > 0 for log spacing (got " + json(range[0]).dump() + ")");
+    if (a.placement == Placement::edges && a.count == 1 && a.lo != a.hi)
+      fail(path + ".count", "must be >= 2 for edge-placed nodes spanning a range (got 1)");
+  }
+  const std::string used_key = j.contains("values_deg") ? ".values_deg"
+                               : j.contains("values")   ? ".values"
+                               : j.contains("range_deg") ? ".range_deg"
+                                                         : ".range";
+  if (a.lo < domain_lo - 1e-12 || a.hi > domain_hi + 1e-12) {
+    std::ostringstream s;
+    s.precision(6);
+    if (angle)
+      s << "must lie within [" << degrees(domain_lo) << ", " << degrees(domain_hi) << "] degrees (got [" << degrees(a.lo)
+        << ", " << degrees(a.hi) << "] degrees)";
+    else
+      s << "must lie within [" << domain_lo << ", " << domain_hi << "] (got [" << a.lo << ", " << a.hi << "])";
+    fail(path + used_key, s.str());
+  }
+  a.lo = std::max(a.lo, domain_lo);
+  a.hi = std::min(a.hi, domain_hi);
+  if (a.spacing == Spacing::explicit_values) {
+    a.values.front() = std::max(a.values.front(), domain_lo);
+    a.values.back() = std::min(a.values.back(), domain_hi);
+  }
+  checked([&] { a.validate(path); });
+  return a;
+}
+
+GridAxis make_phi_axis(const json& j, const std::string& path) {
+  GridAxis a;
+  a.name = "phi";
+  a.units = "rad";
+  a.long_name = "relative azimuth phi = phi_r - phi_i";
+  a.count = j.at("count").get<int>();
+  a.placement = parse_placement(j.value("placement", std::string("edges")), path + ".placement");
+  a.spacing = Spacing::uniform;
+  if (j.value("symmetry", std::string("even")) == "even") {
+    a.wrap = Wrap::even;
+    a.lo = 0.0;
+    a.hi = kPi;
+    if (a.count < 2 && a.placement == Placement::edges) fail(path + ".count", "must be >= 2 for edge-placed nodes (got 1)");
+  } else {
+    a.wrap = Wrap::periodic;
+    a.lo = -kPi;
+    a.hi = kPi;
+  }
+  checked([&] { a.validate(path); });
+  return a;
+}
+
+// Lobe names → p, with the residual as -1.
+int lobe_index(const std::string& name, int lobe_count, const std::string& path) {
+  if (name == "residual") return -1;
+  int p = -2;
+  checked([&] { p = parse_lobe(name, path); });
+  if (p >= lobe_count) fail(path, "lobe " + name + " is not among lobes.explicit");
+  return p;
+}
+
+// Per-lobe values given for some lobes: lobes not listed take the nearest listed lower lobe's
+// value (else the nearest higher); the residual takes its own or the highest lobe's.
+void per_lobe_values(const json& j, const std::string& path, int lobe_count, double scale, std::vector<double>& out,
+                     double& residual) {
+  std::map<int, double> given;
+  for (const auto& [key, value] : j.items()) given[lobe_index(key, lobe_count, path + "." + key)] = value.get<double>() * scale;
+  out.assign(static_cast<std::size_t>(lobe_count), 0.0);
+  for (int p = 0; p < lobe_count; ++p) {
+    auto it = given.upper_bound(p);  // first key > p
+    if (given.count(p)) out[static_cast<std::size_t>(p)] = given[p];
+    else if (it != given.begin() && std::prev(it)->first >= 0) out[static_cast<std::size_t>(p)] = std::prev(it)->second;
+    else {
+      auto hi = given.lower_bound(0);
+      if (hi == given.end()) fail(path, "must give a value for at least one explicit lobe");
+      out[static_cast<std::size_t>(p)] = hi->second;
+    }
+  }
+  residual = given.count(-1) ? given[-1] : out.back();
+}
+
+json axes_json(const std::vector<GridAxis>& axes) {
+  json a = json::object();
+  for (const GridAxis& g : axes)
+    if (g.count > 0) a[g.name] = g.to_json();
+  return a;
+}
+
+BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir) {
+  BakeConfig c;
+  c.name = doc.at("name").get<std::string>();
+  c.description = doc.value("description", std::string());
+  c.model = doc.value("model", std::string("deon2011"));
+
+  const json fiber = doc.value("fiber", json::object());
+  c.eta = get_number(fiber, "eta", 1.55);
+  c.path = parse_absorption_path(fiber.value("absorption_path", std::string("chord")), "fiber.absorption_path");
+
+  const json lobes = doc.value("lobes", json::object());
+  const auto names = lobes.value("explicit", std::vector<std::string>{"R", "TT", "TRT", "TRRT"});
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string path = "lobes.explicit[" + std::to_string(i) + "]";
+    int p = -1;
+    checked([&] { p = parse_lobe(names[i], path); });
+    if (p != static_cast<int>(i))
+      fail(path, "must be \"" + lobe_name(static_cast<int>(i)) + "\": list the lobes R, TT, TRT, ... in order without gaps (got \"" +
+                     names[i] + "\")");
+  }
+  c.lobe_count = static_cast<int>(names.size());
+  c.residual = lobes.value("residual", true);
+  c.fold_below = get_number(lobes, "fold_below", 0.0);
+  c.tilt.assign(static_cast<std::size_t>(c.lobe_count), 0.0);
+  if (lobes.contains("tilt_deg")) {
+    for (const auto& [key, value] : lobes.at("tilt_deg").items()) {
+      const int p = lobe_index(key, c.lobe_count, "lobes.tilt_deg." + key);
+      if (p < 0) c.residual_tilt = radians(value.get<double>());
+      else c.tilt[static_cast<std::size_t>(p)] = radians(value.get<double>());
+    }
+  }
+
+  const json q = doc.value("quadrature", json::object());
+  c.quadrature.method = q.value("method", std::string("gauss-legendre")) == "adaptive" ? NpQuadratureConfig::Method::adaptive
+                                                                                      : NpQuadratureConfig::Method::gauss_legendre;
+  c.quadrature.order = q.value("order", 256);
+  c.quadrature.variable = parse_integration_variable(q.value("variable", std::string("gamma")), "quadrature.variable");
+  c.quadrature.tolerance = get_number(q, "tolerance", 1e-10);
+  c.quadrature.energy_order = q.value("energy_order", 128);
+
+  const json tables = doc.value("tables", json::object());
+  if (tables.contains("np")) {
+    const json& ax = tables.at("np").at("axes");
+    const std::string p = "tables.np.axes.";
+    // Per-material scenes take sigma_a and beta from their materials; generic tables need them.
+    const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
+    for (const char* key : {"sigma_a", "beta"})
+      if (!ax.contains(key) && !per_material)
+        fail("tables.np.axes", std::string("missing required key \"") + key + "\" (needed unless scene.mode is per-material)");
+    GridAxis beta_axis, sigma_axis;
+    beta_axis.name = "beta", sigma_axis.name = "sigma_a";
+    beta_axis.count = sigma_axis.count = 0;  // unused (per-material scene) unless given
+    if (ax.contains("beta"))
+      beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)");
+    if (ax.contains("sigma_a"))
+      sigma_axis = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius",
+                             "absorption coefficient per unit fiber radius");
+    c.np_axes = std::vector<GridAxis>{
+        beta_axis,
+        sigma_axis,
+        make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                  "longitudinal difference angle theta_d = (theta_r - theta_i)/2"),
+        make_phi_axis(ax.at("phi"), p + "phi")};
+  }
+  if (tables.contains("mp")) {
+    const json& ax = tables.at("mp").at("axes");
+    const std::string p = "tables.mp.axes.";
+    const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
+    if (!ax.contains("beta") && !per_material)
+      fail("tables.mp.axes", "missing required key \"beta\" (needed unless scene.mode is per-material)");
+    GridAxis beta_axis;
+    beta_axis.name = "beta";
+    beta_axis.count = 0;  // unused (per-material scene) unless given
+    if (ax.contains("beta"))
+      beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad", "longitudinal roughness beta, v = beta^2");
+    c.mp_axes = std::vector<GridAxis>{
+        beta_axis,
+        make_axis(ax.at("theta_i"), p + "theta_i", "theta_i", true, -kHalfPi, kHalfPi, "rad", "incident inclination theta_i"),
+        make_axis(ax.at("theta_r"), p + "theta_r", "theta_r", true, -kHalfPi, kHalfPi, "rad", "exit inclination theta_r")};
+  }
+  if (tables.contains("melanin")) {
+    const json& m = tables.at("melanin");
+    const std::string p = "tables.melanin.axes.";
+    c.melanin_axes = std::vector<GridAxis>{
+        make_axis(m.at("axes").at("eumelanin"), p + "eumelanin", "eumelanin", false, 0.0, 100.0, "1",
+                  "eumelanin concentration (d'Eon 2011 / pbrt units)"),
+        make_axis(m.at("axes").at("pheomelanin"), p + "pheomelanin", "pheomelanin", false, 0.0, 100.0, "1",
+                  "pheomelanin concentration (d'Eon 2011 / pbrt units)")};
+    c.melanin_path_length = get_number(m, "path_length", 2.0);
+  }
+
+  if (doc.contains("scene")) {
+    const json& s = doc.at("scene");
+    SceneConfig scene;
+    scene.mode = s.value("mode", std::string("per-material")) == "restrict-generic" ? SceneConfig::Mode::restrict_generic
+                                                                                 : SceneConfig::Mode::per_material;
+    if (!c.np_axes) fail("scene", "needs tables.np: its theta_d and phi axes (and, for restrict-generic, sigma_a and beta counts)");
+    std::set<std::string> seen;
+    std::optional<SpectralMelanin> spectral;
+    for (std::size_t i = 0; i < s.at("materials").size(); ++i) {
+      const json& mj = s.at("materials")[i];
+      const std::string path = "scene.materials[" + std::to_string(i) + "]";
+      MaterialConfig m;
+      m.name = mj.at("name").get<std::string>();
+      if (!seen.insert(m.name).second) fail(path + ".name", "duplicates the name of an earlier material (\"" + m.name + "\")");
+      if (mj.contains("melanin")) {
+        const json& mel = mj.at("melanin");
+        const double ce = mel.at("eumelanin").get<double>(), cp = get_number(mel, "pheomelanin", 0.0);
+        m.melanin = std::array<double, 2>{ce, cp};
+        m.melanin_model = mel.value("model", std::string("rgb"));
+        Rgb rgb;
+        if (m.melanin_model == "spectral") {
+          if (!spectral) spectral = SpectralMelanin::builtin();
+          rgb = spectral->sigma_a_rgb(ce, cp);
+        } else {
+          rgb = melanin_sigma_a_rgb(ce, cp);
+        }
+        m.sigma_a = {rgb.r, rgb.g, rgb.b};
+      } else {
+        const auto v = mj.at("sigma_a").get<std::vector<double>>();
+        m.sigma_a = {v[0], v[1], v[2]};
+      }
+      per_lobe_values(mj.at("beta_deg"), path + ".beta_deg", c.lobe_count, kPi / 180.0, m.beta_m, m.residual_beta_m);
+      if (mj.contains("beta_n_deg"))
+        per_lobe_values(mj.at("beta_n_deg"), path + ".beta_n_deg", c.lobe_count, kPi / 180.0, m.beta_n, m.residual_beta_n);
+      else
+        m.beta_n = m.beta_m, m.residual_beta_n = m.residual_beta_m;
+      scene.materials.push_back(std::move(m));
+    }
+    c.scene = std::move(scene);
+  }
+  if (!c.np_axes && !c.mp_axes && !c.melanin_axes) fail("tables", "must ask for at least one table (np, mp or melanin)");
+
+  const json& out = doc.at("output");
+  std::filesystem::path dir = out.value("directory", std::string("."));
+  c.output.directory = dir.is_absolute() ? dir : (base_dir / dir).lexically_normal();
+  c.output.basename = out.at("basename").get<std::string>();
+  for (const auto& f : out.at("formats")) (f == "hdf5" ? c.output.hdf5 : c.output.exr) = true;
+  const json h5 = out.value("hdf5", json::object());
+  c.output.hdf5_double = h5.value("precision", std::string("float32")) == "float64";
+  c.output.hdf5_deflate = h5.value("compression", 6);
+  const json exr = out.value("exr", json::object());
+  c.output.exr_half = exr.value("precision", std::string("float")) == "half";
+  c.output.exr_compression = exr.value("compression", std::string("zip"));
+
+  // Normalized form: every default filled in, angles in radians, keys sorted (nlohmann::json).
+  json n;
+  n["name"] = c.name;
+  n["description"] = c.description;
+  n["model"] = c.model;
+  n["fiber"] = {{"eta", c.eta}, {"absorption_path", to_string(c.path)}};
+  json tilt = json::object();
+  for (int p = 0; p < c.lobe_count; ++p) tilt[lobe_name(p)] = c.tilt[static_cast<std::size_t>(p)];
+  tilt["residual"] = c.residual_tilt;
+  n["lobes"] = {{"explicit", names}, {"residual", c.residual}, {"fold_below", c.fold_below}, {"tilt", tilt}};
+  n["quadrature"] = {{"method", c.quadrature.method == NpQuadratureConfig::Method::adaptive ? "adaptive" : "gauss-legendre"},
+                     {"order", c.quadrature.order},
+                     {"variable", to_string(c.quadrature.variable)},
+                     {"tolerance", c.quadrature.tolerance},
+                     {"energy_order", c.quadrature.energy_order}};
+  json t = json::object();
+  if (c.np_axes) t["np"] = {{"axes", axes_json(*c.np_axes)}};
+  if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
+  if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};
+  n["tables"] = t;
+  if (c.scene) {
+    json mats = json::array();
+    for (const MaterialConfig& m : c.scene->materials) {
+      json mj = {{"name", m.name}, {"sigma_a", m.sigma_a}, {"beta_m", m.beta_m}, {"beta_n", m.beta_n},
+                 {"residual_beta_m", m.residual_beta_m}, {"residual_beta_n", m.residual_beta_n}};
+      if (m.melanin) mj["melanin"] = {{"eumelanin", (*m.melanin)[0]}, {"pheomelanin", (*m.melanin)[1]}, {"model", m.melanin_model}};
+      mats.push_back(mj);
+    }
+    n["scene"] = {{"mode", c.scene->mode == SceneConfig::Mode::per_material ? "per-material" : "restrict-generic"},
+                  {"materials", mats}};
+  }
+  json formats = json::array();
+  if (c.output.hdf5) formats.push_back("hdf5");
+  if (c.output.exr) formats.push_back("exr");
+  n["output"] = {{"basename", c.output.basename},
+                 {"formats", formats},
+                 {"hdf5", {{"precision", c.output.hdf5_double ? "float64" : "float32"}, {"compression", c.output.hdf5_deflate}}},
+                 {"exr", {{"precision", c.output.exr_half ? "half" : "float"}, {"compression", c.output.exr_compression}}}};
+  c.normalized = n;
+  c.hash = fnv1a64_hex(n.dump() + "\nhairlut " + kVersion);
+  return c;
+}
+
+}  // namespace
+
+BakeConfig parse_config(const nlohmann::json& document, const std::string& source, const std::filesystem::path& base_dir) {
+  static_assert(sizeof(char) == 1);
+  const JsonSchema schema(nlohmann::json::parse(config_schema_text()));
+  const auto violations = schema.validate(document, 1);
+  if (!violations.empty()) throw ConfigError(source + ": " + violations.front().message);
+  try {
+    return parse_checked(document, base_dir);
+  } catch (const KeyError& e) {
+    throw ConfigError(source + ": " + e.path + ": " + e.reason);
+  } catch (const DomainError& e) {
+    throw ConfigError(source + ": " + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    // The schema should make this unreachable; keep the message one line anyway.
+    throw ConfigError(source + ": " + e.what());
+  }
+}
+
+BakeConfig load_config(const std::filesystem::path& file) {
+  const std::string source = file.string();
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ConfigError(source + ": cannot open config file (" + std::string(std::strerror(errno)) + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ConfigError(source + ": cannot read config file");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.byte is the offset of the error; turn it into line:column.
+    const std::string s = text.str();
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < s.size(); ++i) {
+      if (s[i] == '\n') ++line, col = 1;
+      else ++col;
+    }
+    std::string what = e.what();
+    const auto pos = what.find("syntax error");
+    if (pos != std::string::npos) what = what.substr(pos);
+    throw ConfigError(source + ":" + std::to_string(line) + ":" + std::to_string(col) + ": invalid JSON: " + what);
+  }
+  std::filesystem::path base = file.parent_path();
+  if (base.empty()) base = ".";
+  return parse_config(doc, source, base);
+}
+
+}  // namespace hairlut

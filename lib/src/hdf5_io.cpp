@@ -1,0 +1,412 @@
+#include "hairlut/hdf5_io.hpp"
+
+#include <hdf5.h>
+#include <hdf5_hl.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "hairlut/error.hpp"
+
+namespace hairlut {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// Owns an HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept {
+    std::swap(id_, o.id_);
+    std::swap(close_, o.close_);
+    return *this;
+  }
+  ~Handle() {
+    if (id_ >= 0 && close_) {
+      H5E_BEGIN_TRY { close_(id_); }
+      H5E_END_TRY;
+    }
+  }
+  hid_t get() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_ = -1;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+// Context for one file: turns HDF5 failures into one-line IoErrors naming the file. HDF5's own
+// error-stack printing is suppressed per call (H5E_BEGIN_TRY), leaving the library's global
+// settings untouched.
+struct File {
+  std::string name;
+
+  [[noreturn]] void fail(const std::string& what) const { throw IoError(name + ": " + what); }
+
+  hid_t check(hid_t id, const std::string& what) const {
+    if (id < 0) fail(what);
+    return id;
+  }
+  void check_status(herr_t status, const std::string& what) const {
+    if (status < 0) fail(what);
+  }
+};
+
+template <class F>
+auto quiet(F&& f) {
+  decltype(f()) r{};
+  H5E_BEGIN_TRY { r = f(); }
+  H5E_END_TRY;
+  return r;
+}
+
+Handle string_type() {
+  Handle t(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(t.get(), H5T_VARIABLE);
+  H5Tset_cset(t.get(), H5T_CSET_UTF8);
+  return t;
+}
+
+void write_string_attr(const File& f, hid_t obj, const std::string& key, const std::string& value) {
+  Handle type = string_type();
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  f.check(attr.get(), "cannot create attribute " + key);
+  const char* p = value.c_str();
+  f.check_status(quiet([&] { return H5Awrite(attr.get(), type.get(), &p); }), "cannot write attribute " + key);
+}
+
+void write_doubles_attr(const File& f, hid_t obj, const std::string& key, const std::vector<double>& v) {
+  const hsize_t n = v.size();
+  Handle space(v.size() == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose);
+  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  f.check(attr.get(), "cannot create attribute " + key);
+  f.check_status(quiet([&] { return H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, v.data()); }), "cannot write attribute " + key);
+}
+
+void write_int_attr(const File& f, hid_t obj, const std::string& key, long long v) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  f.check(attr.get(), "cannot create attribute " + key);
+  f.check_status(quiet([&] { return H5Awrite(attr.get(), H5T_NATIVE_LLONG, &v); }), "cannot write attribute " + key);
+}
+
+// JSON values as natural HDF5 attributes (strings, numbers, number arrays); anything else as JSON text.
+void write_json_attrs(const File& f, hid_t obj, const json& attrs) {
+  for (const auto& [key, value] : attrs.items()) {
+    if (value.is_string()) write_string_attr(f, obj, key, value.get<std::string>());
+    else if (value.is_number_integer() || value.is_boolean()) write_int_attr(f, obj, key, value.is_boolean() ? value.get<bool>() : value.get<long long>());
+    else if (value.is_number()) write_doubles_attr(f, obj, key, {value.get<double>()});
+    else if (value.is_array() && !value.empty() && std::all_of(value.begin(), value.end(), [](const json& x) { return x.is_number(); }))
+      write_doubles_attr(f, obj, key, value.get<std::vector<double>>());
+    else write_string_attr(f, obj, key, value.dump());
+  }
+}
+
+std::string read_string_attr(const File& f, hid_t obj, const std::string& key, const std::string& where) {
+  if (quiet([&] { return H5Aexists(obj, key.c_str()); }) <= 0) f.fail(where + ": missing attribute " + key + " (not a hairlut table file?)");
+  Handle attr(quiet([&] { return H5Aopen(obj, key.c_str(), H5P_DEFAULT); }), H5Aclose);
+  f.check(attr.get(), where + ": cannot open attribute " + key);
+  Handle ftype(quiet([&] { return H5Aget_type(attr.get()); }), H5Tclose);
+  if (!ftype.valid() || H5Tget_class(ftype.get()) != H5T_STRING || H5Tis_variable_str(ftype.get()) <= 0)
+    f.fail(where + ": attribute " + key + " is not a string");
+  Handle space(quiet([&] { return H5Aget_space(attr.get()); }), H5Sclose);
+  if (!space.valid() || H5Sget_simple_extent_npoints(space.get()) != 1) f.fail(where + ": attribute " + key + " is not a scalar");
+  Handle type = string_type();
+  char* p = nullptr;
+  f.check_status(quiet([&] { return H5Aread(attr.get(), type.get(), &p); }), where + ": cannot read attribute " + key);
+  std::string s = p ? p : "";
+  if (p) H5free_memory(p);
+  return s;
+}
+
+// Creates the groups of a path such as "materials/blonde"; returns the innermost.
+Handle open_or_create_group(const File& f, hid_t root, const std::string& path) {
+  Handle gcpl(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+  H5Pset_obj_track_times(gcpl.get(), 0);
+  Handle current(H5Gopen2(root, "/", H5P_DEFAULT), H5Gclose);
+  std::size_t start = 0;
+  while (start < path.size()) {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    const std::string part = path.substr(start, end - start);
+    hid_t g;
+    if (quiet([&] { return H5Lexists(current.get(), part.c_str(), H5P_DEFAULT); }) > 0)
+      g = quiet([&] { return H5Gopen2(current.get(), part.c_str(), H5P_DEFAULT); });
+    else
+      g = quiet([&] { return H5Gcreate2(current.get(), part.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT); });
+    f.check(g, "cannot create group " + path);
+    current = Handle(g, H5Gclose);
+    start = end + 1;
+  }
+  return current;
+}
+
+Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std::size_t element, int deflate) {
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_obj_track_times(dcpl.get(), 0);
+  // Chunks: whole trailing planes (the sampler's inner axes), leading axes one at a time; a
+  // chunk stays under 4 MiB by splitting the second-to-last axis if needed.
+  std::vector<hsize_t> chunk(dims.size(), 1);
+  std::size_t bytes = element;
+  for (std::size_t k = dims.size(); k-- > 0;) {
+    const hsize_t want = std::max<hsize_t>(dims[k], 1);
+    if (bytes * want <= (std::size_t{4} << 20)) {
+      chunk[k] = want;
+      bytes *= want;
+    } else {
+      chunk[k] = std::max<hsize_t>(1, (std::size_t{4} << 20) / bytes);
+      break;
+    }
+  }
+  f.check_status(H5Pset_chunk(dcpl.get(), static_cast<int>(dims.size()), chunk.data()), "cannot set chunking");
+  H5Pset_fletcher32(dcpl.get());
+  H5Pset_shuffle(dcpl.get());
+  if (deflate > 0) H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate));
+  return dcpl;
+}
+
+void write_scale(const File& f, hid_t group, const GridAxis& a, int deflate) {
+  const std::vector<double> nodes = a.nodes();
+  const std::vector<hsize_t> dims = {static_cast<hsize_t>(nodes.size())};
+  Handle space(H5Screate_simple(1, dims.data(), nullptr), H5Sclose);
+  Handle dcpl = dataset_create_plist(f, dims, sizeof(double), deflate);
+  Handle ds(quiet([&] { return H5Dcreate2(group, a.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT); }),
+            H5Dclose);
+  f.check(ds.get(), "cannot create axis " + a.name);
+  f.check_status(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, nodes.data()), "cannot write axis " + a.name);
+  f.check_status(H5DSset_scale(ds.get(), a.name.c_str()), "cannot make " + a.name + " a dimension scale");
+  write_string_attr(f, ds.get(), "units", a.units);
+  write_string_attr(f, ds.get(), "long_name", a.long_name);
+  write_string_attr(f, ds.get(), "spacing", std::string(to_string(a.spacing)));
+  write_string_attr(f, ds.get(), "placement", std::string(to_string(a.placement)));
+  write_string_attr(f, ds.get(), "wrap", std::string(to_string(a.wrap)));
+  write_doubles_attr(f, ds.get(), "range", {a.lo, a.hi});
+  if (!a.labels.empty()) {
+    std::string joined;
+    for (const auto& l : a.labels) joined += (joined.empty() ? "" : ",") + l;
+    write_string_attr(f, ds.get(), "labels", joined);
+  }
+}
+
+bool same_axis(const GridAxis& a, const GridAxis& b) { return a.to_json() == b.to_json(); }
+
+// The superblock version byte that follows the signature at offset 0; hairlut writes ≥ 2.
+void check_signature_bytes(const File& f, const unsigned char* head, std::size_t size) {
+  static constexpr unsigned char sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+  if (size < 9 || std::memcmp(head, sig, 8) != 0) f.fail("not an HDF5 file (no HDF5 signature at offset 0)");
+  if (head[8] < 2)
+    f.fail("not a hairlut table file: HDF5 superblock version " + std::to_string(head[8]) +
+           " (hairlut writes version 2 or later, whose metadata are checksummed)");
+}
+
+void check_signature(const File& f, const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) f.fail("cannot open file (" + std::string(std::strerror(errno)) + ")");
+  std::array<unsigned char, 9> head{};
+  in.read(reinterpret_cast<char*>(head.data()), head.size());
+  check_signature_bytes(f, head.data(), static_cast<std::size_t>(in.gcount()));
+}
+
+}  // namespace
+
+void write_hdf5(const TableSet& set, const std::filesystem::path& path, const Hdf5WriteOptions& options) {
+  const File f{path.string()};
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);  // 1.10 format: compact chunk indexes
+  Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_obj_track_times(fcpl.get(), 0);
+  Handle file(quiet([&] { return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
+  f.check(file.get(), "cannot create HDF5 file");
+  Handle root(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose);
+
+  // Provenance on the root, both as individual attributes and as one JSON text.
+  write_json_attrs(f, root.get(), set.metadata);
+  write_string_attr(f, root.get(), "hairlut_metadata", set.metadata.dump());
+  json index = json::array();
+  for (const Table& t : set.tables) index.push_back(t.path());
+  write_string_attr(f, root.get(), "hairlut_tables", index.dump());
+  write_string_attr(f, root.get(), "hairlut_checksum", content_checksum(set));
+
+  // Dimension scales per group, then the tables.
+  std::map<std::string, std::map<std::string, GridAxis>> scales;
+  for (const Table& t : set.tables)
+    for (const GridAxis& a : t.axes) {
+      auto [it, inserted] = scales[t.group].emplace(a.name, a);
+      if (!inserted && !same_axis(it->second, a))
+        f.fail("tables in group " + t.group + " use two different axes named " + a.name);
+    }
+  for (const auto& [group, axes] : scales) {
+    Handle g = open_or_create_group(f, file.get(), group);
+    for (const auto& [name, axis] : axes) write_scale(f, g.get(), axis, options.deflate);
+  }
+  for (const Table& t : set.tables) {
+    Handle g = open_or_create_group(f, file.get(), t.group);
+    std::vector<hsize_t> dims;
+    for (const GridAxis& a : t.axes) dims.push_back(static_cast<hsize_t>(a.count));
+    if (grid_size(t.axes) != t.size()) f.fail("table " + t.path() + " holds " + std::to_string(t.size()) + " values for its axes' grid");
+    const bool dbl = t.precision == Precision::float64;
+    Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
+    Handle dcpl = dataset_create_plist(f, dims, dbl ? 8 : 4, options.deflate);
+    Handle ds(quiet([&] {
+                return H5Dcreate2(g.get(), t.name.c_str(), dbl ? H5T_IEEE_F64LE : H5T_IEEE_F32LE, space.get(), H5P_DEFAULT,
+                                  dcpl.get(), H5P_DEFAULT);
+              }),
+              H5Dclose);
+    f.check(ds.get(), "cannot create dataset " + t.path());
+    const void* data = dbl ? static_cast<const void*>(t.f64.data()) : static_cast<const void*>(t.f32.data());
+    f.check_status(H5Dwrite(ds.get(), dbl ? H5T_NATIVE_DOUBLE : H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+                   "cannot write dataset " + t.path());
+    for (std::size_t k = 0; k < t.axes.size(); ++k) {
+      Handle scale(H5Dopen2(g.get(), t.axes[k].name.c_str(), H5P_DEFAULT), H5Dclose);
+      f.check_status(H5DSattach_scale(ds.get(), scale.get(), static_cast<unsigned>(k)), "cannot attach axis " + t.axes[k].name);
+    }
+    write_string_attr(f, ds.get(), "quantity", t.quantity);
+    write_string_attr(f, ds.get(), "units", t.units);
+    write_string_attr(f, ds.get(), "long_name", t.long_name);
+    write_json_attrs(f, ds.get(), t.attributes);
+    write_string_attr(f, ds.get(), "hairlut_table", t.describe().dump());
+  }
+  f.check_status(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush HDF5 file");
+}
+
+namespace {
+TableSet read_open_file(const File& f, hid_t file_id);
+}
+
+TableSet read_hdf5(const std::filesystem::path& path) {
+  const File f{path.string()};
+  check_signature(f, path);
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // closing the file closes whatever a failed read left open
+  Handle file(quiet([&] { return H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()); }), H5Fclose);
+  f.check(file.get(), "cannot open as HDF5 (truncated or corrupted file)");
+  return read_open_file(f, file.get());
+}
+
+TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name) {
+  const File f{name};
+  check_signature_bytes(f, reinterpret_cast<const unsigned char*>(data), size);
+  // An in-memory file image (core driver, no backing store): HDF5 reads from a private copy.
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
+  f.check_status(H5Pset_fapl_core(fapl.get(), 1 << 16, 0), "cannot set up an in-memory HDF5 file");
+  f.check_status(quiet([&] { return H5Pset_file_image(fapl.get(), const_cast<char*>(data), size); }), "cannot load the HDF5 file image");
+  Handle file(quiet([&] { return H5Fopen("hairlut-memory-image.h5", H5F_ACC_RDONLY, fapl.get()); }), H5Fclose);
+  f.check(file.get(), "cannot open as HDF5 (truncated or corrupted file)");
+  return read_open_file(f, file.get());
+}
+
+namespace {
+TableSet read_open_file(const File& f, hid_t file_id) {
+  Handle root(quiet([&] { return H5Gopen2(file_id, "/", H5P_DEFAULT); }), H5Gclose);
+  f.check(root.get(), "cannot open the root group");
+
+  TableSet set;
+  json index;
+  try {
+    set.metadata = json::parse(read_string_attr(f, root.get(), "hairlut_metadata", "/"));
+    index = json::parse(read_string_attr(f, root.get(), "hairlut_tables", "/"));
+  } catch (const json::exception&) {
+    f.fail("malformed hairlut metadata (JSON) on the root group");
+  }
+  if (!set.metadata.is_object() || !index.is_array()) f.fail("malformed hairlut metadata on the root group");
+  std::set<std::string> seen;
+  for (const json& entry : index) {
+    if (!entry.is_string()) f.fail("malformed table index");
+    const std::string tpath = entry.get<std::string>();
+    if (!seen.insert(tpath).second) f.fail("table " + tpath + " listed twice");
+    const auto slash = tpath.rfind('/');
+    if (slash == std::string::npos || slash == 0) f.fail("malformed table path " + tpath);
+    if (quiet([&] { return H5Lexists(root.get(), tpath.c_str(), H5P_DEFAULT); }) <= 0 &&
+        quiet([&] { return H5Oexists_by_name(root.get(), tpath.c_str(), H5P_DEFAULT); }) <= 0)
+      f.fail("table " + tpath + " is listed but missing");
+    Handle ds(quiet([&] { return H5Dopen2(root.get(), tpath.c_str(), H5P_DEFAULT); }), H5Dclose);
+    f.check(ds.get(), "cannot open table " + tpath + " (missing or corrupted)");
+    json desc;
+    try {
+      desc = json::parse(read_string_attr(f, ds.get(), "hairlut_table", tpath));
+    } catch (const json::exception&) {
+      f.fail(tpath + ": malformed hairlut_table attribute");
+    }
+    Table t;
+    try {
+      t.group = desc.at("group").get<std::string>();
+      t.name = desc.at("name").get<std::string>();
+      t.quantity = desc.at("quantity").get<std::string>();
+      t.units = desc.at("units").get<std::string>();
+      t.long_name = desc.value("long_name", std::string());
+      t.attributes = desc.value("attributes", json::object());
+      const json& axes = desc.at("axes");
+      if (!axes.is_array() || axes.size() > 8) f.fail(tpath + ": malformed axes");
+      for (std::size_t k = 0; k < axes.size(); ++k) t.axes.push_back(GridAxis::from_json(axes[k], tpath + ".axes[" + std::to_string(k) + "]"));
+    } catch (const json::exception& e) {
+      f.fail(tpath + ": malformed hairlut_table attribute (" + std::string(e.what()) + ")");
+    } catch (const DomainError& e) {
+      f.fail(e.what());
+    }
+    if (t.path() != tpath) f.fail(tpath + ": hairlut_table names a different path (" + t.path() + ")");
+    // The stored shape must be the axes' shape.
+    Handle space(quiet([&] { return H5Dget_space(ds.get()); }), H5Sclose);
+    f.check(space.get(), tpath + ": cannot read the dataspace");
+    const int rank = H5Sget_simple_extent_ndims(space.get());
+    if (rank != static_cast<int>(t.axes.size())) f.fail(tpath + ": has rank " + std::to_string(rank) + " but " + std::to_string(t.axes.size()) + " axes");
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+    for (int k = 0; k < rank; ++k)
+      if (dims[static_cast<std::size_t>(k)] != static_cast<hsize_t>(t.axes[static_cast<std::size_t>(k)].count))
+        f.fail(tpath + ": dimension " + std::to_string(k) + " has " + std::to_string(dims[static_cast<std::size_t>(k)]) +
+               " entries but axis " + t.axes[static_cast<std::size_t>(k)].name + " has " +
+               std::to_string(t.axes[static_cast<std::size_t>(k)].count));
+    std::size_t n = 0;
+    try {
+      n = grid_size(t.axes);
+    } catch (const DomainError&) {
+      f.fail(tpath + ": too large");
+    }
+    if (n > (std::size_t{1} << 32)) f.fail(tpath + ": too large (" + std::to_string(n) + " values)");
+    Handle ftype(quiet([&] { return H5Dget_type(ds.get()); }), H5Tclose);
+    if (!ftype.valid() || H5Tget_class(ftype.get()) != H5T_FLOAT) f.fail(tpath + ": values are not floating point");
+    const std::size_t bytes = H5Tget_size(ftype.get());
+    if (bytes != 4 && bytes != 8) f.fail(tpath + ": values are neither float32 nor float64");
+    t.allocate(bytes == 8 ? Precision::float64 : Precision::float32);
+    void* data = bytes == 8 ? static_cast<void*>(t.f64.data()) : static_cast<void*>(t.f32.data());
+    const herr_t status = quiet([&] {
+      return H5Dread(ds.get(), bytes == 8 ? H5T_NATIVE_DOUBLE : H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+    });
+    if (status < 0) f.fail(tpath + ": cannot read the values (data corrupted: checksum or decompression failed)");
+    // Each axis must be attached as a dimension scale whose values are the axis's nodes.
+    Handle group(quiet([&] { return H5Gopen2(root.get(), t.group.c_str(), H5P_DEFAULT); }), H5Gclose);
+    f.check(group.get(), tpath + ": cannot open group " + t.group);
+    for (std::size_t k = 0; k < t.axes.size(); ++k) {
+      const GridAxis& a = t.axes[k];
+      Handle scale(quiet([&] { return H5Dopen2(group.get(), a.name.c_str(), H5P_DEFAULT); }), H5Dclose);
+      if (!scale.valid()) f.fail(tpath + ": missing dimension scale " + t.group + "/" + a.name);
+      if (quiet([&] { return H5DSis_attached(ds.get(), scale.get(), static_cast<unsigned>(k)); }) <= 0)
+        f.fail(tpath + ": dimension scale " + a.name + " is not attached to dimension " + std::to_string(k));
+      Handle sspace(quiet([&] { return H5Dget_space(scale.get()); }), H5Sclose);
+      if (!sspace.valid() || H5Sget_simple_extent_npoints(sspace.get()) != a.count)
+        f.fail(tpath + ": dimension scale " + a.name + " has the wrong length");
+      std::vector<double> values(static_cast<std::size_t>(a.count));
+      if (quiet([&] { return H5Dread(scale.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()); }) < 0)
+        f.fail(tpath + ": cannot read dimension scale " + a.name + " (corrupted)");
+      if (values != a.nodes()) f.fail(tpath + ": dimension scale " + a.name + " disagrees with the axis metadata");
+    }
+    set.tables.push_back(std::move(t));
+  }
+  // The content checksum covers everything read above; HDF5 checksums only part of it.
+  if (read_string_attr(f, root.get(), "hairlut_checksum", "/") != content_checksum(set))
+    f.fail("content checksum mismatch: the file is corrupted");
+  return set;
+}
+}  // namespace
+
+}  // namespace hairlut

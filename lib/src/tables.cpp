@@ -1,0 +1,80 @@
+#include "hairlut/tables.hpp"
+
+#include <Imath/half.h>
+
+#include "hairlut/error.hpp"
+#include "hairlut/hash.hpp"
+
+namespace hairlut {
+
+void Table::allocate(Precision p) {
+  precision = p;
+  const std::size_t n = grid_size(axes);
+  f32.clear();
+  f64.clear();
+  if (p == Precision::float32) f32.assign(n, 0.0f);
+  else f64.assign(n, 0.0);
+}
+
+double Table::sample(const std::vector<double>& x) const {
+  if (x.size() != axes.size())
+    throw DomainError("sample point of table " + path() + " must have " + std::to_string(axes.size()) + " coordinates (got " +
+                      std::to_string(x.size()) + ")");
+  std::vector<sampler::Axis> v;
+  for (const GridAxis& a : axes) v.push_back(a.view());
+  const int dims = static_cast<int>(v.size());
+  return precision == Precision::float32 ? sampler::sample(f32.data(), v.data(), dims, x.data())
+                                         : sampler::sample(f64.data(), v.data(), dims, x.data());
+}
+
+nlohmann::ordered_json Table::describe() const {
+  nlohmann::ordered_json j;
+  j["path"] = path();
+  j["group"] = group;
+  j["name"] = name;
+  j["quantity"] = quantity;
+  j["units"] = units;
+  j["long_name"] = long_name;
+  j["dims"] = nlohmann::ordered_json::array();
+  for (const GridAxis& a : axes) j["dims"].push_back(a.name);
+  j["shape"] = nlohmann::ordered_json::array();
+  for (const GridAxis& a : axes) j["shape"].push_back(a.count);
+  j["axes"] = nlohmann::ordered_json::array();
+  for (const GridAxis& a : axes) j["axes"].push_back(a.to_json());
+  j["attributes"] = attributes;
+  return j;
+}
+
+const Table* TableSet::find(const std::string& path) const {
+  for (const Table& t : tables)
+    if (t.path() == path) return &t;
+  return nullptr;
+}
+
+std::size_t TableSet::bytes() const {
+  std::size_t b = 0;
+  for (const Table& t : tables) b += t.f32.size() * sizeof(float) + t.f64.size() * sizeof(double);
+  return b;
+}
+
+std::string content_checksum(const TableSet& set, ChecksumRounding rounding) {
+  Fnv1a64 h;
+  h.update(set.metadata.dump());
+  for (const Table& t : set.tables) {
+    h.update(t.describe().dump());
+    if (rounding == ChecksumRounding::as_stored && t.precision == Precision::float64) {
+      h.update(t.f64.data(), t.f64.size() * sizeof(double));
+    } else if (rounding == ChecksumRounding::as_stored || (rounding == ChecksumRounding::float32 && t.precision == Precision::float32)) {
+      h.update(t.f32.data(), t.f32.size() * sizeof(float));
+    } else {
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        float v = static_cast<float>(t.get(i));
+        if (rounding == ChecksumRounding::half) v = static_cast<float>(half(v));
+        h.update(&v, sizeof v);
+      }
+    }
+  }
+  return h.hex();
+}
+
+}  // namespace hairlut

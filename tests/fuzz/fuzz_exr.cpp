@@ -1,0 +1,16 @@
+// libFuzzer target: arbitrary bytes as an OpenEXR table file. Valid outcomes are a loaded table
+// set or an IoError; anything else is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <hairlut/exr_io.hpp>
+#include <string>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    const hairlut::TableSet set = hairlut::read_exr_memory(reinterpret_cast<const char*>(data), size, "fuzz.exr");
+    (void)set;
+  } catch (const hairlut::IoError& e) {
+    if (std::string(e.what()).find('\n') != std::string::npos) __builtin_trap();
+  }
+  return 0;
+}

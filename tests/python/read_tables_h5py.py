@@ -1,0 +1,43 @@
+#!/usr/bin/env python3
+"""A Python client (Debian's python3-h5py) reads a hairlut HDF5 file with its coordinates.
+
+Checks, for every table listed in the sidecar JSON: the dataset exists with the listed shape;
+each dimension has exactly one attached dimension scale, named like the axis, with `units` and
+`long_name` attributes and the node values the sidecar lists; the root carries the provenance.
+Prints one summary line; exits non-zero on the first mismatch.
+"""
+import json
+import sys
+
+import os
+
+import h5py
+import jsonschema
+import numpy as np
+
+h5_path, sidecar_path = sys.argv[1], sys.argv[2]
+sidecar = json.load(open(sidecar_path))
+schema_path = os.path.join(os.path.dirname(__file__), "..", "..", "schemas", "hairlut-tables.schema.json")
+jsonschema.Draft202012Validator(json.load(open(schema_path))).validate(sidecar)
+with h5py.File(h5_path, "r") as f:
+    for key in ("hairlut_version", "model", "eta", "config", "config_hash"):
+        assert key in f.attrs, f"root attribute {key} missing"
+    assert f.attrs["config_hash"] == sidecar["config_hash"]
+    count = 0
+    for table in sidecar["tables"]:
+        ds = f[table["hdf5"]["dataset"]]
+        assert list(ds.shape) == table["shape"], (table["path"], ds.shape, table["shape"])
+        assert ds.attrs["units"] == table["units"]
+        for k, axis in enumerate(table["axes"]):
+            scales = list(ds.dims[k].values())
+            assert len(scales) == 1, f"{table['path']} dim {k}: {len(scales)} scales"
+            assert ds.dims[k].label == "" or ds.dims[k].label == axis["name"]
+            scale = scales[0]
+            assert scale.name.split("/")[-1] == axis["name"], (scale.name, axis["name"])
+            assert scale.attrs["units"] == axis["units"]
+            assert scale.attrs["long_name"] == axis["long_name"]
+            assert np.array_equal(scale[()], np.array(axis["values"], dtype=np.float64)), table["path"]
+        data = ds[()]
+        assert np.all(np.isfinite(data)) and np.all(data >= 0), table["path"]
+        count += 1
+print(f"h5py {h5py.__version__}: {count} tables with dimension scales read from {h5_path}")

@@ -1,0 +1,336 @@
+// The baker and the table files: baked values against direct evaluation, exact round trips through
+// HDF5 and OpenEXR, sampling, determinism across thread counts, up-to-date detection, lobe folding,
+// scene mode, and clear errors for bad files.
+#include <hdf5.h>
+
+#include <Imath/half.h>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <hairlut/hairlut.hpp>
+#include <hairlut/bake.hpp>
+#include <hairlut/config.hpp>
+#include <hairlut/melanin.hpp>
+#include <hairlut/table_io.hpp>
+#include <random>
+#include <sstream>
+#include <tuple>
+#include <unistd.h>
+
+#include "catch.hpp"
+
+using namespace hairlut;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("hairlut-test-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+json small_config() {
+  return json::parse(R"({
+    "name": "unit",
+    "lobes": { "explicit": ["R", "TT", "TRT", "TRRT"], "residual": true, "tilt_deg": { "R": -4, "TT": 2, "TRT": 6, "residual": 8 } },
+    "quadrature": { "order": 96 },
+    "tables": {
+      "np": { "axes": {
+        "theta_d": { "count": 5, "range_deg": [0, 85], "spacing": "cos" },
+        "phi": { "count": 9, "symmetry": "even" },
+        "sigma_a": { "count": 3, "range": [0, 4], "spacing": "sqrt" },
+        "beta": { "count": 3, "range_deg": [8, 40], "spacing": "log" } } },
+      "mp": { "axes": {
+        "theta_i": { "count": 7, "range_deg": [-90, 90], "spacing": "sin" },
+        "theta_r": { "count": 9, "range_deg": [-90, 90] },
+        "beta": { "count": 2, "range_deg": [5, 20] } } },
+      "melanin": { "axes": { "eumelanin": { "count": 4, "range": [0, 8] }, "pheomelanin": { "count": 3, "range": [0, 2] } } }
+    },
+    "output": { "basename": "unit", "formats": ["hdf5", "exr"] }
+  })");
+}
+
+BakeConfig config_in(const fs::path& dir, const json& j = small_config()) { return parse_config(j, "unit.json", dir); }
+
+std::string file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_bytes(const fs::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary);
+  out << bytes;
+}
+
+std::string io_error(const fs::path& p) {
+  try {
+    load_tables(p);
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+
+}  // namespace
+
+TEST_CASE("Baked N_p, energies and M_p equal direct evaluation at the nodes", "[bake]") {
+  const BakeConfig c = config_in(temp_dir("direct"));
+  BakeReport report;
+  const TableSet set = bake(c, {}, &report);
+  REQUIRE(set.find("np/TRT") != nullptr);
+  const Table& t = *set.find("np/TRT");
+  REQUIRE(t.axes.size() == 4);
+  const auto betas = t.axes[0].nodes(), sigmas = t.axes[1].nodes(), thetas = t.axes[2].nodes(), phis = t.axes[3].nodes();
+  const GaussLegendreRule rule(96), energy_rule(128);
+  std::size_t k = 0;
+  for (double b : betas)
+    for (double s : sigmas)
+      for (double th : thetas)
+        for (double ph : phis) {
+          const AttenuationSlice slice(1.55, th, s);
+          CHECK(t.f32[k++] == static_cast<float>(azimuthal_np(slice, 2, b, ph, rule)));
+        }
+  const Table& e = *set.find("np/energy_TT");
+  const Table& r = *set.find("np/residual");
+  k = 0;
+  for (double s : sigmas)
+    for (double th : thetas) {
+      const auto ref = lobe_energies(AttenuationSlice(1.55, th, s), {4, true}, energy_rule);
+      CHECK(e.f32[k] == static_cast<float>(ref[1]));
+      CHECK(r.f32[k] == static_cast<float>(ref[4] / kTwoPi));
+      ++k;
+    }
+  const Table& m = *set.find("mp/R");
+  const auto mb = m.axes[0].nodes(), mi = m.axes[1].nodes(), mr = m.axes[2].nodes();
+  k = 0;
+  for (double b : mb)
+    for (double ti : mi)
+      for (double tr : mr) CHECK(m.f32[k++] == static_cast<float>(longitudinal_deon_tilted(b * b, radians(-4.0), ti, tr)));
+  CHECK(set.find("mp/TRRT")->attributes["alpha"].get<double>() == 0.0);  // not listed in tilt_deg
+  CHECK(set.find("mp/residual")->attributes["alpha"].get<double>() == Approx(radians(8.0)));
+  // Melanin: d'Eon's cross-sections.
+  const Table& mel = *set.find("melanin/sigma_a_deon");
+  const auto ce = mel.axes[0].nodes(), cp = mel.axes[1].nodes();
+  const Rgb rgb = melanin_sigma_a_rgb(ce[2], cp[1]);
+  CHECK(mel.f32[(2 * cp.size() + 1) * 3 + 2] == static_cast<float>(rgb.b));
+  CHECK(report.entries > 0);
+  CHECK(report.folded.empty());
+}
+
+TEST_CASE("HDF5 and OpenEXR round trips return exactly what was baked", "[io]") {
+  const fs::path dir = temp_dir("roundtrip");
+  json j = small_config();
+  j["output"]["exr"] = {{"precision", "half"}};
+  const BakeConfig c = config_in(dir, j);
+  BakeReport report;
+  const TableSet set = bake(c, {}, &report);
+  const auto files = write_outputs(set, c, report);
+  REQUIRE(files.size() == 3);
+  const TableSet h5 = load_tables(output_paths(c).hdf5);
+  const TableSet exr = load_tables(output_paths(c).exr);
+  REQUIRE(h5.tables.size() == set.tables.size());
+  REQUIRE(exr.tables.size() == set.tables.size());
+  CHECK(h5.metadata == set.metadata);
+  CHECK(exr.metadata == set.metadata);
+  for (const Table& t : set.tables) {
+    INFO(t.path());
+    const Table* a = h5.find(t.path());
+    const Table* b = exr.find(t.path());
+    REQUIRE(a);
+    REQUIRE(b);
+    CHECK(a->f32 == t.f32);  // bit-exact
+    REQUIRE(b->f32.size() == t.f32.size());
+    std::size_t mismatches = 0;
+    for (std::size_t i = 0; i < t.f32.size(); ++i)
+      if (b->f32[i] != static_cast<float>(half(t.f32[i]))) ++mismatches;
+    CHECK(mismatches == 0);
+    CHECK(a->describe() == t.describe());
+    CHECK(b->describe() == t.describe());
+  }
+  // Sampling the loaded table at its nodes returns the stored values.
+  const Table& np = *h5.find("np/TT");
+  std::vector<std::vector<double>> nodes;
+  for (const GridAxis& ax : np.axes) nodes.push_back(ax.nodes());
+  std::size_t k = 0;
+  for (double b : nodes[0])
+    for (double s : nodes[1])
+      for (double th : nodes[2])
+        for (double ph : nodes[3]) CHECK(np.sample({b, s, th, ph}) == static_cast<double>(np.f32[k++]));
+  // Between nodes the multilinear value lies within the range of the surrounding nodes.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 200; ++i) {
+    std::vector<double> x(4);
+    for (std::size_t d = 0; d < 4; ++d) x[d] = nodes[d].front() + u(rng) * (nodes[d].back() - nodes[d].front());
+    const double v = np.sample(x);
+    CHECK(std::isfinite(v));
+    CHECK(v >= 0.0);
+  }
+}
+
+TEST_CASE("Output is bit-identical for any thread count", "[bake]") {
+  std::vector<std::string> bytes;
+  for (int threads : {1, 2, 3}) {
+    const fs::path dir = temp_dir("threads" + std::to_string(threads));
+    const BakeConfig c = config_in(dir);
+    BakeOptions opt;
+    opt.threads = threads;
+    BakeReport report;
+    const TableSet set = bake(c, opt, &report);
+    write_outputs(set, c, report);
+    bytes.push_back(file_bytes(output_paths(c).hdf5) + file_bytes(output_paths(c).exr) + file_bytes(output_paths(c).sidecar));
+  }
+  CHECK(bytes[0].size() > 1000);
+  CHECK(bytes[0] == bytes[1]);
+  CHECK(bytes[0] == bytes[2]);
+}
+
+TEST_CASE("Up-to-date detection follows the config, the version and the files", "[io]") {
+  const fs::path dir = temp_dir("uptodate");
+  const BakeConfig c = config_in(dir);
+  CHECK_FALSE(outputs_up_to_date(c));
+  BakeReport report;
+  write_outputs(bake(c, {}, &report), c, report);
+  CHECK(outputs_up_to_date(c));
+  json changed = small_config();
+  changed["fiber"] = {{"eta", 1.56}};
+  CHECK_FALSE(outputs_up_to_date(config_in(dir, changed)));
+  json reordered = json::parse(small_config().dump());  // same content, different key order in the text
+  CHECK(config_in(dir, reordered).hash == c.hash);
+  fs::remove(output_paths(c).exr);
+  CHECK_FALSE(outputs_up_to_date(c));
+  // No temporary files are left behind.
+  for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
+}
+
+TEST_CASE("Cancelling stops the bake and the writer leaves nothing behind", "[bake]") {
+  const fs::path dir = temp_dir("cancel");
+  const BakeConfig c = config_in(dir);
+  std::atomic<bool> cancel{true};
+  BakeOptions opt;
+  opt.cancel = &cancel;
+  CHECK_THROWS_AS(bake(c, opt), BakeCancelled);
+  BakeReport report;
+  const TableSet set = bake(c, {}, &report);
+  CHECK_THROWS_AS(write_outputs(set, c, report, &cancel), BakeCancelled);
+  CHECK(fs::is_empty(dir));
+}
+
+TEST_CASE("Lobes below fold_below are folded into the residual and reported", "[bake]") {
+  json j = small_config();
+  j["lobes"]["fold_below"] = 0.02;
+  j["tables"]["np"]["axes"]["sigma_a"] = {{"count", 2}, {"range", {2.0, 6.0}}};
+  const BakeConfig c = config_in(temp_dir("fold"), j);
+  BakeReport report;
+  const TableSet set = bake(c, {}, &report);
+  REQUIRE_FALSE(report.folded.empty());
+  CHECK(report.folded.back().lobe == "TRRT");
+  CHECK(report.folded.back().max_energy < 0.02);
+  CHECK(set.find("np/TRRT") == nullptr);
+  CHECK(set.metadata["folded_lobes"].size() == report.folded.size());
+  // The residual now starts at the first folded lobe.
+  const int P = report.explicit_lobes;
+  const Table& res = *set.find("np/energy_residual");
+  const auto sig = res.axes[0].nodes(), th = res.axes[1].nodes();
+  const auto ref = lobe_energies(AttenuationSlice(1.55, th[2], sig[1]), {P, true}, GaussLegendreRule(128));
+  CHECK(res.f32[1 * th.size() + 2] == static_cast<float>(ref.back()));
+}
+
+TEST_CASE("Scene mode bakes only what the materials need", "[bake]") {
+  json j = small_config();
+  j["scene"] = json::parse(R"({ "mode": "per-material", "materials": [
+      { "name": "blonde", "melanin": { "eumelanin": 0.3, "pheomelanin": 0.1 }, "beta_deg": { "R": 6, "TT": 3, "TRT": 12 } },
+      { "name": "grey", "sigma_a": [0.2, 0.25, 0.3], "beta_deg": { "R": 9 } } ] })");
+  const BakeConfig c = config_in(temp_dir("scene"), j);
+  const TableSet set = bake(c);
+  CHECK(set.find("np/R") == nullptr);  // no generic table
+  const Table* trt = set.find("materials/blonde/np_TRT");
+  REQUIRE(trt);
+  REQUIRE(trt->axes.size() == 3);
+  CHECK(trt->axes[0].name == "channel");
+  const Rgb s = melanin_sigma_a_rgb(0.3, 0.1);
+  const auto th = trt->axes[1].nodes(), ph = trt->axes[2].nodes();
+  const GaussLegendreRule rule(96);
+  // Blue channel, θd node 3, φ node 4; TRRT (not listed) takes TRT's roughness.
+  CHECK(trt->f32[(2 * th.size() + 3) * ph.size() + 4] == static_cast<float>(azimuthal_np(AttenuationSlice(1.55, th[3], s.b), 2, radians(12.0), ph[4], rule)));
+  CHECK(set.find("materials/blonde/np_TRRT")->attributes["beta"].get<double>() == Approx(radians(12.0)));
+  CHECK(set.find("materials/grey/np_TT")->attributes["beta"].get<double>() == Approx(radians(9.0)));
+  CHECK(set.find("materials/grey/mp_R") != nullptr);
+  // restrict-generic: generic axes narrowed to the materials' sigma_a and beta ranges.
+  j["scene"]["mode"] = "restrict-generic";
+  const BakeConfig r = config_in(temp_dir("scene2"), j);
+  std::vector<std::string> notes;
+  const auto axes = restricted_np_axes(r, &notes);
+  CHECK(axes[1].lo == Approx(std::min(s.r, 0.2)));
+  CHECK(axes[1].hi == Approx(std::max(s.b, 0.3)));
+  CHECK(axes[0].lo == Approx(radians(3.0)));
+  CHECK(axes[0].hi == Approx(radians(12.0)));
+  CHECK(notes.size() == 2);
+}
+
+TEST_CASE("Bad table files give one-line errors", "[io]") {
+  const fs::path dir = temp_dir("bad");
+  const BakeConfig c = config_in(dir);
+  BakeReport report;
+  write_outputs(bake(c, {}, &report), c, report);
+  const fs::path h5 = output_paths(c).hdf5, exr = output_paths(c).exr;
+  const std::string h5b = file_bytes(h5), exrb = file_bytes(exr);
+
+  CHECK(io_error(dir / "missing.h5").find("cannot open file") != std::string::npos);
+  write_bytes(dir / "text.h5", "hello, not a table");
+  CHECK(io_error(dir / "text.h5").find("not a hairlut table file") != std::string::npos);
+  // Truncated files.
+  write_bytes(dir / "trunc.h5", h5b.substr(0, h5b.size() / 2));
+  CHECK(io_error(dir / "trunc.h5").rfind((dir / "trunc.h5").string() + ": ", 0) == 0);
+  write_bytes(dir / "trunc.exr", exrb.substr(0, exrb.size() / 2));
+  CHECK(io_error(dir / "trunc.exr").find("truncated or corrupted") != std::string::npos);
+  // Corrupted bytes anywhere: the loader either rejects the file with a one-line error or returns
+  // exactly the original content (bytes in unused space change nothing); it never crashes and
+  // never returns altered values.
+  const TableSet original_h5 = load_tables(h5), original_exr = load_tables(exr);
+  std::mt19937 rng(11);
+  std::size_t rejected = 0, trials = 0;
+  for (const auto& [bytes, original, ext] : {std::tuple{h5b, &original_h5, ".h5"}, std::tuple{exrb, &original_exr, ".exr"}}) {
+    std::uniform_int_distribution<std::size_t> pos(0, bytes.size() - 8);
+    for (int trial = 0; trial < 60; ++trial) {
+      std::string bad = bytes;
+      const std::size_t offset = pos(rng);
+      for (std::size_t i = 0; i < 8; ++i) bad[offset + i] = static_cast<char>(bad[offset + i] ^ 0x5a);
+      const fs::path p = dir / (std::string("corrupt") + ext);
+      write_bytes(p, bad);
+      ++trials;
+      try {
+        const TableSet got = load_tables(p);
+        CHECK(content_checksum(got) == content_checksum(*original));
+      } catch (const IoError& e) {
+        ++rejected;
+        CHECK(std::string(e.what()).find('\n') == std::string::npos);
+      }
+    }
+  }
+  CHECK(rejected > trials / 4);
+  // A table whose metadata attribute was removed.
+  fs::copy_file(h5, dir / "nometa.h5");
+  {
+    const hid_t f = H5Fopen((dir / "nometa.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t d = H5Dopen2(f, "/np/TT", H5P_DEFAULT);
+    H5Adelete(d, "hairlut_table");
+    H5Dclose(d);
+    H5Fclose(f);
+  }
+  CHECK(io_error(dir / "nometa.h5").find("np/TT: missing attribute hairlut_table") != std::string::npos);
+  // An HDF5 file that is not a hairlut table file.
+  {
+    const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
+    const hid_t f = H5Fcreate((dir / "other.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    H5Fclose(f);
+    H5Pclose(fapl);
+  }
+  CHECK(io_error(dir / "other.h5").find("missing attribute hairlut_metadata") != std::string::npos);
+}

@@ -1,0 +1,142 @@
+// Grid axes and the header-only sampler: node placement, exact reproduction at nodes and of
+// functions linear in the mapped coordinate, wrapping, folding and clamping.
+#include <cmath>
+#include <hairlut/grid.hpp>
+#include <hairlut/sampler.hpp>
+#include <hairlut/angles.hpp>
+#include <hairlut/error.hpp>
+#include <vector>
+
+#include "catch.hpp"
+
+using namespace hairlut;
+
+namespace {
+GridAxis axis(Spacing s, Placement p, Wrap w, double lo, double hi, int n) {
+  GridAxis a;
+  a.name = "x";
+  a.units = "1";
+  a.spacing = s;
+  a.placement = p;
+  a.wrap = w;
+  a.lo = lo;
+  a.hi = hi;
+  a.count = n;
+  return a;
+}
+}  // namespace
+
+TEST_CASE("Node placement follows the documented formulas", "[grid]") {
+  // Edges: end nodes exactly at lo and hi; nodes evenly spaced in t(x).
+  const GridAxis c = axis(Spacing::cos, Placement::edges, Wrap::clamp, 0.0, radians(89.0), 5);
+  const auto n = c.nodes();
+  CHECK(n.front() == 0.0);
+  CHECK(n.back() == radians(89.0));
+  for (int i = 0; i < 5; ++i)
+    CHECK(std::cos(n[static_cast<std::size_t>(i)]) == Approx(1.0 + i / 4.0 * (std::cos(radians(89.0)) - 1.0)).epsilon(1e-14));
+  // Centers: u = (i + 1/2)/n.
+  const GridAxis l = axis(Spacing::log, Placement::centers, Wrap::clamp, 0.01, 100.0, 4);
+  const auto m = l.nodes();
+  for (int i = 0; i < 4; ++i) CHECK(std::log10(m[static_cast<std::size_t>(i)]) == Approx(-2.0 + (i + 0.5) / 4.0 * 4.0).epsilon(1e-14));
+  // Periodic edges: count nodes at lo + i (hi − lo)/count (no duplicate of lo at hi).
+  const GridAxis p = axis(Spacing::uniform, Placement::edges, Wrap::periodic, -kPi, kPi, 8);
+  CHECK(p.nodes()[4] == Approx(0.0).margin(1e-15));
+  CHECK(p.nodes()[7] == Approx(kPi - kPi / 4).epsilon(1e-15));
+}
+
+TEST_CASE("Sampling at nodes returns the stored value; linear functions of t are exact", "[sampler]") {
+  struct Case {
+    Spacing s;
+    Placement p;
+    double lo, hi;
+  };
+  const Case cases[] = {{Spacing::uniform, Placement::edges, -1.0, 2.0}, {Spacing::cos, Placement::centers, 0.0, kHalfPi},
+                        {Spacing::sin, Placement::edges, -kHalfPi, kHalfPi}, {Spacing::log, Placement::edges, 1e-3, 10.0},
+                        {Spacing::sqrt, Placement::centers, 0.0, 16.0}};
+  for (const Case& k : cases) {
+    const GridAxis a = axis(k.s, k.p, Wrap::clamp, k.lo, k.hi, 7);
+    const auto nodes = a.nodes();
+    std::vector<double> data;
+    for (double x : nodes) data.push_back(3.0 * sampler::mapped(k.s, x) + 1.0);  // linear in t
+    const sampler::Axis v = a.view();
+    for (std::size_t i = 0; i < nodes.size(); ++i) CHECK(sampler::sample(data.data(), &v, 1, &nodes[i]) == data[i]);
+    // Between nodes a function linear in t is reproduced (inside the outermost nodes).
+    for (double u = 0.05; u < 1.0; u += 0.1) {
+      const double x = nodes.front() + u * (nodes.back() - nodes.front());
+      CHECK(sampler::sample(data.data(), &v, 1, &x) == Approx(3.0 * sampler::mapped(k.s, x) + 1.0).epsilon(1e-12));
+    }
+    // Outside the outermost nodes the value is clamped.
+    const double below = k.lo - 1.0, above = k.hi + 1.0;
+    CHECK(sampler::sample(data.data(), &v, 1, &below) == data.front());
+    CHECK(sampler::sample(data.data(), &v, 1, &above) == data.back());
+  }
+}
+
+TEST_CASE("Periodic and even azimuth axes wrap", "[sampler]") {
+  const GridAxis p = axis(Spacing::uniform, Placement::centers, Wrap::periodic, -kPi, kPi, 16);
+  const auto nodes = p.nodes();
+  std::vector<double> data;
+  for (double x : nodes) data.push_back(std::cos(x));
+  const sampler::Axis v = p.view();
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const double shifted = nodes[i] + 2 * kTwoPi;
+    CHECK(sampler::sample(data.data(), &v, 1, &shifted) == Approx(data[i]).epsilon(1e-12));
+  }
+  // Halfway across the seam between the last and first node.
+  const double seam = kPi;
+  CHECK(sampler::sample(data.data(), &v, 1, &seam) == Approx(0.5 * (data.front() + data.back())).epsilon(1e-12));
+
+  const GridAxis e = axis(Spacing::uniform, Placement::edges, Wrap::even, 0.0, kPi, 9);
+  const sampler::Axis ev = e.view();
+  std::vector<double> d2;
+  for (double x : e.nodes()) d2.push_back(x * x);
+  for (double x : {0.3, 1.0, 2.9}) {
+    const double neg = -x, wrapped = x + kTwoPi, mirrored = kTwoPi - x;
+    const double ref = sampler::sample(d2.data(), &ev, 1, &x);
+    CHECK(sampler::sample(d2.data(), &ev, 1, &neg) == Approx(ref).epsilon(1e-14));
+    CHECK(sampler::sample(d2.data(), &ev, 1, &wrapped) == Approx(ref).epsilon(1e-12));
+    CHECK(sampler::sample(d2.data(), &ev, 1, &mirrored) == Approx(ref).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("Multilinear sampling in several dimensions", "[sampler]") {
+  const GridAxis a = axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 1.0, 3);
+  const GridAxis b = axis(Spacing::log, Placement::centers, Wrap::clamp, 1.0, 100.0, 4);
+  GridAxis c;
+  c.name = "c";
+  c.spacing = Spacing::explicit_values;
+  c.values = {0.0, 0.1, 0.5, 2.0};
+  c.count = 4;
+  c.lo = 0.0;
+  c.hi = 2.0;
+  c.validate("c");
+  const sampler::Axis axes[3] = {a.view(), b.view(), c.view()};
+  // f = x + 2 log10(y) + 3 z is multilinear in (x, log y, z).
+  std::vector<double> data;
+  for (double x : a.nodes())
+    for (double y : b.nodes())
+      for (double z : c.nodes()) data.push_back(x + 2 * std::log10(y) + 3 * z);
+  for (double x : {0.1, 0.5, 0.99})
+    for (double y : {4.0, 20.0, 50.0})  // inside the outermost centre nodes 10^0.25 … 10^1.75
+      for (double z : {0.05, 0.3, 1.9}) {
+        const double pt[3] = {x, y, z};
+        CHECK(sampler::sample(data.data(), axes, 3, pt) == Approx(x + 2 * std::log10(y) + 3 * z).epsilon(1e-12));
+      }
+}
+
+TEST_CASE("Axis validation names the field", "[grid]") {
+  auto message = [](const GridAxis& g) {
+    try {
+      g.validate("tables.np.axes.beta");
+    } catch (const DomainError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(valid)");
+  };
+  CHECK(message(axis(Spacing::log, Placement::edges, Wrap::clamp, 0.0, 1.0, 4)).rfind("tables.np.axes.beta.range[0] must be > 0", 0) == 0);
+  CHECK(message(axis(Spacing::uniform, Placement::edges, Wrap::clamp, 2.0, 1.0, 4)).rfind("tables.np.axes.beta.range must be increasing", 0) == 0);
+  CHECK(message(axis(Spacing::cos, Placement::edges, Wrap::clamp, -0.1, 1.0, 4)).find("cos spacing") != std::string::npos);
+  CHECK(message(axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 1.0, 0)).rfind("tables.np.axes.beta.count must be >= 1", 0) == 0);
+  CHECK(message(axis(Spacing::log, Placement::edges, Wrap::periodic, 1.0, 2.0, 4)).find("uniform spacing to be periodic") != std::string::npos);
+  CHECK(message(axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 1.0, 4)) == "(valid)");
+}

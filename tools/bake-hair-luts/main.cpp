@@ -1,0 +1,126 @@
+// bake-hair-luts: bake the tables a config asks for into HDF5 / OpenEXR files with a JSON sidecar.
+// Thin: parsing, baking and writing live in the hairlut library; this file handles the command
+// line, progress display, signals and exit codes.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <hairlut/bake.hpp>
+#include <hairlut/error.hpp>
+#include <hairlut/config.hpp>
+#include <hairlut/table_io.hpp>
+#include <hairlut/version.hpp>
+#include <string>
+
+namespace {
+
+std::atomic<bool> g_cancel{false};  // set by SIGINT / SIGTERM; polled by the baker and the writer
+
+extern "C" void on_signal(int) { g_cancel.store(true); }
+
+// A one-line progress bar on stderr, redrawn at most every 100 ms.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled), start_(std::chrono::steady_clock::now()) {}
+  void update(std::string_view stage, std::size_t done, std::size_t total) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    const double frac = total ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
+    const int width = 30, filled = static_cast<int>(frac * width);
+    const double secs = std::chrono::duration<double>(now - start_).count();
+    std::fprintf(stderr, "\r%-16.16s [%s%s] %5.1f%% %7.1f s", std::string(stage).c_str(), std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                 std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), 100.0 * frac, secs);
+    if (done >= total) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+
+ private:
+  bool enabled_;
+  std::chrono::steady_clock::time_point start_, last_{};
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"bake-hair-luts: bake hair scattering lookup tables (d'Eon 2011 M_p and N_p, melanin absorption) "
+               "into HDF5 and OpenEXR files described by a JSON sidecar"};
+  app.footer(R"(Examples:
+  bake-hair-luts --config tables/configs/default.json
+  bake-hair-luts --config show.json --threads 8 --force
+  bake-hair-luts --config engine.json --output-dir /tmp/luts --quiet
+  bake-hair-luts --config scene.json --check
+
+The config format is schemas/hairlut-config.schema.json. An unchanged config with up-to-date
+outputs is not baked again (use --force). Exit codes: 0 done or up to date, 1 bake or I/O
+failure, 2 bad config or command line, 130 interrupted (no partial output is left).)");
+  std::string config_path, output_dir;
+  bool force = false, quiet = false, check = false;
+  int threads = 0;
+  app.add_option("--config", config_path, "bake configuration (JSON)")->required();
+  app.add_option("--output-dir", output_dir, "write here instead of the config's output.directory");
+  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(0, 4096));
+  app.add_flag("--force", force, "bake even if the outputs are up to date");
+  app.add_flag("--quiet,-q", quiet, "no progress display and no summary");
+  app.add_flag("--check", check, "validate the config and exit");
+  app.set_version_flag("--version", std::string("bake-hair-luts (hairlut) ") + hairlut::kVersion);
+  CLI11_PARSE(app, argc, argv);
+
+  hairlut::BakeConfig config;
+  try {
+    config = hairlut::load_config(config_path);
+  } catch (const hairlut::ConfigError& e) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s\n", e.what());
+    return 2;
+  }
+  if (!output_dir.empty()) config.output.directory = output_dir;
+  if (check) {
+    if (!quiet) std::printf("%s: valid (config hash %s)\n", config_path.c_str(), config.hash.c_str());
+    return 0;
+  }
+  if (!force && hairlut::outputs_up_to_date(config)) {
+    if (!quiet) std::printf("up to date: %s (config hash %s); use --force to bake again\n",
+                            hairlut::output_paths(config).sidecar.string().c_str(), config.hash.c_str());
+    return 0;
+  }
+
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  ProgressBar bar(!quiet && ::isatty(STDERR_FILENO));
+  hairlut::BakeOptions options;
+  options.threads = threads;
+  options.cancel = &g_cancel;
+  options.progress = [&](std::string_view stage, std::size_t done, std::size_t total) { bar.update(stage, done, total); };
+  try {
+    hairlut::remove_stale_temporaries(config);
+    hairlut::BakeReport report;
+    const hairlut::TableSet set = hairlut::bake(config, options, &report);
+    const auto files = hairlut::write_outputs(set, config, report, &g_cancel);
+    if (!quiet) {
+      for (const auto& f : report.folded)
+        std::printf("folded lobe %s into the residual (largest energy %.3g < fold_below %.3g)\n", f.lobe.c_str(), f.max_energy,
+                    config.fold_below);
+      for (const auto& n : report.notes) std::printf("note: %s\n", n.c_str());
+      std::printf("baked %zu values in %zu tables in %.2f s (config hash %s)\n", report.entries, set.tables.size(), report.seconds,
+                  config.hash.c_str());
+      for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
+    }
+  } catch (const hairlut::BakeCancelled&) {
+    std::fprintf(stderr, "\nbake-hair-luts: interrupted; no output was written or replaced\n");
+    return 130;
+  } catch (const hairlut::IoError& e) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s\n", e.what());
+    return 1;
+  } catch (const hairlut::DomainError& e) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
