@@ -381,6 +381,8 @@ BakeConfig load_config(const std::filesystem::path& file) {
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::out_of_range& e) {
+    throw ConfigError(source + ": invalid JSON: a number is out of range (" + std::string(e.what()) + ")");
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is the offset of the error; turn it into line:column.
     const std::string s = text.str();

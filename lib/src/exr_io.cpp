@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -160,7 +161,10 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
     if (tables.empty() || tables.size() > 4) fail(pname + ": must describe 1 to 4 tables");
     const Layout l = make_layout(tables[0].axes);
     for (const Table& t : tables)
-      if (t.axes.size() != tables[0].axes.size()) fail(pname + ": tables of one part must share their axes");
+      if (t.axes.size() != tables[0].axes.size() ||
+          !std::equal(t.axes.begin(), t.axes.end(), tables[0].axes.begin(),
+                      [](const GridAxis& a, const GridAxis& b) { return a.name == b.name && a.count == b.count; }))
+        fail(pname + ": tables of one part must share their axes");
     const long nch = l.channel_axis >= 0 ? tables[0].axes[static_cast<std::size_t>(l.channel_axis)].count : 1;
     if (l.channel_axis >= 0 && (tables.size() != 1 || nch > 4)) fail(pname + ": a channel-axis part holds one table of <= 4 channels");
     if (channels.size() != (l.channel_axis >= 0 ? static_cast<std::size_t>(nch) : tables.size()))
@@ -374,9 +378,74 @@ TableSet read_exr(const std::filesystem::path& file) {
   return read_exr_memory(s.data(), s.size(), name);
 }
 
+namespace {
+
+// Reads the data windows of every part from the raw header bytes and rejects sizes that could
+// make OpenEXR allocate far more memory than the file could hold (its scanline offset tables and
+// our pixel buffers grow with the data window): at most 65536 x 65536 and 2^28 pixels a part, no
+// more rows than the offset table in the file can index, and no more pixel bytes than 1100 times
+// the file size (deflate, the strongest compression hairlut writes, stays below 1032:1).
+void prescan_exr(const unsigned char* d, std::size_t size, const std::string& name) {
+  auto fail = [&](const std::string& what) { throw IoError(name + ": truncated or corrupted OpenEXR file (" + what + ")"); };
+  auto i32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, d + at, 4);  // little-endian file, little-endian host (x86-64, arm64)
+    return static_cast<std::int32_t>(v);
+  };
+  const std::uint32_t flags = static_cast<std::uint32_t>(i32(4));
+  const bool multipart = flags & 0x1000;
+  std::size_t pos = 8;
+  auto cstring = [&]() {
+    std::string s;
+    while (pos < size && d[pos] != 0 && s.size() < 256) s += static_cast<char>(d[pos++]);
+    if (pos >= size || d[pos] != 0) fail("truncated header");
+    ++pos;
+    return s;
+  };
+  double total_pixel_bytes = 0.0;
+  for (int part = 0; part < 100000; ++part) {
+    bool have_window = false;
+    long long w = 0, h = 0;
+    int channels = 0;
+    for (;;) {
+      const std::string attr = cstring();
+      if (attr.empty()) break;
+      const std::string type = cstring();
+      if (pos + 4 > size) fail("truncated header");
+      const std::int32_t n = i32(pos);
+      pos += 4;
+      if (n < 0 || static_cast<std::size_t>(n) > size - pos) fail("attribute " + attr + " runs past the end of the file");
+      if (attr == "dataWindow" && type == "box2i" && n == 16) {
+        const long long x0 = i32(pos), y0 = i32(pos + 4), x1 = i32(pos + 8), y1 = i32(pos + 12);
+        if (x1 < x0 || y1 < y0) fail("empty data window");
+        w = x1 - x0 + 1;
+        h = y1 - y0 + 1;
+        have_window = true;
+      }
+      if (attr == "channels" && type == "chlist")  // each entry: name\0, int type, 4 bytes, 2 ints
+        for (std::size_t q = pos; q < pos + static_cast<std::size_t>(n) && d[q] != 0; ++channels) {
+          while (q < pos + static_cast<std::size_t>(n) && d[q] != 0) ++q;
+          q += 17;
+        }
+      pos += static_cast<std::size_t>(n);
+    }
+    if (!have_window) fail("a part without a data window");
+    if (w > 65536 || h > 65536 || w * h > (1LL << 28)) fail("image larger than 65536 x 65536 or 2^28 pixels");
+    if (static_cast<double>(h) > 4.0 * static_cast<double>(size) + 64.0) fail("more rows than the file can index");
+    total_pixel_bytes += static_cast<double>(w) * static_cast<double>(h) * std::max(channels, 1) * 2.0;
+    if (total_pixel_bytes > 1100.0 * static_cast<double>(size) + (1 << 20)) fail("more pixel data than the file can hold");
+    if (!multipart) break;
+    if (pos >= size) fail("truncated header");
+    if (d[pos] == 0) break;  // the empty header that ends a multi-part header list
+  }
+}
+
+}  // namespace
+
 TableSet read_exr_memory(const char* data, std::size_t size, const std::string& name) {
   static constexpr unsigned char magic[4] = {0x76, 0x2f, 0x31, 0x01};
   if (size < 8 || std::memcmp(data, magic, 4) != 0) throw IoError(name + ": not an OpenEXR file (no EXR magic number)");
+  prescan_exr(reinterpret_cast<const unsigned char*>(data), size, name);
   try {
     MemoryStream stream(data, size, name);
     Imf::MultiPartInputFile in(stream);

@@ -5,7 +5,7 @@ file(MAKE_DIRECTORY "${WORK}/corpus" "${WORK}/artifacts")
 file(GLOB seeds "${CORPUS}/*")
 file(COPY ${seeds} DESTINATION "${WORK}/corpus")
 execute_process(
-  COMMAND ${EXE} -max_total_time=${SECONDS} -rss_limit_mb=2048 -timeout=20 -max_len=262144 -print_final_stats=1
+  COMMAND ${CMAKE_COMMAND} -E env "ASAN_OPTIONS=${ASAN}" ${EXE} -max_total_time=${SECONDS} -rss_limit_mb=3072 -timeout=20 -max_len=262144 -print_final_stats=1 ${EXTRA}
           -artifact_prefix=${WORK}/artifacts/ ${WORK}/corpus
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 string(REGEX MATCH "stat::number_of_executed_units: *[0-9]+" runs "${err}")

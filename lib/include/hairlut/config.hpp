@@ -13,6 +13,7 @@
 
 #include "hairlut/attenuation.hpp"
 #include "hairlut/azimuthal_np.hpp"
+#include "hairlut/error.hpp"
 #include "hairlut/grid.hpp"
 #include "hairlut/hash.hpp"
 
@@ -21,7 +22,7 @@ namespace hairlut {
 /// A config that cannot be used. what() is one line: "<file>: <key.path>: <reason>".
 class ConfigError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit ConfigError(const std::string& message) : std::runtime_error(one_line(message)) {}
 };
 
 /// How N_p entries are integrated.

@@ -8,11 +8,15 @@
 
 namespace hairlut {
 
+/// The message with every control character (newlines included) replaced by a space, so that an
+/// error built from file contents stays one line.
+std::string one_line(std::string message);
+
 /// An argument outside a function's documented domain. The message is one line that names the
 /// argument, the requirement and the value, e.g. "beta must be > 0 (got -0.1)".
 class DomainError : public std::invalid_argument {
  public:
-  using std::invalid_argument::invalid_argument;
+  explicit DomainError(const std::string& message) : std::invalid_argument(one_line(message)) {}
 };
 
 /// Throws DomainError("<name> <requirement> (got <value>)").

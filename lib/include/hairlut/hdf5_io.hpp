@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hairlut/error.hpp"
 #include "hairlut/tables.hpp"
 
 namespace hairlut {
@@ -20,7 +21,7 @@ namespace hairlut {
 /// A file that cannot be written or read as hairlut tables. what() is one line: "<file>: <reason>".
 class IoError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit IoError(const std::string& message) : std::runtime_error(one_line(message)) {}
 };
 
 struct Hdf5WriteOptions {
