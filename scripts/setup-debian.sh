@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev                       # configs and metadata
   libomp-dev                               # OpenMP runtime headers (GCC uses libgomp)
   python3 python3-numpy python3-h5py python3-jsonschema   # independent checks in tests
+  python3-xarray python3-h5netcdf          # a netCDF-style client of the HDF5 tables
   json-schema-test-suite                   # the official JSON Schema tests (draft 7 files)
   clang libclang-rt-dev                    # libFuzzer with AddressSanitizer and UBSan (fuzz tests)
 )
