@@ -1,14 +1,21 @@
 # Runs EXE with ARGS (a ;-list) and checks that it exits with CODE and that its stderr is exactly
-# one line matching the regular expression EXPECT.
+# LINES lines (default 1) matching the regular expression EXPECT; with NO_FILE, that this file
+# does not exist afterwards.
 execute_process(COMMAND ${EXE} ${ARGS} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL CODE)
   message(FATAL_ERROR "expected exit code ${CODE}, got ${rc}\nstdout: ${out}\nstderr: ${err}")
 endif()
 string(REGEX MATCHALL "\n" newlines "${err}")
 list(LENGTH newlines n)
-if(NOT n EQUAL 1)
+if(NOT DEFINED LINES)
+  set(LINES 1)
+endif()
+if(NOT n EQUAL LINES)
   message(FATAL_ERROR "expected a one-line error, got ${n} lines:\n${err}")
 endif()
 if(NOT err MATCHES "${EXPECT}")
   message(FATAL_ERROR "stderr does not match '${EXPECT}':\n${err}")
+endif()
+if(DEFINED NO_FILE AND EXISTS "${NO_FILE}")
+  message(FATAL_ERROR "${NO_FILE} exists after a failed run")
 endif()

@@ -297,6 +297,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   }
   if (!c.np_axes && !c.mp_axes && !c.melanin_axes) fail("tables", "must ask for at least one table (np, mp or melanin)");
 
+  if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", json::object());
   const json& out = doc.at("output");
   std::filesystem::path dir = out.value("directory", std::string("."));
   c.output.directory = dir.is_absolute() ? dir : (base_dir / dir).lexically_normal();

@@ -82,6 +82,8 @@ struct BakeConfig {
   std::optional<SceneConfig> scene;
   OutputConfig output;
 
+  nlohmann::json validate_thresholds;  ///< "validate": {"thresholds": {...}} for validate-hair-luts (may be null)
+
   nlohmann::json normalized;  ///< the config with every default filled in, angles in radians
   std::string hash;           ///< FNV-1a 64 of normalized + library version, 16 hex digits
 };

@@ -1,0 +1,53 @@
+// Small self-contained SVG charts for reports: line plots, heat maps and colour swatches, as
+// inline <svg> elements with no scripts and no external resources.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace hairlut::svg {
+
+struct Series {
+  std::string name;
+  std::vector<double> x, y;
+  std::string color;        ///< CSS colour; empty picks one from the palette
+  bool dashed = false;
+};
+
+struct LinePlot {
+  std::string title, xlabel, ylabel;
+  std::vector<Series> series;
+  bool log_y = false;
+  double y_reference = NAN;  ///< a horizontal reference line (e.g. 1 for energies), NAN for none
+  int width = 520, height = 320;
+};
+
+/// The plot as an <svg> element.
+std::string line_plot(const LinePlot& plot);
+
+struct HeatMap {
+  std::string title, xlabel, ylabel;
+  std::vector<double> x, y;                 ///< cell centre coordinates (for tick labels)
+  std::vector<std::vector<double>> values;  ///< values[iy][ix] ≥ 0
+  bool log_scale = true;                    ///< colour by log10 of the value
+  int width = 360, height = 300;
+};
+
+/// The heat map (viridis-like colours, colour bar) as an <svg> element.
+std::string heat_map(const HeatMap& map);
+
+struct Swatch {
+  double r, g, b;     ///< linear sRGB in [0, 1]; encoded with the sRGB transfer function
+  std::string label;  ///< tooltip
+};
+
+/// A grid of colour squares, `columns` per row, with row and column labels.
+std::string swatch_grid(const std::string& title, const std::vector<Swatch>& swatches, int columns,
+                        const std::vector<std::string>& row_labels, const std::vector<std::string>& column_labels,
+                        const std::string& row_title, const std::string& column_title);
+
+/// Escapes &, <, >, " for HTML and SVG text.
+std::string escape(const std::string& text);
+
+}  // namespace hairlut::svg

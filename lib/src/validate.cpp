@@ -1,0 +1,780 @@
+#include "hairlut/validate.hpp"
+
+#include <Imath/half.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "hairlut/angles.hpp"
+#include "hairlut/azimuthal_np.hpp"
+#include "hairlut/bake.hpp"
+#include "hairlut/directional_albedo.hpp"
+#include "hairlut/error.hpp"
+#include "hairlut/hair_model.hpp"
+#include "hairlut/hash.hpp"
+#include "hairlut/lobe_energy.hpp"
+#include "hairlut/longitudinal_mp.hpp"
+#include "hairlut/melanin.hpp"
+
+namespace hairlut {
+
+const std::map<std::string, double ValidationThresholds::*>& ValidationThresholds::fields() {
+  static const std::map<std::string, double ValidationThresholds::*> f = {
+      {"furnace_direct", &ValidationThresholds::furnace_direct},
+      {"furnace_table", &ValidationThresholds::furnace_table},
+      {"longitudinal_deon", &ValidationThresholds::longitudinal_deon},
+      {"mp_table_energy", &ValidationThresholds::mp_table_energy},
+      {"accuracy_max_rel", &ValidationThresholds::accuracy_max_rel},
+      {"accuracy_p99_rel", &ValidationThresholds::accuracy_p99_rel},
+      {"energy_consistency", &ValidationThresholds::energy_consistency}};
+  return f;
+}
+
+void ValidationThresholds::set(const std::string& name, double value) {
+  const auto it = fields().find(name);
+  if (it == fields().end()) {
+    std::string known;
+    for (const auto& [k, v] : fields()) known += (known.empty() ? "" : ", ") + k;
+    throw DomainError("threshold " + name + " is unknown (known: " + known + ")");
+  }
+  require_positive("threshold " + name, value);
+  this->*(it->second) = value;
+}
+
+nlohmann::ordered_json ValidationThresholds::to_json() const {
+  nlohmann::ordered_json j;
+  for (const auto& [k, v] : fields()) j[k] = this->*v;
+  return j;
+}
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// ---------------------------------------------------------------------------------------------
+// The model the tables were baked with, from their metadata.
+struct ModelInfo {
+  double eta = 1.55;
+  AbsorptionPath path = AbsorptionPath::chord;
+  std::vector<std::string> lobes;
+  int explicit_lobes = 0;
+  bool residual = false;
+  int energy_order = 128;
+};
+
+ModelInfo model_from(const TableSet& set) {
+  const json& m = set.metadata;
+  auto need = [&](const char* key) -> const json& {
+    if (!m.contains(key)) throw DomainError("table metadata: missing \"" + std::string(key) + "\" (not a hairlut table set?)");
+    return m.at(key);
+  };
+  ModelInfo info;
+  try {
+    info.eta = need("eta").get<double>();
+    info.path = parse_absorption_path(need("absorption_path").get<std::string>(), "table metadata absorption_path");
+    info.lobes = need("lobes").get<std::vector<std::string>>();
+    info.residual = need("residual").get<bool>();
+    info.explicit_lobes = static_cast<int>(info.lobes.size());
+    if (m.contains("quadrature")) info.energy_order = m.at("quadrature").value("energy_order", 128);
+  } catch (const nlohmann::json::exception& e) {
+    throw DomainError(std::string("table metadata: malformed (") + e.what() + ")");
+  }
+  require_greater("table metadata eta", info.eta, 1.0, "must be > 1");
+  if (info.lobes.empty()) throw DomainError("table metadata: lobes is empty");
+  for (std::size_t p = 0; p < info.lobes.size(); ++p)
+    if (parse_lobe(info.lobes[p], "table metadata lobes") != static_cast<int>(p))
+      throw DomainError("table metadata: lobes must be R, TT, TRT, ... in order");
+  return info;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checks and small statistics.
+
+json check(const std::string& id, const std::string& title, bool pass, double value, double threshold, const std::string& comparison,
+           const std::string& detail) {
+  return {{"id", id}, {"title", title}, {"status", pass ? "pass" : "fail"}, {"value", value}, {"threshold", threshold},
+          {"comparison", comparison}, {"detail", detail}};
+}
+
+json skipped(const std::string& id, const std::string& title, const std::string& why) {
+  return {{"id", id}, {"title", title}, {"status", "skipped"}, {"value", nullptr}, {"threshold", nullptr}, {"comparison", ""}, {"detail", why}};
+}
+
+std::string fmt(double v, int digits = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size()))) - (q > 0 ? 1 : 0));
+  return v[k];
+}
+
+void check_cancel(const ValidationOptions& opt) {
+  if (opt.cancel && opt.cancel->load()) throw BakeCancelled();
+}
+
+std::vector<double> theta_grid_deg() {
+  std::vector<double> t;
+  for (int d = -89; d <= 89; d += (std::abs(d) >= 75 ? 2 : 5)) t.push_back(d);
+  if (t.back() != 89) t.push_back(89);
+  return t;
+}
+
+// Up to three representative nodes of an axis (first, middle, last).
+std::vector<double> representative(const GridAxis& a) {
+  const auto n = a.nodes();
+  std::vector<double> r = {n.front()};
+  if (n.size() > 2) r.push_back(n[n.size() / 2]);
+  if (n.size() > 1) r.push_back(n.back());
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sanity: values and metadata.
+
+json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json>& checks) {
+  json out;
+  long long nan = 0, inf = 0, neg = 0;
+  json per_table = json::array();
+  for (const Table& t : set.tables) {
+    long long tn = 0, ti = 0, tneg = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const double v = t.get(i);
+      if (std::isnan(v)) ++tn;
+      else if (std::isinf(v)) ++ti;
+      else if (v < 0.0) ++tneg;
+    }
+    nan += tn, inf += ti, neg += tneg;
+    per_table.push_back({{"path", t.path()}, {"values", t.size()}, {"nan", tn}, {"inf", ti}, {"negative", tneg}});
+  }
+  out["tables"] = per_table;
+  checks.push_back(check("sanity_values", "No NaN, Inf or negative value in any table", nan + inf + neg == 0,
+                         static_cast<double>(nan + inf + neg), 0, "==",
+                         std::to_string(nan) + " NaN, " + std::to_string(inf) + " Inf, " + std::to_string(neg) + " negative in " +
+                             std::to_string(set.tables.size()) + " tables"));
+  // Lobes the metadata lists must have their tables.
+  std::vector<std::string> missing;
+  const bool has_np = std::any_of(set.tables.begin(), set.tables.end(), [](const Table& t) { return t.group == "np"; });
+  const bool has_mp = std::any_of(set.tables.begin(), set.tables.end(), [](const Table& t) { return t.group == "mp"; });
+  std::set<std::string> materials;
+  for (const Table& t : set.tables)
+    if (t.group.rfind("materials/", 0) == 0) materials.insert(t.group);
+  std::vector<std::string> lobes = info.lobes;
+  if (info.residual) lobes.push_back("residual");
+  for (const std::string& l : lobes) {
+    if (has_np) {
+      if (l != "residual" && !set.find("np/" + l)) missing.push_back("np/" + l);
+      if (!set.find("np/energy_" + l)) missing.push_back("np/energy_" + l);
+      if (l == "residual" && !set.find("np/residual")) missing.push_back("np/residual");
+    }
+    if (has_mp && !set.find("mp/" + l)) missing.push_back("mp/" + l);
+    for (const std::string& g : materials)
+      if (!set.find(g + "/np_" + l)) missing.push_back(g + "/np_" + l);
+  }
+  std::string list;
+  for (const auto& m : missing) list += (list.empty() ? "" : ", ") + m;
+  checks.push_back(check("sanity_lobes", "Every lobe the metadata lists has its tables", missing.empty(), static_cast<double>(missing.size()), 0,
+                         "==", missing.empty() ? "lobes " + std::to_string(lobes.size()) + ", all present" : "missing: " + list));
+  out["missing_tables"] = missing;
+  // Metadata consistency: the config hash, axis units, the residual against its energy.
+  std::vector<std::string> problems;
+  const json& m = set.metadata;
+  if (m.contains("config") && m.contains("config_hash") && m.contains("hairlut_version")) {
+    const std::string expect = fnv1a64_hex(m["config"].get<std::string>() + "\nhairlut " + m["hairlut_version"].get<std::string>());
+    if (expect != m["config_hash"].get<std::string>()) problems.push_back("config_hash does not match the recorded config");
+  } else {
+    problems.push_back("metadata lacks config, config_hash or hairlut_version");
+  }
+  static const std::map<std::string, std::string> units = {{"theta_d", "rad"}, {"phi", "rad"},     {"beta", "rad"},
+                                                           {"theta_i", "rad"}, {"theta_r", "rad"}, {"sigma_a", "1/radius"}};
+  for (const Table& t : set.tables) {
+    for (const GridAxis& a : t.axes) {
+      const auto u = units.find(a.name);
+      if (u != units.end() && u->second != a.units) problems.push_back(t.path() + ": axis " + a.name + " in " + a.units);
+    }
+  }
+  const Table* r = set.find("np/residual");
+  const Table* e = set.find("np/energy_residual");
+  if (r && e && r->size() == e->size()) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < r->size(); ++i) worst = std::max(worst, std::abs(r->get(i) * kTwoPi - e->get(i)));
+    if (worst > 1e-6) problems.push_back("np/residual is not np/energy_residual / 2 pi (off by " + fmt(worst) + ")");
+  }
+  std::string plist;
+  for (const auto& p : problems) plist += (plist.empty() ? "" : "; ") + p;
+  checks.push_back(check("sanity_metadata", "Metadata consistent with the data (config hash, axis units, residual)", problems.empty(),
+                         static_cast<double>(problems.size()), 0, "==", problems.empty() ? "consistent" : plist));
+  out["metadata_problems"] = problems;
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Energy: white furnace (direct and from the tables) and truncation.
+
+// ∫_{−π}^{π} N_table(β, σa, θd, φ) dφ, exactly for the sampled table: between its φ nodes the
+// sampler is linear in φ (uniform spacing) and constant beyond the outermost nodes, so the
+// trapezoid rule over the nodes and the ends of the interval is exact.
+double table_energy(const Table& t, double beta, double sigma, double theta_d) {
+  const GridAxis& a = t.axes[3];
+  std::vector<double> phis = a.nodes();
+  const bool even = a.wrap == Wrap::even;
+  phis.push_back(even ? 0.0 : -kPi);
+  phis.push_back(kPi);
+  std::sort(phis.begin(), phis.end());
+  phis.erase(std::unique(phis.begin(), phis.end()), phis.end());
+  double sum = 0.0, prev_phi = phis.front(), prev = t.sample({beta, sigma, theta_d, prev_phi});
+  for (std::size_t i = 1; i < phis.size(); ++i) {
+    const double v = t.sample({beta, sigma, theta_d, phis[i]});
+    sum += 0.5 * (v + prev) * (phis[i] - prev_phi);
+    prev = v, prev_phi = phis[i];
+  }
+  return even ? 2.0 * sum : sum;
+}
+
+// e_p,table(θd) on a fine θd grid, for interpolation inside the θr integral.
+struct EnergyCurve {
+  std::vector<double> values;  // at θd = k (π/2)/n, k = 0 … n
+  double at(double theta_d) const {
+    const double n = static_cast<double>(values.size() - 1);
+    const double s = std::clamp(theta_d / kHalfPi * n, 0.0, n);
+    const auto k = std::min(static_cast<std::size_t>(s), values.size() - 2);
+    const double w = s - static_cast<double>(k);
+    return (1.0 - w) * values[k] + w * values[k + 1];
+  }
+};
+
+json furnace_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
+  json out;
+  const auto thetas = theta_grid_deg();
+  out["theta_i_deg"] = thetas;
+  std::vector<double> betas;
+  const Table* first = set.find("np/" + info.lobes[0]);
+  if (first && first->axes.size() == 4) betas = representative(first->axes[0]);
+  else betas = {radians(2.0), radians(10.0), radians(30.0)};
+  double worst_direct = 0.0, worst_direct_theta = 0.0, worst_direct_beta = 0.0;
+  double worst_table = 0.0, worst_table_theta = 0.0, worst_table_beta = 0.0;
+  bool have_table = first && first->axes.size() == 4 && first->group == "np";
+  double table_sigma = 0.0;
+  if (have_table) table_sigma = first->axes[1].nodes().front();
+  out["table_sigma_a"] = table_sigma;
+  json curves = json::array();
+  for (double beta : betas) {
+    check_cancel(opt);
+    const HairModel model = HairModel::uniform(info.eta, 0.0, beta, info.explicit_lobes, true);
+    HairModel at_sigma = HairModel::uniform(info.eta, table_sigma, beta, info.explicit_lobes, info.residual);
+    at_sigma.path = info.path;
+    json c = {{"beta", beta}, {"beta_deg", degrees(beta)}};
+    std::vector<double> total, table_total;
+    std::vector<std::vector<double>> per_lobe(static_cast<std::size_t>(info.explicit_lobes + 1));
+    std::vector<std::vector<double>> table_lobes(static_cast<std::size_t>(info.explicit_lobes + (info.residual ? 1 : 0)));
+    for (double td : thetas) {
+      const AlbedoResult r = directional_albedo(model, radians(td), 1e-10, std::max(info.energy_order, 128));
+      total.push_back(r.total);
+      for (std::size_t p = 0; p < r.per_lobe.size(); ++p) per_lobe[p].push_back(r.per_lobe[p]);
+      if (std::abs(r.total - 1.0) > worst_direct) worst_direct = std::abs(r.total - 1.0), worst_direct_theta = td, worst_direct_beta = beta;
+    }
+    c["direct"] = {{"total", total}};
+    for (std::size_t p = 0; p < per_lobe.size(); ++p)
+      c["direct"][p < info.lobes.size() ? info.lobes[p] : std::string("residual")] = per_lobe[p];
+    if (have_table) {
+      // E_table(θi) = Σ_p ∫ M(β², θi, θr) e_p,table(θd) cos θr dθr with e_p from the N_p tables.
+      std::vector<const Table*> tables;
+      for (const auto& l : info.lobes) tables.push_back(set.find("np/" + l));
+      const Table* res = info.residual ? set.find("np/residual") : nullptr;
+      const std::size_t m = tables.size() + (res ? 1 : 0);
+      std::vector<double> direct_at_sigma;
+      std::vector<EnergyCurve> curves_e(m);
+      for (std::size_t p = 0; p < m; ++p) {
+        curves_e[p].values.resize(2001);
+        for (std::size_t k = 0; k <= 2000; ++k) {
+          const double thd = kHalfPi * static_cast<double>(k) / 2000.0;
+          curves_e[p].values[k] = p < tables.size() ? (tables[p] ? table_energy(*tables[p], beta, table_sigma, thd) : 0.0)
+                                                    : kTwoPi * res->sample({table_sigma, thd});
+        }
+      }
+      for (double td : thetas) {
+        const double ti = radians(td);
+        std::vector<double> bp = {-kHalfPi, kHalfPi};
+        if (std::abs(ti) < kHalfPi) bp.insert(bp.begin() + 1, -ti);
+        AdaptiveOptions ao;
+        ao.rel_tol = 1e-7;
+        ao.max_intervals = 400;
+        const AdaptiveResult r = integrate_adaptive(
+            [&](double tr, std::span<double> outv) {
+              const double M = longitudinal_deon(beta * beta, ti, tr) * std::cos(tr);
+              const double thd = std::abs(0.5 * (tr - ti));
+              for (std::size_t p = 0; p < m; ++p) outv[p] = M * curves_e[p].at(thd);
+            },
+            m, bp, ao);
+        double tot = 0.0;
+        for (std::size_t p = 0; p < m; ++p) {
+          table_lobes[p].push_back(r.value[p]);
+          tot += r.value[p];
+        }
+        table_total.push_back(tot);
+        const double ref = directional_albedo(at_sigma, ti, 1e-10).total;
+        direct_at_sigma.push_back(ref);
+        if (std::abs(tot - ref) > worst_table) worst_table = std::abs(tot - ref), worst_table_theta = td, worst_table_beta = beta;
+      }
+      c["table"] = {{"total", table_total}, {"direct_at_table_sigma_a", direct_at_sigma}};
+      for (std::size_t p = 0; p < table_lobes.size(); ++p)
+        c["table"][p < info.lobes.size() ? info.lobes[p] : std::string("residual")] = table_lobes[p];
+    }
+    curves.push_back(c);
+  }
+  out["curves"] = curves;
+  const double t = opt.thresholds.furnace_direct;
+  checks.push_back(check("furnace_direct", "White furnace of the model: |E(theta_i) - 1| with sigma_a = 0, all lobes, no tilt",
+                         worst_direct <= t, worst_direct, t, "<=",
+                         "worst at theta_i = " + fmt(worst_direct_theta) + " deg, beta = " + fmt(degrees(worst_direct_beta)) + " deg"));
+  if (have_table) {
+    const double tt = opt.thresholds.furnace_table;
+    checks.push_back(check("furnace_table",
+                           std::string("Energy from the N_p tables (sampled) against direct evaluation, sigma_a = ") + fmt(table_sigma) +
+                               (table_sigma == 0.0 && info.residual ? " (white furnace)" : ""),
+                           worst_table <= tt, worst_table, tt, "<=",
+                           "worst at theta_i = " + fmt(worst_table_theta) + " deg, beta = " + fmt(degrees(worst_table_beta)) + " deg"));
+  } else {
+    checks.push_back(skipped("furnace_table", "Energy from the N_p tables", "no generic np tables in this set"));
+  }
+  out["worst_direct"] = {{"deviation", worst_direct}, {"theta_i_deg", worst_direct_theta}, {"beta_deg", degrees(worst_direct_beta)}};
+  out["worst_table"] = {{"deviation", worst_table}, {"theta_i_deg", worst_table_theta}, {"beta_deg", degrees(worst_table_beta)}};
+  return out;
+}
+
+json truncation_section(const ModelInfo& info, std::vector<json>& checks) {
+  json out;
+  const auto thetas = theta_grid_deg();
+  const double beta = radians(5.0);
+  std::vector<double> three, four, full;
+  double worst = 0.0, worst_theta = 0.0;
+  for (double td : thetas) {
+    const double ti = radians(td);
+    three.push_back(directional_albedo(HairModel::uniform(info.eta, 0.0, beta, 3, false), ti).total);
+    four.push_back(directional_albedo(HairModel::uniform(info.eta, 0.0, beta, 4, false), ti).total);
+    full.push_back(directional_albedo(HairModel::uniform(info.eta, 0.0, beta, 3, true), ti).total);
+    if (1.0 - three.back() > worst) worst = 1.0 - three.back(), worst_theta = td;
+  }
+  out = {{"theta_i_deg", thetas}, {"beta_deg", 5.0}, {"eta", info.eta}, {"R+TT+TRT", three}, {"R+TT+TRT+TRRT", four}, {"R+TT+TRT+residual", full},
+         {"largest_loss", worst}, {"largest_loss_theta_i_deg", worst_theta}};
+  if (std::abs(info.eta - 1.55) < 0.05) {
+    const bool pass = worst > 0.12 && worst < 0.16;
+    checks.push_back(check("paper_truncation", "d'Eon 2011 Fig. 5: R + TT + TRT lose close to 15% at grazing (white fiber)", pass, worst, 0.15,
+                           "~", "largest loss at theta_i = " + fmt(worst_theta) + " deg; TRRT recovers " +
+                                    fmt(four[std::find(thetas.begin(), thetas.end(), worst_theta) - thetas.begin()] -
+                                        three[std::find(thetas.begin(), thetas.end(), worst_theta) - thetas.begin()]) +
+                                    ", the residual the rest"));
+  }
+  return out;
+}
+
+json longitudinal_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
+  (void)info;
+  json out;
+  const auto thetas = theta_grid_deg();
+  out["theta_i_deg"] = thetas;
+  json curves = json::array();
+  double worst_deon = 0.0;
+  double low_theta_h = 0.0, grazing_gain = 0.0, high_loss = 2.0;
+  for (double bd : {2.0, 5.0, 10.0, 20.0, 30.0, 45.0}) {
+    const double beta = radians(bd);
+    std::vector<double> deon, g1, g2;
+    for (double td : thetas) {
+      const double ti = radians(td);
+      deon.push_back(longitudinal_energy_deon(beta * beta, 0.0, ti).value[0]);
+      g1.push_back(longitudinal_energy_gaussian(beta, 0.0, ti, GaussianArgument::theta_h).value[0]);
+      g2.push_back(longitudinal_energy_gaussian(beta, 0.0, ti, GaussianArgument::two_theta_h).value[0]);
+      worst_deon = std::max(worst_deon, std::abs(deon.back() - 1.0));
+      if (bd == 2.0 && std::abs(td) <= 60) low_theta_h = std::max(low_theta_h, std::abs(g1.back() - 2.0));
+      if (bd == 10.0 && td == 89) grazing_gain = g2.back();
+      if (bd == 30.0 && std::abs(td) <= 45) high_loss = std::min(high_loss, 1.0 - g2.back());
+    }
+    curves.push_back({{"beta_deg", bd}, {"deon", deon}, {"gaussian_theta_h", g1}, {"gaussian_2theta_h", g2}});
+  }
+  out["curves"] = curves;
+  const double t = opt.thresholds.longitudinal_deon;
+  checks.push_back(check("longitudinal_deon", "d'Eon's M_p is normalized: |int M cos(theta_r) dtheta_r - 1|", worst_deon <= t, worst_deon, t, "<=",
+                         "beta 2-45 deg, theta_i -89..89 deg"));
+  const bool fig3 = low_theta_h < 0.05 && grazing_gain > 1.05 && high_loss > 0.05;
+  checks.push_back(check("paper_gaussian", "d'Eon 2011 Fig. 3: Gaussian M_p energy ~2 (theta_h), gain at grazing, loss at high roughness", fig3,
+                         grazing_gain, 1.05, ">",
+                         "theta_h at beta 2 deg within " + fmt(low_theta_h) + " of 2; 2theta_h at 89 deg, beta 10 deg: " + fmt(grazing_gain) +
+                             "; 2theta_h at beta 30 deg loses at least " + fmt(high_loss)));
+  // The M_p tables against the exact (tilted) energy.
+  json tables = json::array();
+  double worst_table = 0.0;
+  std::string worst_where;
+  for (const Table& tb : set.tables) {
+    if (tb.quantity != "M_p" || tb.axes.size() != 3) continue;
+    const double alpha = tb.attributes.value("alpha", 0.0);
+    json tj = {{"path", tb.path()}, {"alpha", alpha}, {"curves", json::array()}};
+    for (double beta : representative(tb.axes[0])) {
+      std::vector<double> sampled, exact;
+      for (double td : thetas) {
+        const double ti = radians(td);
+        AdaptiveOptions ao;
+        ao.rel_tol = 1e-7;
+        ao.max_intervals = 400;
+        std::vector<double> bp = {-kHalfPi, kHalfPi};
+        const double centre = fold_inclination(-ti + alpha);
+        if (std::abs(centre) < kHalfPi) bp.insert(bp.begin() + 1, centre);
+        const AdaptiveResult r = integrate_adaptive(
+            [&](double tr, std::span<double> o) { o[0] = tb.sample({beta, ti, tr}) * std::cos(tr); }, 1, bp, ao);
+        sampled.push_back(r.value[0]);
+        exact.push_back(longitudinal_energy_deon(beta * beta, alpha, ti).value[0]);
+        if (std::abs(sampled.back() - exact.back()) > worst_table)
+          worst_table = std::abs(sampled.back() - exact.back()), worst_where = tb.path() + " at theta_i = " + fmt(td) + " deg, beta = " + fmt(degrees(beta)) + " deg";
+      }
+      tj["curves"].push_back({{"beta_deg", degrees(beta)}, {"table", sampled}, {"exact", exact}});
+    }
+    tables.push_back(tj);
+  }
+  out["tables"] = tables;
+  if (!tables.empty()) {
+    const double tt = opt.thresholds.mp_table_energy;
+    checks.push_back(check("mp_table_energy", "M_p tables: |int M_table cos(theta_r) - int M cos(theta_r)| (with the lobe's tilt)",
+                           worst_table <= tt, worst_table, tt, "<=", "worst: " + worst_where));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Accuracy off the nodes.
+
+// Midpoint in the axis's mapped coordinate between nodes i and i + 1.
+double cell_centre(const GridAxis& a, int i) {
+  if (a.spacing == Spacing::explicit_values) return 0.5 * (a.values[static_cast<std::size_t>(i)] + a.values[static_cast<std::size_t>(i) + 1]);
+  const double t0 = sampler::mapped(a.spacing, sampler::node(a.view(), i));
+  const double t1 = sampler::mapped(a.spacing, sampler::node(a.view(), i + 1));
+  return sampler::unmapped(a.spacing, 0.5 * (t0 + t1));
+}
+
+// The exact function a table approximates, evaluated through "slabs": points that share the
+// slab-axis coordinates share one precomputation (the Gauss–Legendre node factors of N_p).
+struct Truth {
+  std::vector<int> slab_axes;
+  std::function<std::function<double(const std::vector<double>&)>(const std::vector<double>&)> make;
+};
+
+std::optional<Truth> truth_for(const Table& t, const ModelInfo& info, std::shared_ptr<const GaussLegendreRule> rule) {
+  const auto dims = [&]() {
+    std::vector<std::string> d;
+    for (const GridAxis& a : t.axes) d.push_back(a.name);
+    return d;
+  }();
+  const int p = t.attributes.value("p", -1);
+  const bool is_residual = t.attributes.value("lobe", std::string()) == "residual";
+  // Exact N_p: Gauss–Legendre of order 1024 in γ (converged to ~1e−14 for β ≥ 1°, see the
+  // tests), the adaptive reference below 1°.
+  auto np_slab = [info, rule](double theta_d, double sigma, int lobe) {
+    const AttenuationSlice slice(info.eta, theta_d, sigma, info.path);
+    auto slab = std::make_shared<NpQuadratureSlab>(slice, lobe, *rule, IntegrationVariable::gamma);
+    return std::function<double(double, double)>([slice, slab, lobe](double beta, double phi) {
+      if (beta < radians(1.0)) return azimuthal_np_reference(slice, lobe, beta, phi, 1e-9).value[0];
+      return (*slab)(beta, phi);
+    });
+  };
+  auto energy_of = [info](double theta_d, double sigma, int lobe_index, bool residual) {
+    const AttenuationSlice slice(info.eta, theta_d, sigma, info.path);
+    const auto e = lobe_energies_reference(slice, {info.explicit_lobes, true}, 1e-13).value;
+    return residual ? e.back() : e[static_cast<std::size_t>(lobe_index)];
+  };
+  if (t.quantity == "N_p" && dims == std::vector<std::string>{"beta", "sigma_a", "theta_d", "phi"} && p >= 0)
+    return Truth{{1, 2}, [=](const std::vector<double>& x) {
+                   auto f = np_slab(x[2], x[1], p);
+                   return std::function<double(const std::vector<double>&)>([f](const std::vector<double>& y) { return f(y[0], y[3]); });
+                 }};
+  if (t.quantity == "N_p" && dims == std::vector<std::string>{"channel", "theta_d", "phi"} && p >= 0 && t.attributes.contains("sigma_a")) {
+    const auto sig = t.attributes["sigma_a"].get<std::vector<double>>();
+    const double beta = t.attributes.value("beta", 0.1);
+    return Truth{{0, 1}, [=](const std::vector<double>& x) {
+                   auto f = np_slab(x[1], sig[static_cast<std::size_t>(std::lround(x[0]))], p);
+                   return std::function<double(const std::vector<double>&)>([f, beta](const std::vector<double>& y) { return f(beta, y[2]); });
+                 }};
+  }
+  if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && dims == std::vector<std::string>{"sigma_a", "theta_d"}) {
+    const bool res = is_residual;
+    const double scale = t.quantity == "N_p" ? 1.0 / kTwoPi : 1.0;
+    return Truth{{}, [=](const std::vector<double>&) {
+                   return std::function<double(const std::vector<double>&)>(
+                       [=](const std::vector<double>& y) { return scale * energy_of(y[1], y[0], res ? 0 : p, res); });
+                 }};
+  }
+  if (t.quantity == "M_p" && dims == std::vector<std::string>{"beta", "theta_i", "theta_r"}) {
+    const double alpha = t.attributes.value("alpha", 0.0);
+    return Truth{{}, [=](const std::vector<double>&) {
+                   return std::function<double(const std::vector<double>&)>(
+                       [=](const std::vector<double>& y) { return longitudinal_deon_tilted(y[0] * y[0], alpha, y[1], y[2]); });
+                 }};
+  }
+  if (t.quantity == "M_p" && dims == std::vector<std::string>{"theta_i", "theta_r"}) {
+    const double alpha = t.attributes.value("alpha", 0.0), beta = t.attributes.value("beta", 0.1);
+    return Truth{{}, [=](const std::vector<double>&) {
+                   return std::function<double(const std::vector<double>&)>(
+                       [=](const std::vector<double>& y) { return longitudinal_deon_tilted(beta * beta, alpha, y[0], y[1]); });
+                 }};
+  }
+  if (t.quantity == "sigma_a" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
+    if (t.name == "sigma_a_deon")
+      return Truth{{}, [](const std::vector<double>&) {
+                     return std::function<double(const std::vector<double>&)>([](const std::vector<double>& y) {
+                       const Rgb s = melanin_sigma_a_rgb(y[0], y[1]);
+                       const double c[3] = {s.r, s.g, s.b};
+                       return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
+                     });
+                   }};
+    SpectralMelanin::Options so;
+    so.path_length = t.attributes.value("path_length", 2.0);
+    so.spectral_scale = t.attributes.value("spectral_scale", 0.0);
+    auto model = std::make_shared<SpectralMelanin>(SpectralMelanin::builtin(so));
+    return Truth{{}, [model](const std::vector<double>&) {
+                   return std::function<double(const std::vector<double>&)>([model](const std::vector<double>& y) {
+                     const Rgb s = model->sigma_a_rgb(y[0], y[1]);
+                     const double c[3] = {s.r, s.g, s.b};
+                     return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
+                   });
+                 }};
+  }
+  return std::nullopt;
+}
+
+struct PointErrors {
+  std::vector<std::vector<double>> x;  // coordinates
+  std::vector<double> abs_err, abs_err_half;
+};
+
+// Errors of the table (and of its half-rounded copy) at the cartesian product of per-axis
+// coordinate lists, slab axes outermost; at most max_points (every k-th group beyond).
+PointErrors evaluate_points(const Table& t, const Table& half_t, const Truth& truth, const std::vector<std::vector<double>>& coords,
+                            std::size_t max_points, const ValidationOptions& opt) {
+  const std::size_t dims = coords.size();
+  std::vector<int> order = truth.slab_axes;
+  for (int k = 0; k < static_cast<int>(dims); ++k)
+    if (std::find(order.begin(), order.end(), k) == order.end()) order.push_back(k);
+  const std::size_t n_slab_axes = truth.slab_axes.size();
+  std::size_t groups = 1, per_group = 1;
+  for (std::size_t k = 0; k < dims; ++k) (k < n_slab_axes ? groups : per_group) *= coords[static_cast<std::size_t>(order[k])].size();
+  const std::size_t total = groups * per_group;
+  const std::size_t stride = std::max<std::size_t>(1, (total + max_points - 1) / std::max<std::size_t>(max_points, 1));
+  // Subsample whole groups where possible (keeps slab reuse), else points within groups.
+  const std::size_t group_stride = std::min(stride, groups);
+  const std::size_t point_stride = std::max<std::size_t>(1, stride / group_stride);
+  std::vector<std::size_t> chosen;
+  for (std::size_t g = 0; g < groups; g += group_stride) chosen.push_back(g);
+  std::vector<PointErrors> parts(chosen.size());
+  auto unflatten = [&](std::size_t index, std::size_t first_axis, std::size_t last_axis, std::vector<double>& x) {
+    for (std::size_t k = last_axis; k-- > first_axis;) {
+      const auto& c = coords[static_cast<std::size_t>(order[k])];
+      x[static_cast<std::size_t>(order[k])] = c[index % c.size()];
+      index /= c.size();
+    }
+  };
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  std::atomic<bool> stop{false};
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t gi = 0; gi < chosen.size(); ++gi) {
+    if (stop.load() || (opt.cancel && opt.cancel->load())) {
+      stop = true;
+      continue;
+    }
+    std::vector<double> x(dims);
+    unflatten(chosen[gi], 0, n_slab_axes, x);
+    const auto f = truth.make(x);
+    PointErrors& pe = parts[gi];
+    for (std::size_t j = 0; j < per_group; j += point_stride) {
+      unflatten(j, n_slab_axes, dims, x);
+      const double exact = f(x);
+      pe.x.push_back(x);
+      pe.abs_err.push_back(std::abs(t.sample(x) - exact));
+      pe.abs_err_half.push_back(std::abs(half_t.sample(x) - exact));
+    }
+  }
+  check_cancel(opt);
+  PointErrors all;
+  for (auto& p : parts) {
+    all.x.insert(all.x.end(), p.x.begin(), p.x.end());
+    all.abs_err.insert(all.abs_err.end(), p.abs_err.begin(), p.abs_err.end());
+    all.abs_err_half.insert(all.abs_err_half.end(), p.abs_err_half.begin(), p.abs_err_half.end());
+  }
+  return all;
+}
+
+json error_stats(const std::vector<double>& abs_err, double peak) {
+  const double mx = abs_err.empty() ? 0.0 : *std::max_element(abs_err.begin(), abs_err.end());
+  const double p99 = percentile(abs_err, 0.99);
+  return {{"points", abs_err.size()}, {"max_abs", mx}, {"p99_abs", p99}, {"max_rel", peak > 0 ? mx / peak : 0.0},
+          {"p99_rel", peak > 0 ? p99 / peak : 0.0}};
+}
+
+json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
+  json out = json::array();
+  double worst_max = 0.0, worst_p99 = 0.0;
+  std::string worst_max_where, worst_p99_where;
+  const auto rule = std::make_shared<const GaussLegendreRule>(1024);
+  std::size_t done = 0;
+  for (const Table& t : set.tables) {
+    if (opt.progress) opt.progress("accuracy", done, set.tables.size());
+    ++done;
+    check_cancel(opt);
+    const auto truth = truth_for(t, info, rule);
+    if (!truth) continue;
+    double peak = 0.0;
+    for (std::size_t i = 0; i < t.size(); ++i) peak = std::max(peak, std::abs(t.get(i)));
+    Table half_t = t;
+    for (std::size_t i = 0; i < t.size(); ++i) half_t.set(i, static_cast<float>(half(static_cast<float>(t.get(i)))));
+    // Coordinates: cell centres along every axis with more than one node (the channel axis stays
+    // on its nodes), and per axis the cell centres of that axis with the others on nodes.
+    std::vector<std::vector<double>> nodes, centres;
+    for (const GridAxis& a : t.axes) {
+      nodes.push_back(a.nodes());
+      std::vector<double> c;
+      if (a.name != "channel")
+        for (int i = 0; i + 1 < a.count; ++i) c.push_back(cell_centre(a, i));
+      centres.push_back(c.empty() ? a.nodes() : c);
+    }
+    const PointErrors all = evaluate_points(t, half_t, *truth, centres, opt.max_points, opt);
+    json tj = {{"path", t.path()}, {"quantity", t.quantity}, {"peak", peak}, {"dims", json::array()}};
+    for (const GridAxis& a : t.axes) tj["dims"].push_back(a.name);
+    tj["off_node"] = error_stats(all.abs_err, peak);
+    tj["off_node_half"] = error_stats(all.abs_err_half, peak);
+    json per_axis = json::array();
+    for (std::size_t k = 0; k < t.axes.size(); ++k) {
+      if (t.axes[k].count < 2 || t.axes[k].name == "channel") continue;
+      std::vector<std::vector<double>> c = nodes;
+      c[k] = centres[k];
+      const PointErrors e = evaluate_points(t, half_t, *truth, c, opt.max_points / 2, opt);
+      json s = error_stats(e.abs_err, peak);
+      s["axis"] = t.axes[k].name;
+      s["count"] = t.axes[k].count;
+      per_axis.push_back(s);
+    }
+    tj["per_axis"] = per_axis;
+    std::string worst_axis;
+    double worst_axis_err = -1.0;
+    for (const auto& s : per_axis)
+      if (s["max_rel"].get<double>() > worst_axis_err) worst_axis_err = s["max_rel"].get<double>(), worst_axis = s["axis"].get<std::string>();
+    tj["needs_resolution"] = worst_axis;
+    // Heat maps of the largest relative error per pair of axes (cells of the centre grid).
+    json heat = json::array();
+    for (std::size_t i = 0; i < t.axes.size(); ++i)
+      for (std::size_t j = i + 1; j < t.axes.size(); ++j) {
+        if (t.axes[i].count < 2 || t.axes[j].count < 2 || t.axes[i].name == "channel" || t.axes[j].name == "channel") continue;
+        const std::size_t ni = centres[i].size(), nj = centres[j].size();
+        std::vector<std::vector<double>> grid(ni, std::vector<double>(nj, 0.0));
+        for (std::size_t q = 0; q < all.x.size(); ++q) {
+          const auto ii = static_cast<std::size_t>(std::lower_bound(centres[i].begin(), centres[i].end(), all.x[q][i]) - centres[i].begin());
+          const auto jj = static_cast<std::size_t>(std::lower_bound(centres[j].begin(), centres[j].end(), all.x[q][j]) - centres[j].begin());
+          if (ii < ni && jj < nj) grid[ii][jj] = std::max(grid[ii][jj], peak > 0 ? all.abs_err[q] / peak : 0.0);
+        }
+        heat.push_back({{"x", t.axes[j].name}, {"y", t.axes[i].name}, {"x_centres", centres[j]}, {"y_centres", centres[i]}, {"max_rel", grid}});
+      }
+    tj["heatmaps"] = heat;
+    out.push_back(tj);
+    const double mr = tj["off_node"]["max_rel"].get<double>(), pr = tj["off_node"]["p99_rel"].get<double>();
+    if (mr > worst_max) worst_max = mr, worst_max_where = t.path() + (worst_axis.empty() ? "" : " (most along " + worst_axis + ")");
+    if (pr > worst_p99) worst_p99 = pr, worst_p99_where = t.path();
+  }
+  if (opt.progress) opt.progress("accuracy", set.tables.size(), set.tables.size());
+  if (out.empty()) {
+    checks.push_back(skipped("accuracy_max_rel", "Table accuracy off the nodes", "no table of a known kind"));
+  } else {
+    checks.push_back(check("accuracy_max_rel", "Largest off-node error of the sampled tables, relative to the lobe peak",
+                           worst_max <= opt.thresholds.accuracy_max_rel, worst_max, opt.thresholds.accuracy_max_rel, "<=", worst_max_where));
+    checks.push_back(check("accuracy_p99_rel", "99th percentile of the off-node error, relative to the lobe peak",
+                           worst_p99 <= opt.thresholds.accuracy_p99_rel, worst_p99, opt.thresholds.accuracy_p99_rel, "<=", worst_p99_where));
+  }
+  return out;
+}
+
+// ∫ N_table dφ against the energy table, and energies against σa and θd, melanin swatches.
+json absorption_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
+  json out;
+  json energies = json::array();
+  double worst = 0.0;
+  std::string where;
+  for (const std::string& l : info.lobes) {
+    const Table* e = set.find("np/energy_" + l);
+    const Table* n = set.find("np/" + l);
+    if (!e || e->axes.size() != 2) continue;
+    const auto sig = e->axes[0].nodes(), th = e->axes[1].nodes();
+    std::vector<std::vector<double>> grid(sig.size(), std::vector<double>(th.size()));
+    double emax = 0.0;
+    for (std::size_t i = 0; i < sig.size(); ++i)
+      for (std::size_t j = 0; j < th.size(); ++j) {
+        grid[i][j] = e->get(i * th.size() + j);
+        emax = std::max(emax, grid[i][j]);
+      }
+    energies.push_back({{"lobe", l}, {"sigma_a", sig}, {"theta_d", th}, {"energy", grid}});
+    if (n && n->axes.size() == 4) {
+      for (double beta : representative(n->axes[0]))
+        for (std::size_t i = 0; i < sig.size(); i += std::max<std::size_t>(1, sig.size() / 4))
+          for (std::size_t j = 0; j < th.size(); j += std::max<std::size_t>(1, th.size() / 6)) {
+            const double d = std::abs(table_energy(*n, beta, sig[i], th[j]) - grid[i][j]) / std::max(emax, 1e-12);
+            if (d > worst) worst = d, where = "np/" + l + " at beta = " + fmt(degrees(beta)) + " deg, sigma_a = " + fmt(sig[i]) + ", theta_d = " + fmt(degrees(th[j])) + " deg";
+          }
+    }
+  }
+  out["energies"] = energies;
+  if (!energies.empty())
+    checks.push_back(check("energy_consistency", "int N_table dphi against the lobe energy tables (relative to the largest energy)",
+                           worst <= opt.thresholds.energy_consistency, worst, opt.thresholds.energy_consistency, "<=", where.empty() ? "-" : where));
+  // Melanin swatches: the colour of light through one fiber diameter, exp(−2 σa), per concentration.
+  json swatches = json::array();
+  for (const char* name : {"melanin/sigma_a_deon", "melanin/sigma_a_spectral"}) {
+    const Table* m = set.find(name);
+    if (!m || m->axes.size() != 3) continue;
+    const auto ce = m->axes[0].nodes(), cp = m->axes[1].nodes();
+    json rows = json::array();
+    for (std::size_t i = 0; i < ce.size(); ++i)
+      for (std::size_t j = 0; j < cp.size(); ++j) {
+        const std::size_t o = (i * cp.size() + j) * 3;
+        rows.push_back({{"eumelanin", ce[i]}, {"pheomelanin", cp[j]},
+                        {"rgb", {std::exp(-2.0 * m->get(o)), std::exp(-2.0 * m->get(o + 1)), std::exp(-2.0 * m->get(o + 2))}}});
+      }
+    swatches.push_back({{"table", name}, {"swatches", rows}, {"attributes", m->attributes}});
+  }
+  out["melanin"] = swatches;
+  return out;
+}
+
+}  // namespace
+
+nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& source, const ValidationOptions& opt) {
+  if (set.tables.empty()) throw DomainError(source + ": contains no tables");
+  const ModelInfo info = model_from(set);
+  std::vector<json> checks;
+  json report;
+  report["source"] = source;
+  report["validator"] = "validate-hair-luts";
+  report["table_metadata"] = set.metadata;
+  report["thresholds"] = opt.thresholds.to_json();
+  if (opt.progress) opt.progress("sanity", 0, 6);
+  report["sanity"] = sanity_section(set, info, checks);
+  if (opt.progress) opt.progress("white furnace", 1, 6);
+  report["furnace"] = furnace_section(set, info, opt, checks);
+  if (opt.progress) opt.progress("truncation", 2, 6);
+  report["truncation"] = truncation_section(info, checks);
+  check_cancel(opt);
+  if (opt.progress) opt.progress("longitudinal", 3, 6);
+  report["longitudinal"] = longitudinal_section(set, info, opt, checks);
+  report["accuracy"] = accuracy_section(set, info, opt, checks);
+  report["absorption"] = absorption_section(set, info, opt, checks);
+  int passed = 0, failed = 0, skipped_n = 0;
+  for (const json& c : checks) {
+    const std::string s = c["status"].get<std::string>();
+    (s == "pass" ? passed : s == "fail" ? failed : skipped_n)++;
+  }
+  report["summary"] = {{"status", failed == 0 ? "pass" : "fail"}, {"passed", passed}, {"failed", failed}, {"skipped", skipped_n}};
+  report["checks"] = checks;
+  return report;
+}
+
+}  // namespace hairlut

@@ -1,0 +1,140 @@
+// validate-hair-luts: check a baked hairlut table file (HDF5 or OpenEXR), or the tables of a
+// config, and write report.html, report.json and report.md. Exit status 0 when every check
+// passes, 1 when a check fails, 2 for bad input. Thin: the checks live in hairlut/validate.hpp.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <hairlut/bake.hpp>
+#include <hairlut/config.hpp>
+#include <hairlut/error.hpp>
+#include <hairlut/report.hpp>
+#include <hairlut/table_io.hpp>
+#include <hairlut/validate.hpp>
+#include <hairlut/version.hpp>
+#include <string>
+#include <vector>
+
+namespace {
+std::atomic<bool> g_cancel{false};
+extern "C" void on_signal(int) { g_cancel.store(true); }
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"validate-hair-luts: energy-conservation and accuracy report of hairlut tables"};
+  app.footer(R"(Examples:
+  validate-hair-luts tables/default/hairlut-default.h5 --out report/
+  validate-hair-luts tables/default/hairlut-default.exr --threshold accuracy_max_rel=0.1
+  validate-hair-luts --config tables/configs/default.json --out report/
+
+Writes report.html (open it in a browser), report.json and report.md into --out. Thresholds
+(name=value): furnace_direct, furnace_table, longitudinal_deon, mp_table_energy,
+accuracy_max_rel, accuracy_p99_rel, energy_consistency; a config's "validate.thresholds" sets
+them too. Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input,
+130 interrupted.)");
+  std::string file, config_path, out_dir = "hairlut-report";
+  std::vector<std::string> thresholds;
+  bool quiet = false;
+  int threads = 0;
+  std::size_t max_points = 40000;
+  app.add_option("file", file, "table file written by bake-hair-luts (.h5 or .exr)");
+  app.add_option("--config", config_path, "validate the tables of this config (its outputs if up to date, else baked in memory)");
+  app.add_option("--out", out_dir, "report directory")->capture_default_str();
+  app.add_option("--threshold", thresholds, "override a threshold, name=value (repeatable)");
+  app.add_option("--threads", threads, "OpenMP threads for direct evaluation (default: all cores)");
+  app.add_option("--max-points", max_points, "off-node points per table")->capture_default_str();
+  app.add_flag("--quiet,-q", quiet, "print nothing but errors");
+  app.set_version_flag("--version", std::string("validate-hair-luts (hairlut) ") + hairlut::kVersion);
+  CLI11_PARSE(app, argc, argv);
+  if (file.empty() == config_path.empty()) {
+    std::fprintf(stderr, "validate-hair-luts: error: give either a table file or --config (see --help)\n");
+    return 2;
+  }
+
+  hairlut::ValidationOptions options;
+  options.threads = threads;
+  options.max_points = max_points;
+  options.cancel = &g_cancel;
+  hairlut::TableSet set;
+  std::string source;
+  try {
+    // Clear the previous report first: a failed run must not leave one behind as if it were new.
+    for (const char* name : {"report.html", "report.json", "report.md"}) std::filesystem::remove(std::filesystem::path(out_dir) / name);
+    if (!config_path.empty()) {
+      const hairlut::BakeConfig config = hairlut::load_config(config_path);
+      if (config.validate_thresholds.is_object())
+        for (const auto& [k, v] : config.validate_thresholds.items()) options.thresholds.set(k, v.get<double>());
+      const auto paths = hairlut::output_paths(config);
+      if (hairlut::outputs_up_to_date(config)) {
+        source = (config.output.hdf5 ? paths.hdf5 : paths.exr).string();
+        set = hairlut::load_tables(source);
+      } else {
+        source = config_path + " (baked in memory; outputs missing or out of date)";
+        hairlut::BakeOptions bo;
+        bo.threads = threads;
+        bo.cancel = &g_cancel;
+        set = hairlut::bake(config, bo);
+      }
+    } else {
+      source = file;
+      set = hairlut::load_tables(file);
+    }
+    for (const std::string& t : thresholds) {
+      const auto eq = t.find('=');
+      if (eq == std::string::npos) throw hairlut::DomainError("--threshold must be name=value (got \"" + t + "\")");
+      std::size_t used = 0;
+      double value = 0.0;
+      try {
+        value = std::stod(t.substr(eq + 1), &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != t.size() - eq - 1) throw hairlut::DomainError("--threshold " + t.substr(0, eq) + " must be a number (got \"" + t.substr(eq + 1) + "\")");
+      options.thresholds.set(t.substr(0, eq), value);
+    }
+  } catch (const hairlut::ConfigError& e) {
+    std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
+    return 2;
+  } catch (const hairlut::IoError& e) {
+    std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
+    return 2;
+  } catch (const hairlut::DomainError& e) {
+    std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
+    return 2;
+  } catch (const hairlut::BakeCancelled&) {
+    std::fprintf(stderr, "validate-hair-luts: interrupted; no report written\n");
+    return 130;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
+    return 2;
+  }
+
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  if (!quiet && ::isatty(STDERR_FILENO))
+    options.progress = [](std::string_view stage, std::size_t done, std::size_t total) {
+      std::fprintf(stderr, "\r%-14.14s %zu/%zu   ", std::string(stage).c_str(), done, total);
+      if (done >= total) std::fprintf(stderr, "\n");
+    };
+  try {
+    const auto report = hairlut::validate_tables(set, source, options);
+    hairlut::write_report(report, out_dir);
+    if (!quiet) {
+      std::printf("%s", hairlut::render_report_markdown(report).c_str());
+      std::printf("\nwrote %s/report.html, report.json, report.md\n", out_dir.c_str());
+    }
+    return report["summary"]["status"] == "pass" ? 0 : 1;
+  } catch (const hairlut::BakeCancelled&) {
+    std::fprintf(stderr, "\nvalidate-hair-luts: interrupted; no report written\n");
+    return 130;
+  } catch (const hairlut::DomainError& e) {
+    std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
+    return 1;
+  }
+}
