@@ -27,6 +27,21 @@ std::string fmt(const json& v) {
 
 std::vector<double> vec(const json& j) { return j.get<std::vector<double>>(); }
 
+std::string triple(const json& j) {
+  std::string s = "(";
+  for (std::size_t i = 0; i < j.size(); ++i) s += (i ? ", " : "") + fmt(j[i]);
+  return s + ")";
+}
+
+// One colour per lobe name, the same in every plot.
+std::string lobe_colour(const std::string& key) {
+  static const std::pair<const char*, const char*> colours[] = {{"total", "#000000"}, {"R", "#d62728"},  {"TT", "#2ca02c"},
+                                                                {"TRT", "#9467bd"},   {"TRRT", "#ff7f0e"}, {"residual", "#17becf"}};
+  for (const auto& [k, c] : colours)
+    if (key == k) return c;
+  return "";
+}
+
 std::string status_badge(const std::string& s) {
   const char* colour = s == "pass" ? "#1a7f37" : s == "fail" ? "#cf222e" : "#6e7781";
   return "<span class=\"badge\" style=\"background:" + std::string(colour) + "\">" + s + "</span>";
@@ -92,8 +107,11 @@ std::string render_report_html(const json& r) {
     p.xlabel = "theta_i [deg]";
     p.ylabel = "energy";
     p.y_reference = 1.0;
-    for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k == "total" ? "total" : k, thetas, vec(v), k == "total" ? "#000" : "", false});
-    if (c.contains("table")) p.series.push_back({"total (tables)", thetas, vec(c["table"]["total"]), "#d62728", true});
+    p.min_span = 0.2;
+    for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k, thetas, vec(v), lobe_colour(k), false});
+    if (c.contains("table"))
+      for (const auto& [k, v] : c["table"].items())
+        if (k != "direct_at_table_sigma_a") p.series.push_back({k + " (tables)", thetas, vec(v), lobe_colour(k), true});
     o << svg::line_plot(p) << "\n";
   }
   o << "</div>\n";
@@ -125,6 +143,7 @@ std::string render_report_html(const json& r) {
     p.xlabel = "theta_i [deg]";
     p.ylabel = "energy";
     p.y_reference = 1.0;
+    p.min_span = 0.2;
     for (const json& c : l["curves"]) p.series.push_back({"beta " + fmt(c["beta_deg"]) + " deg", lth, vec(c[key]), "", false});
     o << svg::line_plot(p) << "\n";
   }
@@ -186,6 +205,11 @@ std::string render_report_html(const json& r) {
       p.title = "energy of " + e["lobe"].get<std::string>();
       p.xlabel = "sigma_a [1/radius]";
       p.ylabel = "1/2 int A dh";
+      double emin = INFINITY, emax = 0.0;
+      for (const auto& row : grid)
+        for (double v : row)
+          if (v > 0) emin = std::min(emin, v), emax = std::max(emax, v);
+      p.log_y = emax > 100.0 * emin;
       for (std::size_t j = 0; j < th.size(); j += std::max<std::size_t>(1, th.size() / 4)) {
         std::vector<double> col;
         for (const auto& row : grid) col.push_back(row[j]);
@@ -208,8 +232,8 @@ std::string render_report_html(const json& r) {
     o << "<h2>Melanin: fiber colour (" << escape(mel["table"].get<std::string>()) << ")</h2><p>Transmittance through one fiber diameter, exp(&minus;2 "
       << "&sigma;<sub>a</sub>), per concentration.";
     if (mel["attributes"].contains("fitted_eumelanin_cross_section"))
-      o << " Fitted RGB cross-sections: eumelanin " << escape(mel["attributes"]["fitted_eumelanin_cross_section"].dump()) << ", pheomelanin "
-        << escape(mel["attributes"]["fitted_pheomelanin_cross_section"].dump()) << " (d'Eon: [0.419, 0.697, 1.37], [0.187, 0.4, 1.05]).";
+      o << " Fitted RGB cross-sections: eumelanin " << triple(mel["attributes"]["fitted_eumelanin_cross_section"]) << ", pheomelanin "
+        << triple(mel["attributes"]["fitted_pheomelanin_cross_section"]) << " (d'Eon: (0.419, 0.697, 1.37), (0.187, 0.4, 1.05)).";
     o << "</p>\n" << svg::swatch_grid(mel["table"].get<std::string>(), sw, static_cast<int>(cols.size()), rows, cols, "eumelanin", "pheomelanin") << "\n";
   }
   o << "<h2>Thresholds</h2><p><code>" << escape(r["thresholds"].dump()) << "</code></p>\n";

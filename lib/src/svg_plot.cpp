@@ -87,6 +87,10 @@ std::string line_plot(const LinePlot& p) {
   if (!std::isfinite(xlo)) xlo = 0, xhi = 1, ylo = 0, yhi = 1;
   if (xhi == xlo) xhi = xlo + 1;
   if (yhi == ylo) yhi = ylo + (p.log_y ? 1 : std::max(1e-6, std::abs(ylo) * 0.1)), ylo -= (p.log_y ? 1 : std::max(1e-6, std::abs(ylo) * 0.1));
+  if (!p.log_y && yhi - ylo < p.min_span) {
+    const double mid = 0.5 * (yhi + ylo);
+    ylo = mid - 0.5 * p.min_span, yhi = mid + 0.5 * p.min_span;
+  }
   const double pad = 0.05 * (yhi - ylo);
   ylo -= pad, yhi += pad;
   auto X = [&](double x) { return left + (x - xlo) / (xhi - xlo) * w; };
@@ -133,6 +137,7 @@ std::string heat_map(const HeatMap& m) {
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& row : m.values)
     for (double v : row) {
+      if (std::isnan(v)) continue;
       const double t = m.log_scale ? std::log10(std::max(v, 1e-16)) : v;
       lo = std::min(lo, t), hi = std::max(hi, t);
     }
@@ -147,14 +152,16 @@ std::string heat_map(const HeatMap& m) {
       const double v = m.values[iy][ix];
       const double t = m.log_scale ? std::log10(std::max(v, 1e-16)) : v;
       o << "<rect x=\"" << num(left + static_cast<double>(ix) * cw) << "\" y=\"" << num(top + h - static_cast<double>(iy + 1) * ch) << "\" width=\""
-        << num(cw + 0.6) << "\" height=\"" << num(ch + 0.6) << "\" fill=\"" << colour((t - lo) / (hi - lo)) << "\"><title>" << escape(m.xlabel)
+        << num(cw + 0.6) << "\" height=\"" << num(ch + 0.6) << "\" fill=\"" << (std::isnan(v) ? std::string("#d0d0d0") : colour((t - lo) / (hi - lo)))
+        << "\"><title>" << escape(m.xlabel)
         << " = " << (ix < m.x.size() ? label(m.x[ix]) : "") << ", " << escape(m.ylabel) << " = " << (iy < m.y.size() ? label(m.y[iy]) : "")
-        << ": " << label(v) << "</title></rect>";
+        << ": " << (std::isnan(v) ? std::string("not sampled") : label(v)) << "</title></rect>";
     }
   o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << h << "\" fill=\"none\" stroke=\"#444\"/>";
   auto axis_labels = [&](const std::vector<double>& c, bool horizontal) {
     const std::size_t n = c.size();
-    for (std::size_t k = 0; k < n; k += std::max<std::size_t>(1, n / 5)) {
+    const std::size_t step = std::max<std::size_t>(1, (n + 3) / 4);
+    for (std::size_t k = 0; k < n; k += step) {
       if (horizontal)
         o << "<text x=\"" << num(left + (static_cast<double>(k) + 0.5) * cw) << "\" y=\"" << num(top + h + 14) << "\" text-anchor=\"middle\">"
           << label(c[k]) << "</text>";

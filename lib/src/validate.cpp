@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -564,9 +565,18 @@ PointErrors evaluate_points(const Table& t, const Table& half_t, const Truth& tr
   for (std::size_t k = 0; k < dims; ++k) (k < n_slab_axes ? groups : per_group) *= coords[static_cast<std::size_t>(order[k])].size();
   const std::size_t total = groups * per_group;
   const std::size_t stride = std::max<std::size_t>(1, (total + max_points - 1) / std::max<std::size_t>(max_points, 1));
-  // Subsample whole groups where possible (keeps slab reuse), else points within groups.
-  const std::size_t group_stride = std::min(stride, groups);
+  // Every group is kept (so that every cell of the slab axes is sampled) unless there are more
+  // groups than points allowed; within groups a deterministic pseudo-random subset of about
+  // 1/stride of the points is kept (a regular stride would alias with the grid).
+  const std::size_t group_stride = groups > max_points ? (groups + max_points - 1) / max_points : 1;
   const std::size_t point_stride = std::max<std::size_t>(1, stride / group_stride);
+  auto keep = [point_stride](std::size_t g, std::size_t j) {
+    if (point_stride == 1) return true;
+    std::uint64_t h = (static_cast<std::uint64_t>(g) << 32) ^ j;  // splitmix64 finalizer
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+    return ((h ^ (h >> 31)) % point_stride) == 0;
+  };
   std::vector<std::size_t> chosen;
   for (std::size_t g = 0; g < groups; g += group_stride) chosen.push_back(g);
   std::vector<PointErrors> parts(chosen.size());
@@ -589,7 +599,8 @@ PointErrors evaluate_points(const Table& t, const Table& half_t, const Truth& tr
     unflatten(chosen[gi], 0, n_slab_axes, x);
     const auto f = truth.make(x);
     PointErrors& pe = parts[gi];
-    for (std::size_t j = 0; j < per_group; j += point_stride) {
+    for (std::size_t j = 0; j < per_group; ++j) {
+      if (!keep(chosen[gi], j)) continue;
       unflatten(j, n_slab_axes, dims, x);
       const double exact = f(x);
       pe.x.push_back(x);
@@ -668,11 +679,14 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
       for (std::size_t j = i + 1; j < t.axes.size(); ++j) {
         if (t.axes[i].count < 2 || t.axes[j].count < 2 || t.axes[i].name == "channel" || t.axes[j].name == "channel") continue;
         const std::size_t ni = centres[i].size(), nj = centres[j].size();
-        std::vector<std::vector<double>> grid(ni, std::vector<double>(nj, 0.0));
+        std::vector<std::vector<double>> grid(ni, std::vector<double>(nj, NAN));  // NaN: no point in this cell
         for (std::size_t q = 0; q < all.x.size(); ++q) {
           const auto ii = static_cast<std::size_t>(std::lower_bound(centres[i].begin(), centres[i].end(), all.x[q][i]) - centres[i].begin());
           const auto jj = static_cast<std::size_t>(std::lower_bound(centres[j].begin(), centres[j].end(), all.x[q][j]) - centres[j].begin());
-          if (ii < ni && jj < nj) grid[ii][jj] = std::max(grid[ii][jj], peak > 0 ? all.abs_err[q] / peak : 0.0);
+          if (ii < ni && jj < nj) {
+            const double e = peak > 0 ? all.abs_err[q] / peak : 0.0;
+            grid[ii][jj] = std::isnan(grid[ii][jj]) ? e : std::max(grid[ii][jj], e);
+          }
         }
         heat.push_back({{"x", t.axes[j].name}, {"y", t.axes[i].name}, {"x_centres", centres[j]}, {"y_centres", centres[i]}, {"max_rel", grid}});
       }

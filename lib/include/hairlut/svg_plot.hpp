@@ -20,6 +20,7 @@ struct LinePlot {
   std::vector<Series> series;
   bool log_y = false;
   double y_reference = NAN;  ///< a horizontal reference line (e.g. 1 for energies), NAN for none
+  double min_span = 0.0;     ///< the y axis spans at least this much (keeps rounding noise flat)
   int width = 520, height = 320;
 };
 
@@ -29,7 +30,7 @@ std::string line_plot(const LinePlot& plot);
 struct HeatMap {
   std::string title, xlabel, ylabel;
   std::vector<double> x, y;                 ///< cell centre coordinates (for tick labels)
-  std::vector<std::vector<double>> values;  ///< values[iy][ix] ≥ 0
+  std::vector<std::vector<double>> values;  ///< values[iy][ix] ≥ 0; NaN marks a cell without data (grey)
   bool log_scale = true;                    ///< colour by log10 of the value
   int width = 360, height = 300;
 };
