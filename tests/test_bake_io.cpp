@@ -36,7 +36,7 @@ json small_config() {
   return json::parse(R"({
     "name": "unit",
     "lobes": { "explicit": ["R", "TT", "TRT", "TRRT"], "residual": true, "tilt_deg": { "R": -4, "TT": 2, "TRT": 6, "residual": 8 } },
-    "quadrature": { "order": 96 },
+    "quadrature": { "method": "gauss-legendre", "order": 96 },
     "tables": {
       "np": { "axes": {
         "theta_d": { "count": 5, "range_deg": [0, 85], "spacing": "cos" },
@@ -120,6 +120,35 @@ TEST_CASE("Baked N_p, energies and M_p equal direct evaluation at the nodes", "[
   CHECK(mel.f32[(2 * cp.size() + 1) * 3 + 2] == static_cast<float>(rgb.b));
   CHECK(report.entries > 0);
   CHECK(report.folded.empty());
+}
+
+TEST_CASE("The Fourier method bakes N_p to the tolerance of the adaptive reference", "[bake]") {
+  json j = small_config();
+  j["quadrature"] = {{"method", "fourier"}, {"tolerance", 1e-12}};
+  j["output"]["hdf5"] = {{"precision", "float64"}};
+  j["tables"]["np"]["axes"]["beta"] = {{"values_deg", {0.5, 2.0, 20.0}}};
+  j["tables"]["np"]["axes"]["sigma_a"] = {{"values", {0.0, 0.7, 30.0}}};
+  const TableSet set = bake(config_in(temp_dir("fourier"), j));
+  for (const char* name : {"np/R", "np/TT", "np/TRT", "np/TRRT"}) {
+    const Table& t = *set.find(name);
+    REQUIRE(t.precision == Precision::float64);
+    const int p = t.attributes["p"].get<int>();
+    const auto betas = t.axes[0].nodes(), sigmas = t.axes[1].nodes(), thetas = t.axes[2].nodes(), phis = t.axes[3].nodes();
+    double worst = 0.0;
+    for (std::size_t b = 0; b < betas.size(); ++b)
+      for (std::size_t k = 0; k < sigmas.size(); ++k)
+        for (std::size_t it = 0; it < thetas.size(); ++it) {
+          const AttenuationSlice slice(1.55, thetas[it], sigmas[k]);
+          std::vector<double> ref;
+          double peak = 0.0;
+          for (double ph : phis) ref.push_back(azimuthal_np_reference(slice, p, betas[b], ph, 1e-13).value[0]), peak = std::max(peak, ref.back());
+          if (peak < 1e-250) continue;
+          for (std::size_t ip = 0; ip < phis.size(); ++ip)
+            worst = std::max(worst, std::abs(t.f64[((b * sigmas.size() + k) * thetas.size() + it) * phis.size() + ip] - ref[ip]) / peak);
+        }
+    INFO(name << ": largest error relative to the slice peak " << worst);
+    CHECK(worst < 1e-10);
+  }
 }
 
 TEST_CASE("HDF5 and OpenEXR round trips return exactly what was baked", "[io]") {

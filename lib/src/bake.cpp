@@ -6,9 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <map>
+#include <memory>
 #include <mutex>
 
 #include "hairlut/angles.hpp"
+#include "hairlut/azimuthal_fourier.hpp"
 #include "hairlut/azimuthal_np.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/hair_model.hpp"
@@ -77,31 +80,22 @@ const GridAxis& axis_named(const std::vector<GridAxis>& axes, const std::string&
 struct NpSettings {
   const BakeConfig* config;
   int lobes;  // explicit lobes after folding
-  GaussLegendreRule rule;
   GaussLegendreRule energy_rule;
 };
 
-// N_p of lobe p at one slice for every (β, φ) pair, written through out(ib, iphi, value).
+// Lobe energies and the residual at every (σa_k, θd_t): out(k, t, energies).
 template <class Out>
-void np_slab(const NpSettings& s, const AttenuationSlice& slice, int p, const std::vector<double>& betas,
-             const std::vector<double>& phis, std::size_t& unconverged, Out&& out) {
-  const NpQuadratureConfig& q = s.config->quadrature;
-  if (q.method == NpQuadratureConfig::Method::gauss_legendre) {
-    const NpQuadratureSlab slab(slice, p, s.rule, q.variable);
-    for (std::size_t ib = 0; ib < betas.size(); ++ib)
-      for (std::size_t ip = 0; ip < phis.size(); ++ip) out(ib, ip, slab(betas[ib], phis[ip]));
-  } else {
-    for (std::size_t ib = 0; ib < betas.size(); ++ib)
-      for (std::size_t ip = 0; ip < phis.size(); ++ip) {
-        const AdaptiveResult r = azimuthal_np_reference(slice, p, betas[ib], phis[ip], q.tolerance);
-        if (!r.converged) ++unconverged;
-        out(ib, ip, r.value[0]);
-      }
-  }
+void bake_energies(const NpSettings& s, LobeSet lobes, const std::vector<double>& sigmas, const std::vector<double>& thetas,
+                   const BakeOptions& opt, Out&& out) {
+  const BakeConfig& c = *s.config;
+  parallel_for(sigmas.size() * thetas.size(), opt, "energies", 1, [&](std::size_t item) {
+    const std::size_t k = item / thetas.size(), t = item % thetas.size();
+    out(k, t, lobe_energies(AttenuationSlice(c.eta, thetas[t], sigmas[k], c.path), lobes, s.energy_rule));
+  });
 }
 
 json quadrature_json(const NpQuadratureConfig& q) {
-  return {{"method", q.method == NpQuadratureConfig::Method::adaptive ? "adaptive" : "gauss-legendre"},
+  return {{"method", to_string(q.method)},
           {"order", q.order},
           {"variable", to_string(q.variable)},
           {"tolerance", q.tolerance},
@@ -159,6 +153,89 @@ std::vector<GridAxis> restricted_np_axes(const BakeConfig& c, std::vector<std::s
   return axes;
 }
 
+// N_p of lobes p = 0 … lobes − 1 at every (σa_k, θd_t) pair for the lobe's β list and all φ,
+// written through out(p, k, t, b, j, value). The Fourier method works per (θd, p) for all σa at
+// once; the per-entry methods per (σa, θd). Either way each work item writes its own entries.
+std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const std::string& stage, const NpGridOutput& out) {
+  const NpQuadratureConfig& q = r.quadrature;
+  const auto& sigmas = r.sigmas;
+  const auto& thetas = r.thetas;
+  const auto& phis = r.phis;
+  const auto& betas_of = r.betas_of;
+  std::size_t unconverged = 0;
+  const std::size_t ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
+  std::mutex mutex;
+  if (q.method == NpQuadratureConfig::Method::fourier) {
+    // Terms from the smallest β of each lobe, nodes from each (θd, p); the rules are built first.
+    std::vector<int> terms(static_cast<std::size_t>(r.lobes));
+    int max_terms = 0;
+    for (int p = 0; p < r.lobes; ++p) {
+      const auto b = betas_of(p);
+      terms[static_cast<std::size_t>(p)] = fourier_terms(*std::min_element(b.begin(), b.end()), q.tolerance);
+      max_terms = std::max(max_terms, terms[static_cast<std::size_t>(p)]);
+    }
+    std::map<int, std::unique_ptr<GaussLegendreRule>> rules;
+    std::vector<int> nodes(nt * static_cast<std::size_t>(r.lobes));
+    for (std::size_t t = 0; t < nt; ++t)
+      for (int p = 0; p < r.lobes; ++p) {
+        const int m = fourier_nodes(terms[static_cast<std::size_t>(p)], p, FiberGeometry::make(r.eta, thetas[t]));
+        nodes[t * static_cast<std::size_t>(r.lobes) + static_cast<std::size_t>(p)] = m;
+        if (!rules.count(m)) rules[m] = std::make_unique<GaussLegendreRule>(m);
+      }
+    const CosineSeries series(phis, max_terms);
+    parallel_for(nt * static_cast<std::size_t>(r.lobes), opt, stage, ns * nphi, [&](std::size_t item) {
+      const std::size_t t = item / static_cast<std::size_t>(r.lobes);
+      const int p = static_cast<int>(item % static_cast<std::size_t>(r.lobes));
+      const FiberGeometry g = FiberGeometry::make(r.eta, thetas[t]);
+      const int N = terms[static_cast<std::size_t>(p)];
+      std::vector<double> C, v, row(nphi);
+      fourier_coefficients(g, r.path, p, sigmas, N, *rules.at(nodes[item]), C);
+      const auto betas = betas_of(p);
+      for (std::size_t b = 0; b < betas.size(); ++b) {
+        const int Nb = std::min(N, fourier_terms(betas[b], q.tolerance));
+        // Weights (2 − δ_n0) e^{−n²β²/2} / 2π of the detector's Fourier series.
+        std::vector<double> weight(static_cast<std::size_t>(Nb) + 1);
+        for (int n = 0; n <= Nb; ++n)
+          weight[static_cast<std::size_t>(n)] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * betas[b] * betas[b]) / kTwoPi;
+        v.resize(weight.size());
+        for (std::size_t k = 0; k < ns; ++k) {
+          for (std::size_t n = 0; n < weight.size(); ++n) v[n] = weight[n] * C[n * ns + k];
+          series.evaluate(v, row);
+          for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, std::max(0.0, row[j]));  // roundoff below 0 clamped
+        }
+      }
+    });
+    return 0;
+  }
+  const GaussLegendreRule rule(q.method == NpQuadratureConfig::Method::gauss_legendre ? q.order : 1);
+  parallel_for(ns * nt, opt, stage, nphi * static_cast<std::size_t>(r.lobes), [&](std::size_t item) {
+    const std::size_t k = item / nt, t = item % nt;
+    const AttenuationSlice slice(r.eta, thetas[t], sigmas[k], r.path);
+    std::size_t local_unconverged = 0;
+    for (int p = 0; p < r.lobes; ++p) {
+      const auto betas = betas_of(p);
+      if (q.method == NpQuadratureConfig::Method::gauss_legendre) {
+        const NpQuadratureSlab slab(slice, p, rule, q.variable);
+        for (std::size_t b = 0; b < betas.size(); ++b)
+          for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, slab(betas[b], phis[j]));
+      } else {
+        for (std::size_t b = 0; b < betas.size(); ++b)
+          for (std::size_t j = 0; j < nphi; ++j) {
+            const AdaptiveResult ar = azimuthal_np_reference(slice, p, betas[b], phis[j], q.tolerance);
+            if (!ar.converged) ++local_unconverged;
+            out(p, k, t, b, j, ar.value[0]);
+          }
+      }
+    }
+    if (local_unconverged) {
+      std::lock_guard<std::mutex> lock(mutex);
+      unconverged += local_unconverged;
+    }
+  });
+  return unconverged;
+}
+
+
 TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_out) {
   const auto t0 = std::chrono::steady_clock::now();
   BakeReport report;
@@ -167,7 +244,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   const bool per_material = c.scene && c.scene->mode == SceneConfig::Mode::per_material;
   const bool generic_np = c.np_axes && !per_material;
 
-  NpSettings s{&c, c.lobe_count, GaussLegendreRule(c.quadrature.order), GaussLegendreRule(c.quadrature.energy_order)};
+  NpSettings s{&c, c.lobe_count, GaussLegendreRule(c.quadrature.energy_order)};
   std::vector<GridAxis> np_axes;
   if (c.np_axes) np_axes = restricted_np_axes(c, &report.notes);
 
@@ -208,7 +285,6 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   set.metadata["precision"] = precision == Precision::float32 ? "float32" : "float64";
 
   std::size_t unconverged = 0;
-  std::mutex unconverged_mutex;
   auto residual_name = [&] { return "residual"; };
 
   // ---- Generic N_p over (β, σa, θd, φ), lobe energies and the residual over (σa, θd).
@@ -243,23 +319,13 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       set.tables.push_back(std::move(t));
     }
     const std::size_t nb = betas.size(), ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
-    parallel_for(ns * nt, opt, "N_p", nb * nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t k) {
-      const std::size_t is = k / nt, it = k % nt;
-      const AttenuationSlice slice(c.eta, thetas[it], sigmas[is], c.path);
-      std::size_t local_unconverged = 0;
-      for (int p = 0; p < s.lobes; ++p) {
-        Table& t = set.tables[first + static_cast<std::size_t>(p)];
-        np_slab(s, slice, p, betas, phis, local_unconverged, [&](std::size_t ib, std::size_t ip, double v) {
-          t.set(((ib * ns + is) * nt + it) * nphi + ip, v);
-        });
-      }
-      const auto e = lobe_energies(slice, lobe_set, s.energy_rule);
+    unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }}, opt, "N_p",
+                                [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+                                  set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip, v);
+                                });
+    bake_energies(s, lobe_set, sigmas, thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
       for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * nt + it, e[p]);
       if (c.residual) set.tables[residual_index].set(is * nt + it, e.back() / kTwoPi);
-      if (local_unconverged) {
-        std::lock_guard<std::mutex> lock(unconverged_mutex);
-        unconverged += local_unconverged;
-      }
     });
     report.entries += (nb * nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size())) * ns * nt;
   }
@@ -298,23 +364,16 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
         set.tables.push_back(std::move(t));
       }
       const std::size_t nt = thetas.size(), nphi = phis.size();
-      parallel_for(3 * nt, opt, "N_p " + m.name, nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t k) {
-        const std::size_t ic = k / nt, it = k % nt;
-        const AttenuationSlice slice(c.eta, thetas[it], m.sigma_a[ic], c.path);
-        std::size_t local_unconverged = 0;
-        for (int p = 0; p < s.lobes; ++p) {
-          Table& t = set.tables[first + static_cast<std::size_t>(p)];
-          const std::vector<double> beta = {m.beta_n[static_cast<std::size_t>(p)]};
-          np_slab(s, slice, p, beta, phis, local_unconverged,
-                  [&](std::size_t, std::size_t ip, double v) { t.set((ic * nt + it) * nphi + ip, v); });
-        }
-        const auto e = lobe_energies(slice, lobe_set, s.energy_rule);
+      const std::vector<double> channel_sigmas(m.sigma_a.begin(), m.sigma_a.end());
+      unconverged += bake_np_grid(
+          {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
+           [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }},
+          opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
+            set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
+          });
+      bake_energies(s, lobe_set, channel_sigmas, thetas, opt, [&](std::size_t ic, std::size_t it, const std::vector<double>& e) {
         for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(ic * nt + it, e[p]);
         if (c.residual) set.tables[residual_index].set(ic * nt + it, e.back() / kTwoPi);
-        if (local_unconverged) {
-          std::lock_guard<std::mutex> lock(unconverged_mutex);
-          unconverged += local_unconverged;
-        }
       });
       report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
     }

@@ -21,6 +21,14 @@ extern const char* const config_schema_json;  // generated from schemas/hairlut-
 
 const char* config_schema_text() { return detail::config_schema_json; }
 
+std::string_view to_string(NpQuadratureConfig::Method method) {
+  switch (method) {
+    case NpQuadratureConfig::Method::adaptive: return "adaptive";
+    case NpQuadratureConfig::Method::gauss_legendre: return "gauss-legendre";
+    default: return "fourier";
+  }
+}
+
 namespace {
 
 using nlohmann::json;
@@ -197,11 +205,13 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   }
 
   const json q = doc.value("quadrature", json::object());
-  c.quadrature.method = q.value("method", std::string("gauss-legendre")) == "adaptive" ? NpQuadratureConfig::Method::adaptive
-                                                                                      : NpQuadratureConfig::Method::gauss_legendre;
+  const std::string method = q.value("method", std::string("fourier"));
+  c.quadrature.method = method == "adaptive"         ? NpQuadratureConfig::Method::adaptive
+                        : method == "gauss-legendre" ? NpQuadratureConfig::Method::gauss_legendre
+                                                     : NpQuadratureConfig::Method::fourier;
   c.quadrature.order = q.value("order", 256);
   c.quadrature.variable = parse_integration_variable(q.value("variable", std::string("gamma")), "quadrature.variable");
-  c.quadrature.tolerance = get_number(q, "tolerance", 1e-10);
+  c.quadrature.tolerance = get_number(q, "tolerance", 1e-12);
   c.quadrature.energy_order = q.value("energy_order", 128);
 
   const json tables = doc.value("tables", json::object());
@@ -320,7 +330,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   for (int p = 0; p < c.lobe_count; ++p) tilt[lobe_name(p)] = c.tilt[static_cast<std::size_t>(p)];
   tilt["residual"] = c.residual_tilt;
   n["lobes"] = {{"explicit", names}, {"residual", c.residual}, {"fold_below", c.fold_below}, {"tilt", tilt}};
-  n["quadrature"] = {{"method", c.quadrature.method == NpQuadratureConfig::Method::adaptive ? "adaptive" : "gauss-legendre"},
+  n["quadrature"] = {{"method", to_string(c.quadrature.method)},
                      {"order", c.quadrature.order},
                      {"variable", to_string(c.quadrature.variable)},
                      {"tolerance", c.quadrature.tolerance},

@@ -9,7 +9,7 @@
 namespace hairlut {
 
 GaussLegendreRule::GaussLegendreRule(int order) {
-  if (order < 1 || order > 4096) throw_domain_error("quadrature order", "must lie in [1, 4096]", static_cast<long long>(order));
+  if (order < 1 || order > 32768) throw_domain_error("quadrature order", "must lie in [1, 32768]", static_cast<long long>(order));
   const std::vector<double> zeros = boost::math::legendre_p_zeros<double>(order);  // the zeros ≥ 0
   const auto n = static_cast<std::size_t>(order);
   nodes_.resize(n);

@@ -44,6 +44,22 @@ struct BakeReport {
   double seconds = 0.0;
 };
 
+/// One N_p grid: lobes p = 0 … lobes − 1 over σa_k, θd_t, the lobe's β list and φ_j.
+struct NpGridRequest {
+  double eta = 1.55;
+  AbsorptionPath path = AbsorptionPath::chord;
+  NpQuadratureConfig quadrature;
+  int lobes = 3;
+  std::vector<double> sigmas, thetas, phis;
+  std::function<std::vector<double>(int p)> betas_of;
+};
+/// Receives every value: out(p, k, t, b, j, N_p). Called concurrently for distinct entries.
+using NpGridOutput = std::function<void(int p, std::size_t k, std::size_t t, std::size_t b, std::size_t j, double value)>;
+
+/// Evaluates an N_p grid with the request's method, in parallel (deterministic per entry).
+/// Returns how many adaptive entries missed their tolerance (0 for the other methods).
+std::size_t bake_np_grid(const NpGridRequest& request, const BakeOptions& options, const std::string& stage, const NpGridOutput& out);
+
 /// Bakes every table of the config. Throws BakeCancelled or DomainError.
 TableSet bake(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr);
 

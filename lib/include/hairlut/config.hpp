@@ -27,13 +27,18 @@ class ConfigError : public std::runtime_error {
 
 /// How N_p entries are integrated.
 struct NpQuadratureConfig {
-  enum class Method { gauss_legendre, adaptive };
-  Method method = Method::gauss_legendre;
+  /// fourier: the detector's Fourier series with coefficients shared by every β and σa
+  /// (azimuthal_fourier.hpp; default); gauss_legendre: a fixed-order rule per entry;
+  /// adaptive: the adaptive reference integrator per entry (slow).
+  enum class Method { fourier, gauss_legendre, adaptive };
+  Method method = Method::fourier;
   int order = 256;                                   ///< Gauss–Legendre order (gauss_legendre)
   IntegrationVariable variable = IntegrationVariable::gamma;
-  double tolerance = 1e-10;                          ///< relative tolerance (adaptive)
+  double tolerance = 1e-12;                          ///< error relative to the lobe peak (fourier) or value (adaptive)
   int energy_order = 128;                            ///< Gauss–Legendre order of lobe energies
 };
+
+std::string_view to_string(NpQuadratureConfig::Method method);
 
 /// One hair material of a scene.
 struct MaterialConfig {

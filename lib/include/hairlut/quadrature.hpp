@@ -14,7 +14,7 @@ namespace hairlut {
 /// Nodes are Boost.Math's zeros of P_n; weights w_i = 2 / ((1 − x_i²) P_n'(x_i)²).
 class GaussLegendreRule {
  public:
-  /// Domain: 1 ≤ order ≤ 4096 (throws DomainError).
+  /// Domain: 1 ≤ order ≤ 32768 (throws DomainError).
   explicit GaussLegendreRule(int order);
 
   int order() const { return static_cast<int>(nodes_.size()); }
