@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "hairlut/angles.hpp"
 #include "hairlut/azimuthal_fourier.hpp"
@@ -166,42 +167,96 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
   const std::size_t ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
   std::mutex mutex;
   if (q.method == NpQuadratureConfig::Method::fourier) {
-    // Terms from the smallest β of each lobe, nodes from each (θd, p); the rules are built first.
-    std::vector<int> terms(static_cast<std::size_t>(r.lobes));
+    // Per (θd, lobe): the β list splits into the narrowest detectors, evaluated by spreading
+    // Gaussians onto the periodic φ grid, and the rest, evaluated from Fourier coefficients,
+    // where the split point minimizes the estimated work. Both are the same quadrature and meet
+    // the tolerance; choices and rules are fixed before the parallel loop (deterministic).
+    const PeriodicGrid grid = PeriodicGrid::of(phis);
+    const std::size_t L = static_cast<std::size_t>(r.lobes);
+    struct Plan {
+      std::vector<std::size_t> spread, fourier;  // β indices
+      int terms = 0;
+    };
+    std::vector<Plan> plans(nt * L);
+    std::vector<int> spread_m(nt, 0), fourier_m(nt, 0);
     int max_terms = 0;
-    for (int p = 0; p < r.lobes; ++p) {
-      const auto b = betas_of(p);
-      terms[static_cast<std::size_t>(p)] = fourier_terms(*std::min_element(b.begin(), b.end()), q.tolerance);
-      max_terms = std::max(max_terms, terms[static_cast<std::size_t>(p)]);
-    }
-    std::map<int, std::unique_ptr<GaussLegendreRule>> rules;
-    std::vector<int> nodes(nt * static_cast<std::size_t>(r.lobes));
-    for (std::size_t t = 0; t < nt; ++t)
-      for (int p = 0; p < r.lobes; ++p) {
-        const int m = fourier_nodes(terms[static_cast<std::size_t>(p)], p, FiberGeometry::make(r.eta, thetas[t]));
-        nodes[t * static_cast<std::size_t>(r.lobes) + static_cast<std::size_t>(p)] = m;
-        if (!rules.count(m)) rules[m] = std::make_unique<GaussLegendreRule>(m);
-      }
-    const CosineSeries series(phis, max_terms);
-    parallel_for(nt * static_cast<std::size_t>(r.lobes), opt, stage, ns * nphi, [&](std::size_t item) {
-      const std::size_t t = item / static_cast<std::size_t>(r.lobes);
-      const int p = static_cast<int>(item % static_cast<std::size_t>(r.lobes));
+    for (std::size_t t = 0; t < nt; ++t) {
       const FiberGeometry g = FiberGeometry::make(r.eta, thetas[t]);
-      const int N = terms[static_cast<std::size_t>(p)];
+      for (int p = 0; p < r.lobes; ++p) {
+        const auto betas = betas_of(p);
+        std::vector<std::size_t> order(betas.size());
+        for (std::size_t b = 0; b < order.size(); ++b) order[b] = b;
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return betas[x] < betas[y]; });
+        std::size_t best_split = 0;
+        double best_cost = INFINITY;
+        for (std::size_t split = 0; split <= order.size(); ++split) {
+          double cost = 0.0;
+          for (std::size_t i = 0; i < split; ++i)
+            cost += spread_cost(betas[order[i]], spread_nodes(betas[order[i]], p, g, q.tolerance), ns, grid, q.tolerance);
+          if (split < order.size()) {
+            const int N = fourier_terms(betas[order[split]], q.tolerance);
+            cost += fourier_cost(N, fourier_nodes(N, p, g, q.tolerance), ns, order.size() - split, nphi);
+          }
+          if (cost < best_cost) best_cost = cost, best_split = split;
+        }
+        Plan& plan = plans[t * L + static_cast<std::size_t>(p)];
+        plan.spread.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(best_split));
+        plan.fourier.assign(order.begin() + static_cast<std::ptrdiff_t>(best_split), order.end());
+        for (std::size_t b : plan.spread) spread_m[t] = std::max(spread_m[t], spread_nodes(betas[b], p, g, q.tolerance));
+        if (!plan.fourier.empty()) {
+          plan.terms = fourier_terms(betas[plan.fourier.front()], q.tolerance);
+          fourier_m[t] = std::max(fourier_m[t], fourier_nodes(plan.terms, p, g, q.tolerance));
+          max_terms = std::max(max_terms, plan.terms);
+        }
+      }
+    }
+    const auto cache = r.rules ? r.rules : std::make_shared<GaussLegendreCache>();
+    std::map<int, const GaussLegendreRule*> rules;
+    for (std::size_t t = 0; t < nt; ++t)
+      for (int m : {spread_m[t], fourier_m[t]})
+        if (m > 0 && !rules.count(m)) rules[m] = &cache->get(m);
+    const CosineSeries series(phis, max_terms);
+    parallel_for(nt, opt, stage, ns * nphi * L, [&](std::size_t t) {
+      const FiberGeometry g = FiberGeometry::make(r.eta, thetas[t]);
+      std::optional<FiberNodes> spread_nodes_t, fourier_nodes_t;
+      if (spread_m[t] > 0) spread_nodes_t = FiberNodes::make(g, r.path, *rules.at(spread_m[t]));
+      if (fourier_m[t] > 0) fourier_nodes_t = FiberNodes::make(g, r.path, *rules.at(fourier_m[t]));
       std::vector<double> C, v, row(nphi);
-      fourier_coefficients(g, r.path, p, sigmas, N, *rules.at(nodes[item]), C);
-      const auto betas = betas_of(p);
-      for (std::size_t b = 0; b < betas.size(); ++b) {
-        const int Nb = std::min(N, fourier_terms(betas[b], q.tolerance));
-        // Weights (2 − δ_n0) e^{−n²β²/2} / 2π of the detector's Fourier series.
-        std::vector<double> weight(static_cast<std::size_t>(Nb) + 1);
-        for (int n = 0; n <= Nb; ++n)
-          weight[static_cast<std::size_t>(n)] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * betas[b] * betas[b]) / kTwoPi;
-        v.resize(weight.size());
-        for (std::size_t k = 0; k < ns; ++k) {
-          for (std::size_t n = 0; n < weight.size(); ++n) v[n] = weight[n] * C[n * ns + k];
-          series.evaluate(v, row);
-          for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, std::max(0.0, row[j]));  // roundoff below 0 clamped
+      // Every spread (lobe, β) of this θd in one pass over the nodes.
+      std::vector<SpreadLobe> spread_lobes;
+      std::vector<std::pair<int, std::size_t>> spread_index;
+      for (int p = 0; p < r.lobes; ++p) {
+        const auto betas = betas_of(p);
+        for (std::size_t b : plans[t * L + static_cast<std::size_t>(p)].spread) {
+          spread_lobes.push_back({p, betas[b]});
+          spread_index.emplace_back(p, b);
+        }
+      }
+      if (!spread_lobes.empty()) {
+        std::vector<std::vector<double>> spread;
+        spread_np(*spread_nodes_t, g, spread_lobes, sigmas, grid, q.tolerance, spread);
+        for (std::size_t l = 0; l < spread.size(); ++l)
+          for (std::size_t k = 0; k < ns; ++k)
+            for (std::size_t j = 0; j < nphi; ++j) out(spread_index[l].first, k, t, spread_index[l].second, j, spread[l][k * nphi + j]);
+      }
+      for (int p = 0; p < r.lobes; ++p) {
+        const Plan& plan = plans[t * L + static_cast<std::size_t>(p)];
+        const auto betas = betas_of(p);
+        if (plan.fourier.empty()) continue;
+        const int N = plan.terms;
+        fourier_coefficients(*fourier_nodes_t, g, p, sigmas, N, C);
+        for (std::size_t b : plan.fourier) {
+          const int Nb = std::min(N, fourier_terms(betas[b], q.tolerance));
+          // Weights (2 − δ_n0) e^{−n²β²/2} / 2π of the detector's Fourier series.
+          std::vector<double> weight(static_cast<std::size_t>(Nb) + 1);
+          for (int n = 0; n <= Nb; ++n)
+            weight[static_cast<std::size_t>(n)] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * betas[b] * betas[b]) / kTwoPi;
+          v.resize(weight.size());
+          for (std::size_t k = 0; k < ns; ++k) {
+            for (std::size_t n = 0; n < weight.size(); ++n) v[n] = weight[n] * C[n * ns + k];
+            series.evaluate(v, row);
+            for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, std::max(0.0, row[j]));  // roundoff below 0 clamped
+          }
         }
       }
     });
@@ -285,6 +340,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   set.metadata["precision"] = precision == Precision::float32 ? "float32" : "float64";
 
   std::size_t unconverged = 0;
+  const auto rules = std::make_shared<GaussLegendreCache>();  // Gauss–Legendre rules shared by the whole bake
   auto residual_name = [&] { return "residual"; };
 
   // ---- Generic N_p over (β, σa, θd, φ), lobe energies and the residual over (σa, θd).
@@ -319,7 +375,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       set.tables.push_back(std::move(t));
     }
     const std::size_t nb = betas.size(), ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
-    unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }}, opt, "N_p",
+    unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules}, opt, "N_p",
                                 [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
                                   set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip, v);
                                 });
@@ -367,7 +423,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       const std::vector<double> channel_sigmas(m.sigma_a.begin(), m.sigma_a.end());
       unconverged += bake_np_grid(
           {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
-           [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }},
+           [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules},
           opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
             set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
           });

@@ -254,59 +254,29 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
   auto fail = [&](const std::string& what) { throw IoError(fname + ": " + what); };
   if (set.tables.empty()) fail("no tables to write");
   const auto plan = exr_part_plan(set);
-  std::vector<Imf::Header> headers;
-  struct PartData {
-    std::vector<std::string> channels;
-    std::vector<std::vector<float>> f;
-    std::vector<std::vector<half>> h;
-    long width, height;
-  };
-  std::vector<PartData> data;
-  for (std::size_t p = 0; p < plan.size(); ++p) {
+  // One part per plan entry: its tables, layout and channel names.
+  struct Part {
     std::vector<const Table*> tables;
-    for (const std::string& path : plan[p].second) tables.push_back(set.find(path));
-    const Table& first = *tables.front();
-    const Layout l = make_layout(first.axes);
-    if (l.width * l.height > (1L << 30)) fail(first.path() + ": too large for one EXR image");
-    PartData d;
-    d.width = l.width;
-    d.height = l.height;
+    Layout layout;
+    std::vector<std::string> channels;
+  };
+  std::vector<Part> parts;
+  std::vector<Imf::Header> headers;
+  for (std::size_t p = 0; p < plan.size(); ++p) {
+    Part part;
+    for (const std::string& path : plan[p].second) part.tables.push_back(set.find(path));
+    const Table& first = *part.tables.front();
+    part.layout = make_layout(first.axes);
+    const Layout& l = part.layout;
+    if (l.width > 65536 || l.height > 65536 || l.width * l.height > (1L << 28))
+      fail(first.path() + ": too large for one EXR image (more than 65536 x 65536 or 2^28 pixels)");
     if (l.channel_axis >= 0) {
       const GridAxis& ch = first.axes[static_cast<std::size_t>(l.channel_axis)];
       if (ch.count > 4) fail(first.path() + ": more than 4 channels");
       for (int c = 0; c < ch.count; ++c)
-        d.channels.push_back(ch.labels.size() == static_cast<std::size_t>(ch.count) ? ch.labels[static_cast<std::size_t>(c)] : kRgba[c]);
+        part.channels.push_back(ch.labels.size() == static_cast<std::size_t>(ch.count) ? ch.labels[static_cast<std::size_t>(c)] : kRgba[c]);
     } else {
-      for (std::size_t t = 0; t < tables.size(); ++t) d.channels.push_back(kRgba[t]);
-    }
-    const std::size_t npix = static_cast<std::size_t>(l.width * l.height);
-    d.f.assign(d.channels.size(), std::vector<float>(npix, 0.0f));
-    for (std::size_t ti = 0; ti < tables.size(); ++ti) {
-      const Table& t = *tables[ti];
-      std::vector<long> idx(t.axes.size(), 0);
-      for (std::size_t flat = 0; flat < t.size(); ++flat) {
-        long x = 0, y = 0;
-        for (const auto& [k, stride] : l.x_terms) x += idx[static_cast<std::size_t>(k)] * stride;
-        for (const auto& [k, stride] : l.y_terms) y += idx[static_cast<std::size_t>(k)] * stride;
-        const std::size_t ch = l.channel_axis >= 0 ? static_cast<std::size_t>(idx[static_cast<std::size_t>(l.channel_axis)]) : ti;
-        const double v = t.get(flat);
-        if (!std::isfinite(v)) fail(t.path() + ": non-finite value at entry " + std::to_string(flat));
-        if (options.half && std::abs(v) > 65504.0)
-          fail(t.path() + ": value " + std::to_string(v) + " exceeds the half-float range; write exr.precision \"float\"");
-        d.f[ch][static_cast<std::size_t>(y * l.width + x)] = static_cast<float>(v);
-        for (std::size_t k = t.axes.size(); k-- > 0;) {
-          if (++idx[k] < t.axes[k].count) break;
-          idx[k] = 0;
-        }
-      }
-    }
-    if (options.half) {
-      for (const auto& plane : d.f) {
-        std::vector<half> hp(plane.size());
-        for (std::size_t i = 0; i < plane.size(); ++i) hp[i] = half(plane[i]);
-        d.h.push_back(std::move(hp));
-      }
-      d.f.clear();
+      for (std::size_t t = 0; t < part.tables.size(); ++t) part.channels.push_back(kRgba[t]);
     }
     // Every part shares the display window (OpenEXR requires it); its data window is its own.
     Imf::Header h(Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(0, 0)),
@@ -314,18 +284,18 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
     h.setName(plan[p].first);
     h.setType(Imf::SCANLINEIMAGE);
     h.compression() = parse_compression(options.compression);
-    for (const std::string& c : d.channels) h.channels().insert(c, Imf::Channel(options.half ? Imf::HALF : Imf::FLOAT));
-    json part;
-    part["tables"] = json::array();
-    for (const Table* t : tables) part["tables"].push_back(t->describe());
-    part["channels"] = d.channels;
-    part["layout"] = describe_layout(first.axes, l);
-    h.insert("hairlut.part", Imf::StringAttribute(part.dump()));
+    for (const std::string& c : part.channels) h.channels().insert(c, Imf::Channel(options.half ? Imf::HALF : Imf::FLOAT));
+    json desc;
+    desc["tables"] = json::array();
+    for (const Table* t : part.tables) desc["tables"].push_back(t->describe());
+    desc["channels"] = part.channels;
+    desc["layout"] = describe_layout(first.axes, l);
+    h.insert("hairlut.part", Imf::StringAttribute(desc.dump()));
     h.insert("hairlut.layout", Imf::StringAttribute(describe_layout(first.axes, l)));
     std::string chdesc;
-    for (std::size_t c = 0; c < d.channels.size(); ++c)
-      chdesc += (c ? " " : "") + d.channels[c] + "=" +
-                (l.channel_axis >= 0 ? first.path() + "[channel " + std::to_string(c) + "]" : tables[c]->path());
+    for (std::size_t c = 0; c < part.channels.size(); ++c)
+      chdesc += (c ? " " : "") + part.channels[c] + "=" +
+                (l.channel_axis >= 0 ? first.path() + "[channel " + std::to_string(c) + "]" : part.tables[c]->path());
     h.insert("hairlut.channels", Imf::StringAttribute(chdesc));
     h.insert("hairlut.quantity", Imf::StringAttribute(first.quantity + " [" + first.units + "]"));
     for (const GridAxis& a : first.axes) {
@@ -341,28 +311,67 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
                Imf::StringAttribute(content_checksum(set, options.half ? ChecksumRounding::half : ChecksumRounding::float32)));
     }
     headers.push_back(h);
-    data.push_back(std::move(d));
+    parts.push_back(std::move(part));
   }
   Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(0, 0));
   for (const Imf::Header& h : headers) display.extendBy(h.dataWindow());
   for (Imf::Header& h : headers) h.displayWindow() = display;
   try {
     Imf::MultiPartOutputFile out(fname.c_str(), headers.data(), static_cast<int>(headers.size()));
-    for (std::size_t p = 0; p < headers.size(); ++p) {
-      PartData& d = data[p];
-      Imf::FrameBuffer fb;
-      for (std::size_t c = 0; c < d.channels.size(); ++c) {
-        if (options.half)
-          fb.insert(d.channels[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(d.h[c].data()), sizeof(half),
-                                              sizeof(half) * static_cast<std::size_t>(d.width)));
-        else
-          fb.insert(d.channels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(d.f[c].data()), sizeof(float),
-                                              sizeof(float) * static_cast<std::size_t>(d.width)));
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+      const Part& part = parts[p];
+      const Layout& l = part.layout;
+      const Table& first = *part.tables.front();
+      // Row-major strides of the tables' axes.
+      std::vector<long> stride(first.axes.size(), 1);
+      for (std::size_t k = first.axes.size(); k-- > 1;) stride[k - 1] = stride[k] * first.axes[k].count;
+      // Pixels are filled and written in strips of rows, so memory stays at one strip per part
+      // instead of a second copy of the tables.
+      const long strip = std::max<long>(1, std::min<long>(l.height, (1L << 20) / std::max<long>(1, l.width)));
+      Imf::OutputPart writer(out, static_cast<int>(p));
+      std::vector<std::vector<float>> f(part.channels.size());
+      std::vector<std::vector<half>> hf(part.channels.size());
+      for (long y0 = 0; y0 < l.height; y0 += strip) {
+        const long rows = std::min(strip, l.height - y0);
+        const std::size_t n = static_cast<std::size_t>(rows * l.width);
+        for (auto& v : f) v.assign(n, 0.0f);
+        for (long y = y0; y < y0 + rows; ++y)
+          for (long x = 0; x < l.width; ++x) {
+            // Node indices of the image axes from (x, y): the largest stride first.
+            long flat = 0, rx = x, ry = y;
+            for (auto it = l.x_terms.rbegin(); it != l.x_terms.rend(); ++it) flat += (rx / it->second) * stride[static_cast<std::size_t>(it->first)], rx %= it->second;
+            for (auto it = l.y_terms.rbegin(); it != l.y_terms.rend(); ++it) flat += (ry / it->second) * stride[static_cast<std::size_t>(it->first)], ry %= it->second;
+            const std::size_t pix = static_cast<std::size_t>((y - y0) * l.width + x);
+            for (std::size_t c = 0; c < part.channels.size(); ++c) {
+              const Table& t = l.channel_axis >= 0 ? first : *part.tables[c];
+              const long index = flat + (l.channel_axis >= 0 ? static_cast<long>(c) * stride[static_cast<std::size_t>(l.channel_axis)] : 0);
+              const double v = t.get(static_cast<std::size_t>(index));
+              if (!std::isfinite(v)) fail(t.path() + ": non-finite value at entry " + std::to_string(index));
+              if (options.half && std::abs(v) > 65504.0)
+                fail(t.path() + ": value " + std::to_string(v) + " exceeds the half-float range; write exr.precision \"float\"");
+              f[c][pix] = static_cast<float>(v);
+            }
+          }
+        Imf::FrameBuffer fb;
+        for (std::size_t c = 0; c < part.channels.size(); ++c) {
+          // The frame buffer's origin is pixel (0, 0): shift the base back by y0 rows.
+          const std::ptrdiff_t shift = static_cast<std::ptrdiff_t>(y0 * l.width);
+          if (options.half) {
+            hf[c].resize(n);
+            for (std::size_t i = 0; i < n; ++i) hf[c][i] = half(f[c][i]);
+            fb.insert(part.channels[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(hf[c].data() - shift), sizeof(half),
+                                                   sizeof(half) * static_cast<std::size_t>(l.width)));
+          } else {
+            fb.insert(part.channels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(f[c].data() - shift), sizeof(float),
+                                                   sizeof(float) * static_cast<std::size_t>(l.width)));
+          }
+        }
+        writer.setFrameBuffer(fb);
+        writer.writePixels(static_cast<int>(rows));
       }
-      Imf::OutputPart part(out, static_cast<int>(p));
-      part.setFrameBuffer(fb);
-      part.writePixels(static_cast<int>(d.height));
     }
+  } catch (const IoError&) {
+    throw;
   } catch (const std::exception& e) {
     fail(std::string("cannot write OpenEXR file: ") + e.what());
   }

@@ -13,33 +13,16 @@ void check_fresnel_args(double eta, double cos_theta_i) {
   require_in_range("cos_theta_i", cos_theta_i, 0.0, 1.0, "must lie in [0, 1]");
 }
 
-// cos θt from Snell's law, or a negative value for total internal reflection.
-double cos_transmitted(double eta, double cos_i) {
-  const double sin2_t = (1.0 - cos_i) * (1.0 + cos_i) / (eta * eta);
-  return sin2_t >= 1.0 ? -1.0 : std::sqrt(1.0 - sin2_t);
-}
-
 }  // namespace
 
 double fresnel_reflectance(double eta, double cos_theta_i) {
   check_fresnel_args(eta, cos_theta_i);
-  const double ci = cos_theta_i;
-  const double ct = cos_transmitted(eta, ci);
-  if (ct < 0.0) return 1.0;
-  const double rs = (ci - eta * ct) / (ci + eta * ct);
-  const double rp = (eta * ci - ct) / (eta * ci + ct);
-  return std::min(1.0, 0.5 * (rs * rs + rp * rp));
+  return detail::fresnel_reflectance_unchecked(eta, cos_theta_i);
 }
 
 double fresnel_transmittance(double eta, double cos_theta_i) {
   check_fresnel_args(eta, cos_theta_i);
-  const double ci = cos_theta_i;
-  const double ct = cos_transmitted(eta, ci);
-  if (ct < 0.0) return 0.0;
-  const double num = 4.0 * eta * ci * ct;
-  const double ds = ci + eta * ct;
-  const double dp = eta * ci + ct;
-  return std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
+  return detail::fresnel_transmittance_unchecked(eta, cos_theta_i);
 }
 
 double bravais_eta_prime(double eta, double theta_d) {

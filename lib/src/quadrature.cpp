@@ -27,6 +27,13 @@ GaussLegendreRule::GaussLegendreRule(int order) {
   }
 }
 
+const GaussLegendreRule& GaussLegendreCache::get(int order) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto& rule = rules_[order];
+  if (!rule) rule = std::make_unique<GaussLegendreRule>(order);
+  return *rule;
+}
+
 KronrodTables kronrod21_tables() {
   using K = boost::math::quadrature::gauss_kronrod<double, 21>;
   using G = boost::math::quadrature::gauss<double, 10>;

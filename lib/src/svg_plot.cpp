@@ -77,10 +77,11 @@ std::string line_plot(const LinePlot& p) {
   const double w = p.width - left - right, h = p.height - top - bottom;
   double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
   auto ty = [&](double y) { return p.log_y ? std::log10(std::max(y, 1e-300)) : y; };
+  auto tx = [&](double x) { return p.log_x ? std::log10(std::max(x, 1e-300)) : x; };
   for (const Series& s : p.series)
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-      if (!std::isfinite(s.y[i]) || (p.log_y && s.y[i] <= 0)) continue;
-      xlo = std::min(xlo, s.x[i]), xhi = std::max(xhi, s.x[i]);
+      if (!std::isfinite(s.y[i]) || (p.log_y && s.y[i] <= 0) || (p.log_x && s.x[i] <= 0)) continue;
+      xlo = std::min(xlo, tx(s.x[i])), xhi = std::max(xhi, tx(s.x[i]));
       ylo = std::min(ylo, ty(s.y[i])), yhi = std::max(yhi, ty(s.y[i]));
     }
   if (std::isfinite(p.y_reference)) ylo = std::min(ylo, ty(p.y_reference)), yhi = std::max(yhi, ty(p.y_reference));
@@ -93,16 +94,23 @@ std::string line_plot(const LinePlot& p) {
   }
   const double pad = 0.05 * (yhi - ylo);
   ylo -= pad, yhi += pad;
-  auto X = [&](double x) { return left + (x - xlo) / (xhi - xlo) * w; };
+  if (p.log_x) {
+    const double xpad = 0.05 * (xhi - xlo);
+    xlo -= xpad, xhi += xpad;
+  }
+  auto X = [&](double x) { return left + (tx(x) - xlo) / (xhi - xlo) * w; };
   auto Y = [&](double y) { return top + (1.0 - (ty(y) - ylo) / (yhi - ylo)) * h; };
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << p.width << "\" height=\"" << p.height << "\" viewBox=\"0 0 " << p.width << ' '
     << p.height << "\" font-family=\"sans-serif\" font-size=\"11\">";
   o << "<text x=\"" << num(left + w / 2) << "\" y=\"16\" text-anchor=\"middle\" font-weight=\"bold\">" << escape(p.title) << "</text>";
   o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << h << "\" fill=\"none\" stroke=\"#444\"/>";
-  for (double t : ticks(xlo, xhi))
-    o << "<line x1=\"" << num(X(t)) << "\" y1=\"" << num(top + h) << "\" x2=\"" << num(X(t)) << "\" y2=\"" << num(top + h + 4) << "\" stroke=\"#444\"/>"
-      << "<text x=\"" << num(X(t)) << "\" y=\"" << num(top + h + 15) << "\" text-anchor=\"middle\">" << label(t) << "</text>";
+  for (double t : ticks(xlo, xhi)) {
+    const double xx = left + (t - xlo) / (xhi - xlo) * w;
+    o << "<line x1=\"" << num(xx) << "\" y1=\"" << num(top + h) << "\" x2=\"" << num(xx) << "\" y2=\"" << num(top + h + 4) << "\" stroke=\"#444\"/>"
+      << "<text x=\"" << num(xx) << "\" y=\"" << num(top + h + 15) << "\" text-anchor=\"middle\">" << (p.log_x ? "1e" + label(t) : label(t))
+      << "</text>";
+  }
   for (double t : ticks(ylo, yhi, 5)) {
     const double yy = top + (1.0 - (t - ylo) / (yhi - ylo)) * h;
     o << "<line x1=\"" << num(left) << "\" y1=\"" << num(yy) << "\" x2=\"" << num(left + w) << "\" y2=\"" << num(yy) << "\" stroke=\"#eee\"/>"
@@ -117,10 +125,16 @@ std::string line_plot(const LinePlot& p) {
   for (std::size_t si = 0; si < p.series.size(); ++si) {
     const Series& s = p.series[si];
     const std::string c = s.color.empty() ? kPalette[si % 9] : s.color;
-    o << "<polyline fill=\"none\" stroke=\"" << c << "\" stroke-width=\"1.6\"" << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"";
-    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
-      if (std::isfinite(s.y[i]) && (!p.log_y || s.y[i] > 0)) o << num(X(s.x[i])) << ',' << num(Y(s.y[i])) << ' ';
-    o << "\"/>";
+    if (s.markers) {
+      for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+        if (std::isfinite(s.y[i]) && (!p.log_y || s.y[i] > 0) && (!p.log_x || s.x[i] > 0))
+          o << "<circle cx=\"" << num(X(s.x[i])) << "\" cy=\"" << num(Y(s.y[i])) << "\" r=\"3.5\" fill=\"" << c << "\"/>";
+    } else {
+      o << "<polyline fill=\"none\" stroke=\"" << c << "\" stroke-width=\"1.6\"" << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"";
+      for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+        if (std::isfinite(s.y[i]) && (!p.log_y || s.y[i] > 0) && (!p.log_x || s.x[i] > 0)) o << num(X(s.x[i])) << ',' << num(Y(s.y[i])) << ' ';
+      o << "\"/>";
+    }
     const double ly = top + 10 + 15.0 * static_cast<double>(si);
     o << "<line x1=\"" << num(left + w + 8) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(left + w + 28) << "\" y2=\"" << num(ly) << "\" stroke=\"" << c
       << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\"" << num(left + w + 32) << "\" y=\""

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "hairlut/error.hpp"
+#include "hairlut/hash.hpp"
 #include "hairlut/version.hpp"
 
 namespace hairlut {
@@ -19,11 +20,16 @@ namespace {
 using json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
+// FNV-1a 64 of a file, read in blocks (no copy of the whole file in memory).
 std::string file_fnv(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return fnv1a64_hex(s.str());
+  Fnv1a64 h;
+  std::vector<char> block(1 << 20);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    h.update(block.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  return h.hex();
 }
 
 fs::path temporary_for(const fs::path& final_path) {

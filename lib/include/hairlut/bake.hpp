@@ -8,12 +8,14 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "hairlut/config.hpp"
+#include "hairlut/quadrature.hpp"
 #include "hairlut/tables.hpp"
 
 namespace hairlut {
@@ -52,6 +54,8 @@ struct NpGridRequest {
   int lobes = 3;
   std::vector<double> sigmas, thetas, phis;
   std::function<std::vector<double>(int p)> betas_of;
+  /// Rules shared across calls (optional; a private cache is used when null).
+  std::shared_ptr<GaussLegendreCache> rules;
 };
 /// Receives every value: out(p, k, t, b, j, N_p). Called concurrently for distinct entries.
 using NpGridOutput = std::function<void(int p, std::size_t k, std::size_t t, std::size_t b, std::size_t j, double value)>;

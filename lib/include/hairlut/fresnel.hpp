@@ -18,6 +18,27 @@ double fresnel_reflectance(double eta, double cos_theta_i);
 /// Same domain as fresnel_reflectance; result in [0, 1].
 double fresnel_transmittance(double eta, double cos_theta_i);
 
+namespace detail {
+/// fresnel_reflectance and fresnel_transmittance without argument checks, for inner loops whose
+/// arguments are in the domain by construction.
+inline double fresnel_reflectance_unchecked(double eta, double ci) {
+  const double sin2_t = (1.0 - ci) * (1.0 + ci) / (eta * eta);
+  if (sin2_t >= 1.0) return 1.0;
+  const double ct = std::sqrt(1.0 - sin2_t);
+  const double rs = (ci - eta * ct) / (ci + eta * ct), rp = (eta * ci - ct) / (eta * ci + ct);
+  const double F = 0.5 * (rs * rs + rp * rp);
+  return F < 1.0 ? F : 1.0;
+}
+inline double fresnel_transmittance_unchecked(double eta, double ci) {
+  const double sin2_t = (1.0 - ci) * (1.0 + ci) / (eta * eta);
+  if (sin2_t >= 1.0) return 0.0;
+  const double ct = std::sqrt(1.0 - sin2_t);
+  const double num = 4.0 * eta * ci * ct, ds = ci + eta * ct, dp = eta * ci + ct;
+  const double T = 0.5 * (num / (ds * ds) + num / (dp * dp));
+  return T < 1.0 ? T : 1.0;
+}
+}  // namespace detail
+
 /// η² − sin²θd for a fiber of index η, evaluated as (η − 1)(η + 1) + cos²θd so that it keeps its
 /// digits for η close to 1 and θd close to π/2.
 inline double eta_squared_minus_sin2(double eta, double cos_theta_d) {

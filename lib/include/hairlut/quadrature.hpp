@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -34,6 +37,18 @@ class GaussLegendreRule {
  private:
   std::vector<double> nodes_;
   std::vector<double> weights_;
+};
+
+/// Gauss–Legendre rules by order, built once and shared (rules of high order take O(n²) to
+/// build). Owned by the caller; safe to use from several threads.
+class GaussLegendreCache {
+ public:
+  /// The rule of this order (built on first use). The reference stays valid while the cache lives.
+  const GaussLegendreRule& get(int order);
+
+ private:
+  std::mutex mutex_;
+  std::map<int, std::unique_ptr<GaussLegendreRule>> rules_;
 };
 
 /// Settings of integrate_adaptive.

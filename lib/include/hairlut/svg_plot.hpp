@@ -13,12 +13,14 @@ struct Series {
   std::vector<double> x, y;
   std::string color;        ///< CSS colour; empty picks one from the palette
   bool dashed = false;
+  bool markers = false;     ///< draw points (and no line)
 };
 
 struct LinePlot {
   std::string title, xlabel, ylabel;
   std::vector<Series> series;
   bool log_y = false;
+  bool log_x = false;
   double y_reference = NAN;  ///< a horizontal reference line (e.g. 1 for energies), NAN for none
   double min_span = 0.0;     ///< the y axis spans at least this much (keeps rounding noise flat)
   int width = 520, height = 320;

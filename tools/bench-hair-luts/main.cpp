@@ -1,0 +1,542 @@
+// bench-hair-luts: run time against error of the ways hairlut can integrate N_p, the generic and
+// per-material bakes against their targets, interpolation error against table resolution, thread
+// scaling and peak memory. Writes bench.json, bench.csv, bench.md and pareto.svg.
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <hairlut/azimuthal_fourier.hpp>
+#include <hairlut/bake.hpp>
+#include <hairlut/benchmark.hpp>
+#include <hairlut/hairlut.hpp>
+#include <hairlut/melanin.hpp>
+#include <hairlut/svg_plot.hpp>
+#include <hairlut/version.hpp>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <omp.h>
+#include <sstream>
+
+extern char** environ;
+
+namespace {
+
+using namespace hairlut;
+using json = nlohmann::ordered_json;
+using clock_type = std::chrono::steady_clock;
+
+double seconds_since(clock_type::time_point t0) { return std::chrono::duration<double>(clock_type::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+}
+
+void log(bool quiet, const char* fmt, auto... args) {
+  if (quiet) return;
+  std::fprintf(stderr, fmt, args...);
+  std::fflush(stderr);
+}
+
+// ---- Methods on the stress set -------------------------------------------------------------
+
+struct Method {
+  std::string name, setting;
+  NpQuadratureConfig q;
+};
+
+std::vector<Method> methods() {
+  std::vector<Method> m;
+  for (int order : {8, 16, 35, 64, 128, 256, 512, 1024, 2048, 4096}) {
+    NpQuadratureConfig q;
+    q.method = NpQuadratureConfig::Method::gauss_legendre;
+    q.order = order;
+    m.push_back({"gauss-legendre (gamma)", "order " + std::to_string(order), q});
+  }
+  for (int order : {35, 140}) {
+    NpQuadratureConfig q;
+    q.method = NpQuadratureConfig::Method::gauss_legendre;
+    q.order = order;
+    q.variable = IntegrationVariable::h;
+    m.push_back({"gauss-legendre (h, d'Eon)", "order " + std::to_string(order), q});
+  }
+  for (double tol : {1e-6, 1e-9, 1e-12}) {
+    NpQuadratureConfig q;
+    q.method = NpQuadratureConfig::Method::fourier;
+    q.tolerance = tol;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "tolerance %.0e", tol);
+    m.push_back({"fourier", buf, q});
+  }
+  NpQuadratureConfig q;
+  q.method = NpQuadratureConfig::Method::adaptive;
+  q.tolerance = 1e-10;
+  m.push_back({"adaptive reference", "tolerance 1e-10", q});
+  return m;
+}
+
+// Evaluates one stress slice over the φ grid with a method.
+std::vector<double> evaluate_slice(const StressSlice& s, const std::vector<double>& phis, const NpQuadratureConfig& q) {
+  NpGridRequest r;
+  r.eta = s.eta;
+  r.quadrature = q;
+  r.lobes = s.p + 1;
+  r.sigmas = {s.sigma_a};
+  r.thetas = {s.theta_d};
+  r.phis = phis;
+  r.betas_of = [&](int) { return std::vector<double>{s.beta}; };
+  std::vector<double> out(phis.size());
+  BakeOptions o;
+  o.threads = 1;
+  // Only the slice's own lobe is wanted; lower lobes are cheap by comparison.
+  bake_np_grid(r, o, "", [&](int p, std::size_t, std::size_t, std::size_t, std::size_t j, double v) {
+    if (p == s.p) out[j] = v;
+  });
+  return out;
+}
+
+// Time per entry of a method on a batch shaped like the generic table (θd subset).
+double time_per_entry(const NpQuadratureConfig& q, std::size_t n_theta, std::size_t n_sigma, int repeats, int threads) {
+  NpGridRequest r;
+  r.eta = 1.55;
+  r.quadrature = q;
+  r.lobes = 4;
+  for (std::size_t t = 0; t < n_theta; ++t) r.thetas.push_back(std::acos(1.0 - (static_cast<double>(t) + 0.5) / static_cast<double>(n_theta) * (1.0 - std::cos(radians(89.5)))));
+  for (std::size_t k = 0; k < n_sigma; ++k) r.sigmas.push_back(20.0 * std::pow((static_cast<double>(k) + 0.5) / static_cast<double>(n_sigma), 2));
+  for (int j = 0; j < 128; ++j) r.phis.push_back(kPi * j / 127.0);
+  std::vector<double> betas;
+  for (int b = 0; b < 32; ++b) betas.push_back(radians(0.5) * std::pow(120.0, b / 31.0));
+  r.betas_of = [&](int) { return betas; };
+  BakeOptions o;
+  o.threads = threads;
+  const double entries = static_cast<double>(n_theta * n_sigma * 128 * 32 * 4);
+  std::vector<double> t;
+  volatile double sink = 0.0;
+  for (int i = 0; i < repeats; ++i) {
+    const auto t0 = clock_type::now();
+    bake_np_grid(r, o, "", [&](int, std::size_t, std::size_t, std::size_t, std::size_t, double v) { sink = v; });
+    t.push_back(seconds_since(t0));
+  }
+  (void)sink;
+  return median(t) / entries * 1e9;
+}
+
+// ---- Interpolation error against resolution --------------------------------------------------
+
+struct AxisSpec {
+  std::string name;
+  Spacing spacing;
+  double lo, hi;
+};
+
+// Largest error of linear interpolation (in the axis's mapped coordinate) along one axis at the
+// cell midpoints, relative to the lobe's peak over the probe, for `count` nodes.
+double axis_error(const AxisSpec& ax, int count, int p, const std::vector<std::array<double, 4>>& probes, int axis_index) {
+  GridAxis g;
+  g.name = ax.name;
+  g.spacing = ax.spacing;
+  g.lo = ax.lo;
+  g.hi = ax.hi;
+  g.count = count;
+  const auto nodes = g.nodes();
+  std::vector<double> mids;
+  for (int i = 0; i + 1 < count; ++i) {
+    const double t0 = sampler::mapped(ax.spacing, nodes[static_cast<std::size_t>(i)]), t1 = sampler::mapped(ax.spacing, nodes[static_cast<std::size_t>(i) + 1]);
+    mids.push_back(sampler::unmapped(ax.spacing, 0.5 * (t0 + t1)));
+  }
+  double worst = 0.0;
+  const double tol = 1e-11;
+  for (const auto& pr : probes) {
+    // Exact values at nodes and midpoints along the axis, by the Fourier method.
+    auto exact = [&](const std::vector<double>& xs) {
+      std::vector<double> v(xs.size());
+      double beta = pr[0], sigma = pr[1], theta = pr[2], phi = pr[3];
+      for (std::size_t i = 0; i < xs.size(); ++i) {
+        (axis_index == 0 ? beta : axis_index == 1 ? sigma : axis_index == 2 ? theta : phi) = xs[i];
+        const FiberGeometry geo = FiberGeometry::make(1.55, theta);
+        const int N = fourier_terms(beta, tol);
+        const GaussLegendreRule rule(fourier_nodes(N, p, geo, tol));
+        std::vector<double> C;
+        const double s[1] = {sigma};
+        fourier_coefficients(geo, AbsorptionPath::chord, p, s, N, rule, C);
+        v[i] = fourier_np(C, 1, beta, phi, tol);
+      }
+      return v;
+    };
+    const auto vn = exact(nodes), vm = exact(mids);
+    double peak = 1e-300;
+    for (double v : vn) peak = std::max(peak, v);
+    for (double v : vm) peak = std::max(peak, v);
+    for (std::size_t i = 0; i < vm.size(); ++i) worst = std::max(worst, std::abs(0.5 * (vn[i] + vn[i + 1]) - vm[i]) / peak);
+  }
+  return worst;
+}
+
+// ---- Child process: the baker, for wall time and peak memory ---------------------------------
+
+struct ChildResult {
+  int status = -1;
+  double seconds = 0.0;
+  long peak_rss_kb = 0;
+};
+
+ChildResult run_child(const std::vector<std::string>& argv) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  ChildResult r;
+  pid_t pid = 0;
+  const auto t0 = clock_type::now();
+  if (posix_spawn(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return r;
+  int status = 0;
+  struct rusage ru {};
+  wait4(pid, &status, 0, &ru);
+  r.seconds = seconds_since(t0);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.peak_rss_kb = ru.ru_maxrss;
+  return r;
+}
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown";
+}
+
+std::string fmt(double v, int digits = 3) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"bench-hair-luts: run time against error of hairlut's N_p methods, bake targets, resolution and scaling"};
+  std::string out_dir = "bench", bake_tool, generic_config;
+  std::size_t slices = 80;
+  bool quick = false, quiet = false;
+  const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
+  bake_tool = (self.parent_path().parent_path() / "bake-hair-luts" / "bake-hair-luts").string();
+  generic_config = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/generic.json";
+  app.add_option("--out", out_dir, "output directory")->capture_default_str();
+  app.add_option("--slices", slices, "stress slices for the accuracy sweep")->capture_default_str();
+  app.add_option("--bake-tool", bake_tool, "bake-hair-luts binary for the generic-table run")->capture_default_str();
+  app.add_option("--generic-config", generic_config, "config of the generic table")->capture_default_str();
+  app.add_flag("--quick", quick, "a smoke run: fewer slices, no generic-table bake, fewer repeats");
+  app.add_flag("--quiet,-q", quiet, "no progress on stderr");
+  app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)");
+  CLI11_PARSE(app, argc, argv);
+  if (quick) slices = std::min<std::size_t>(slices, 16);
+  const int repeats = quick ? 1 : 3;
+  const int max_threads = omp_get_max_threads();
+
+  json report;
+  char date[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
+  report["machine"] = {{"cpu", cpu_model()}, {"cores", max_threads}, {"date", date}, {"hairlut_version", kVersion}};
+  report["command"] = "bench-hair-luts --out " + out_dir + (quick ? " --quick" : "") + " --slices " + std::to_string(slices);
+
+  // ---- 1. Accuracy of every method on the stress set, against the adaptive reference.
+  log(quiet, "stress set: %zu slices x 48 phi, reference ...\n", slices);
+  const auto stress = stress_slices(slices);
+  std::vector<double> phis;
+  for (int j = 0; j < 48; ++j) phis.push_back(kPi * j / 47.0);
+  std::vector<std::vector<double>> ref(stress.size(), std::vector<double>(phis.size()));
+  std::vector<double> energy(stress.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t i = 0; i < stress.size(); ++i) {
+    const StressSlice& s = stress[i];
+    const AttenuationSlice slice(s.eta, s.theta_d, s.sigma_a);
+    for (std::size_t j = 0; j < phis.size(); ++j) ref[i][j] = azimuthal_np_reference(slice, s.p, s.beta, phis[j], 1e-13).value[0];
+    energy[i] = lobe_energies_reference(slice, {s.p + 1, false}, 1e-14).value.back();
+  }
+  json rows = json::array();
+  for (const Method& m : methods()) {
+    log(quiet, "  %s, %s\n", m.name.c_str(), m.setting.c_str());
+    if (m.q.method == NpQuadratureConfig::Method::adaptive) continue;  // the reference itself
+    std::vector<double> rel, rel_target, abs_err, energy_err;
+    for (std::size_t i = 0; i < stress.size(); ++i) {
+      const auto v = evaluate_slice(stress[i], phis, m.q);
+      const double peak = *std::max_element(ref[i].begin(), ref[i].end());
+      for (std::size_t j = 0; j < phis.size(); ++j) {
+        const double e = std::abs(v[j] - ref[i][j]);
+        abs_err.push_back(e);
+        if (peak > 1e-250) {
+          rel.push_back(e / peak);
+          if (stress[i].beta >= radians(0.5) - 1e-12) rel_target.push_back(e / peak);
+        }
+      }
+      // Energy: ∫ N dφ by the trapezoid rule over 256 points (exact to ~1e−18 for β ≥ 2°).
+      if (stress[i].beta >= radians(2.0) && energy[i] > 1e-250) {
+        std::vector<double> fine;
+        for (int j = 0; j < 256; ++j) fine.push_back(kPi * j / 256.0);
+        fine.push_back(kPi);
+        const auto vf = evaluate_slice(stress[i], fine, m.q);
+        double integral = 0.0;
+        for (std::size_t j = 0; j + 1 < fine.size(); ++j) integral += 0.5 * (vf[j] + vf[j + 1]) * (fine[j + 1] - fine[j]);
+        energy_err.push_back(std::abs(2.0 * integral - energy[i]) / energy[i]);
+      }
+    }
+    json row = {{"method", m.name},
+                {"setting", m.setting},
+                {"max_rel", rel.empty() ? 0.0 : *std::max_element(rel.begin(), rel.end())},
+                {"p99_rel", percentile(rel, 0.99)},
+                {"max_rel_target_domain", rel_target.empty() ? 0.0 : *std::max_element(rel_target.begin(), rel_target.end())},
+                {"max_abs", abs_err.empty() ? 0.0 : *std::max_element(abs_err.begin(), abs_err.end())},
+                {"max_energy_rel", energy_err.empty() ? 0.0 : *std::max_element(energy_err.begin(), energy_err.end())}};
+    rows.push_back(row);
+  }
+
+  // ---- 2. Time per entry on a generic-table-shaped batch, one thread.
+  log(quiet, "timing per entry ...\n");
+  std::size_t mi = 0;
+  for (const Method& m : methods()) {
+    double tpe = 0.0;
+    if (m.q.method == NpQuadratureConfig::Method::fourier) tpe = time_per_entry(m.q, quick ? 2 : 4, 32, repeats, 1);
+    else if (m.q.method == NpQuadratureConfig::Method::adaptive) tpe = time_per_entry(m.q, 1, 1, 1, 1) / 1.0;
+    else tpe = time_per_entry(m.q, 1, m.q.order >= 1024 ? 1 : 4, repeats, 1);
+    if (m.q.method == NpQuadratureConfig::Method::adaptive) {
+      rows.push_back({{"method", m.name}, {"setting", m.setting}, {"max_rel", 0.0}, {"p99_rel", 0.0}, {"max_rel_target_domain", 0.0},
+                      {"max_abs", 0.0}, {"max_energy_rel", 0.0}, {"note", "the reference (1e-13) is the adaptive integrator itself"}});
+    }
+    rows[mi]["time_per_entry_ns"] = tpe;
+    rows[mi]["threads"] = 1;
+    ++mi;
+  }
+  report["methods"] = rows;
+  // Same accuracy: the cheapest fixed-order rule that reaches 1e−10 of the peak on the target domain.
+  const json* fourier = nullptr;
+  const json* gl_same = nullptr;
+  for (const json& r : rows) {
+    if (r["method"] == "fourier" && r["setting"] == "tolerance 1e-12") fourier = &r;
+    if (r["method"] == "gauss-legendre (gamma)" && r["max_rel_target_domain"].get<double>() <= 1e-10 && !gl_same) gl_same = &r;
+  }
+  if (fourier) {
+    json s = {{"fourier_time_per_entry_ns", (*fourier)["time_per_entry_ns"]},
+              {"fourier_max_rel_target_domain", (*fourier)["max_rel_target_domain"]}};
+    if (gl_same) {
+      s["gauss_legendre_setting"] = (*gl_same)["setting"];
+      s["gauss_legendre_time_per_entry_ns"] = (*gl_same)["time_per_entry_ns"];
+      s["speedup"] = (*gl_same)["time_per_entry_ns"].get<double>() / (*fourier)["time_per_entry_ns"].get<double>();
+    } else {
+      s["note"] = "no fixed Gauss-Legendre order up to 4096 reaches 1e-10 of the peak on the target domain";
+      const json* best = nullptr;
+      for (const json& r : rows)
+        if (r["method"] == "gauss-legendre (gamma)" && (!best || r["max_rel_target_domain"] < (*best)["max_rel_target_domain"])) best = &r;
+      if (best) {
+        s["best_gauss_legendre_setting"] = (*best)["setting"];
+        s["best_gauss_legendre_max_rel"] = (*best)["max_rel_target_domain"];
+        s["speedup_over_best"] = (*best)["time_per_entry_ns"].get<double>() / (*fourier)["time_per_entry_ns"].get<double>();
+      }
+    }
+    report["same_accuracy"] = s;
+  }
+
+  // ---- 3. The generic table, baked by the tool (wall time, peak memory).
+  if (!quick) {
+    log(quiet, "generic table with %s ...\n", bake_tool.c_str());
+    const std::string tmp = (std::filesystem::temp_directory_path() / ("hairlut-bench-" + std::to_string(::getpid()))).string();
+    const ChildResult c = run_child({bake_tool, "--config", generic_config, "--output-dir", tmp, "--force", "--quiet"});
+    std::error_code ec;
+    std::filesystem::remove_all(tmp, ec);
+    const double table_bytes = 64.0 * 128 * 32 * 32 * 4 * 4 + 64.0 * 32 * 6 * 4;  // four N_p lobes + energies/residual, float32
+    report["generic_table"] = {{"config", generic_config}, {"exit_status", c.status}, {"wall_seconds", c.seconds}, {"threads", max_threads},
+                               {"entries", 64 * 128 * 32 * 32 * 4}, {"peak_rss_bytes", static_cast<double>(c.peak_rss_kb) * 1024.0},
+                               {"table_bytes", table_bytes}, {"peak_rss_over_tables", static_cast<double>(c.peak_rss_kb) * 1024.0 / table_bytes}};
+  }
+
+  // ---- 4. Per material: renderers' baseline against hairlut, one thread.
+  log(quiet, "per-material ...\n");
+  {
+    std::vector<double> mphi, mcos, mtheta;
+    for (int j = 0; j < 64; ++j) mphi.push_back((j + 0.5) * kPi / 64);
+    for (int t = 0; t < 64; ++t) mcos.push_back((t + 0.5) / 64), mtheta.push_back(std::acos((t + 0.5) / 64));
+    const Rgb s = melanin_sigma_a_rgb(0.8, 0.2);
+    const double sig[3] = {s.r, s.g, s.b}, betas[3] = {radians(2.0), radians(2.0), radians(2.0)};
+    std::vector<float> base;
+    std::vector<double> tb, th;
+    const GaussLegendreRule rule140(140);  // both sides build their rules once, outside the timing
+    for (int i = 0; i < (quick ? 1 : 5); ++i) {
+      const auto t0 = clock_type::now();
+      renderer_baseline_material(1.55, sig, betas, mphi, mcos, rule140, base);
+      tb.push_back(seconds_since(t0));
+    }
+    NpGridRequest r;
+    r.eta = 1.55;
+    r.quadrature.method = NpQuadratureConfig::Method::fourier;
+    r.quadrature.tolerance = 1e-10;
+    r.lobes = 3;
+    r.sigmas = {sig[0], sig[1], sig[2]};
+    r.thetas = mtheta;
+    r.phis = mphi;
+    r.betas_of = [&](int p) { return std::vector<double>{betas[p]}; };
+    r.rules = std::make_shared<GaussLegendreCache>();
+    BakeOptions o;
+    o.threads = 1;
+    std::vector<double> ours(3 * 64 * 64 * 3);
+    bake_np_grid(r, o, "", [](int, std::size_t, std::size_t, std::size_t, std::size_t, double) {});  // builds the rules
+    for (int i = 0; i < (quick ? 1 : 5); ++i) {
+      const auto t0 = clock_type::now();
+      bake_np_grid(r, o, "", [&](int p, std::size_t k, std::size_t t, std::size_t, std::size_t j, double v) {
+        ours[((static_cast<std::size_t>(p) * 64 + t) * 64 + j) * 3 + k] = v;
+      });
+      th.push_back(seconds_since(t0));
+    }
+    // Errors at the nodes against the reference, relative to each lobe's peak.
+    double base_err[3] = {0, 0, 0}, our_err[3] = {0, 0, 0}, base_val_err[3] = {0, 0, 0};
+    for (int p = 0; p < 3; ++p) {
+      std::vector<double> refv;
+      double peak = 0.0;
+      for (std::size_t t = 0; t < 64; t += quick ? 16 : 4)
+        for (std::size_t j = 0; j < 64; ++j)
+          for (std::size_t k = 0; k < 3; ++k) {
+            refv.push_back(azimuthal_np_reference(AttenuationSlice(1.55, mtheta[t], sig[k]), p, betas[p], mphi[j], 1e-12).value[0]);
+            peak = std::max(peak, refv.back());
+          }
+      std::size_t q = 0;
+      for (std::size_t t = 0; t < 64; t += quick ? 16 : 4)
+        for (std::size_t j = 0; j < 64; ++j)
+          for (std::size_t k = 0; k < 3; ++k, ++q) {
+            const std::size_t idx = ((static_cast<std::size_t>(p) * 64 + t) * 64 + j) * 3 + k;
+            base_err[p] = std::max(base_err[p], std::abs(base[idx] - refv[q]) / peak);
+            our_err[p] = std::max(our_err[p], std::abs(ours[idx] - refv[q]) / peak);
+            if (refv[q] > 1e-3 * peak) base_val_err[p] = std::max(base_val_err[p], std::abs(base[idx] - refv[q]) / refv[q]);
+          }
+    }
+    report["per_material"] = {{"table", "64 phi x 64 cos(theta_d), lobes R, TT, TRT, RGB sigma_a of eumelanin 0.8 + pheomelanin 0.2, beta 2 deg"},
+                              {"baseline", "per entry 140-point Gauss-Legendre in h, single precision, 2048-sample tabulated detector"},
+                              {"baseline_ms", median(tb) * 1e3},
+                              {"baseline_max_rel_err_of_peak", {base_err[0], base_err[1], base_err[2]}},
+                              {"baseline_max_rel_err_of_value", {base_val_err[0], base_val_err[1], base_val_err[2]}},
+                              {"hairlut", "fourier, tolerance 1e-10, one thread"},
+                              {"hairlut_ms", median(th) * 1e3},
+                              {"hairlut_max_rel_err_of_peak", {our_err[0], our_err[1], our_err[2]}},
+                              {"ratio", median(th) / median(tb)}};
+  }
+
+  // ---- 5. Interpolation error against resolution, per axis of the generic table.
+  log(quiet, "resolution ...\n");
+  {
+    const AxisSpec axes[4] = {{"beta", Spacing::log, radians(0.5), radians(60.0)},
+                              {"sigma_a", Spacing::sqrt, 0.0, 20.0},
+                              {"theta_d", Spacing::cos, 0.0, radians(89.5)},
+                              {"phi", Spacing::uniform, 0.0, kPi}};
+    std::vector<std::array<double, 4>> probes;
+    std::uint64_t st = 7;
+    auto uni = [&st]() { st = st * 6364136223846793005ULL + 1442695040888963407ULL; return static_cast<double>(st >> 11) * 0x1.0p-53; };
+    for (int i = 0; i < (quick ? 2 : 5); ++i)
+      probes.push_back({radians(2.0) * std::pow(30.0, uni()), 5.0 * uni() * uni(), radians(80.0) * uni(), kPi * uni()});
+    json res = json::array();
+    for (int a = 0; a < 4; ++a) {
+      json axis = {{"axis", axes[a].name}, {"spacing", std::string(to_string(axes[a].spacing))}, {"counts", json::array()}, {"max_rel", json::array()}};
+      std::vector<double> counts, errs;
+      for (int n : {8, 16, 32, 64, 128}) {
+        if (quick && n > 32) break;
+        double e = 0.0;
+        for (int p : {0, 1, 2}) e = std::max(e, axis_error(axes[a], n, p, probes, a));
+        counts.push_back(n), errs.push_back(e);
+        axis["counts"].push_back(n), axis["max_rel"].push_back(e);
+      }
+      // Nodes needed for 1e−2, 1e−3, 1e−4, from the log–log slope of the last two counts.
+      for (double target : {1e-2, 1e-3, 1e-4}) {
+        double need = -1;
+        for (std::size_t i = 0; i < counts.size(); ++i)
+          if (errs[i] <= target) { need = counts[i]; break; }
+        if (need < 0 && counts.size() >= 2 && errs.back() > 0 && errs[errs.size() - 2] > errs.back()) {
+          const double slope = std::log(errs[errs.size() - 2] / errs.back()) / std::log(counts.back() / counts[counts.size() - 2]);
+          need = std::ceil(counts.back() * std::pow(errs.back() / target, 1.0 / slope));
+        }
+        axis["nodes_for_" + fmt(target, 1)] = need;
+      }
+      res.push_back(axis);
+    }
+    report["resolution"] = {{"note", "linear interpolation in the axis's mapped coordinate at cell midpoints, other axes at random probes "
+                                     "(beta 2-60 deg), lobes R, TT, TRT, relative to the probe's peak"},
+                            {"axes", res}};
+  }
+
+  // ---- 6. Thread scaling of the Fourier bake.
+  log(quiet, "scaling ...\n");
+  {
+    NpQuadratureConfig q;
+    json sc = json::array();
+    double t1 = 0.0;
+    for (int th = 1; th <= max_threads; th *= 2) {
+      const double tpe = time_per_entry(q, quick ? 4 : 16, 32, repeats, th);
+      if (th == 1) t1 = tpe;
+      sc.push_back({{"threads", th}, {"time_per_entry_ns", tpe}, {"efficiency", t1 / (tpe * th)}});
+      if (th * 2 > max_threads && th != max_threads) {
+        const double t = time_per_entry(q, quick ? 4 : 16, 32, repeats, max_threads);
+        sc.push_back({{"threads", max_threads}, {"time_per_entry_ns", t}, {"efficiency", t1 / (t * max_threads)}});
+      }
+    }
+    report["scaling"] = sc;
+  }
+
+  // ---- Outputs.
+  std::filesystem::create_directories(out_dir);
+  {
+    std::ofstream(out_dir + "/bench.json") << report.dump(2) << "\n";
+    std::ofstream csv(out_dir + "/bench.csv");
+    csv << "method,setting,time_per_entry_ns,threads,max_rel,p99_rel,max_rel_target_domain,max_abs,max_energy_rel\n";
+    for (const json& r : report["methods"])
+      csv << '"' << r["method"].get<std::string>() << "\",\"" << r["setting"].get<std::string>() << "\"," << r["time_per_entry_ns"] << ','
+          << r["threads"] << ',' << r["max_rel"] << ',' << r["p99_rel"] << ',' << r["max_rel_target_domain"] << ',' << r["max_abs"] << ','
+          << r["max_energy_rel"] << "\n";
+    svg::LinePlot plot;
+    plot.title = "N_p: error against time per entry (stress set, one thread)";
+    plot.xlabel = "time per table entry [ns]";
+    plot.ylabel = "max error / lobe peak";
+    plot.log_x = plot.log_y = true;
+    plot.width = 640;
+    plot.height = 380;
+    std::map<std::string, svg::Series> series;
+    for (const json& r : report["methods"]) {
+      if (r["method"] == "adaptive reference") continue;
+      auto& s = series[r["method"].get<std::string>()];
+      s.name = r["method"].get<std::string>();
+      s.markers = true;
+      s.x.push_back(r["time_per_entry_ns"].get<double>());
+      s.y.push_back(std::max(r["max_rel_target_domain"].get<double>(), 1e-16));
+    }
+    for (auto& [k, s] : series) plot.series.push_back(s);
+    plot.y_reference = 1e-10;
+    std::ofstream(out_dir + "/pareto.svg") << svg::line_plot(plot) << "\n";
+    // Markdown summary (the README's performance section is made from it).
+    std::ostringstream md;
+    md << "Machine: " << report["machine"]["cpu"].get<std::string>() << ", " << max_threads << " cores; " << date << "; hairlut " << kVersion
+       << ".\nCommand: `build/release/tools/bench-hair-luts/" << report["command"].get<std::string>() << "`\n\n";
+    md << "| method | setting | time per entry (1 thread) | max error / peak (β ≥ 0.5°) | p99 (all) | energy error |\n|---|---|---|---|---|---|\n";
+    for (const json& r : report["methods"])
+      md << "| " << r["method"].get<std::string>() << " | " << r["setting"].get<std::string>() << " | " << fmt(r["time_per_entry_ns"].get<double>())
+         << " ns | " << fmt(r["max_rel_target_domain"].get<double>()) << " | " << fmt(r["p99_rel"].get<double>()) << " | "
+         << fmt(r["max_energy_rel"].get<double>()) << " |\n";
+    if (report.contains("same_accuracy")) md << "\nSame accuracy: `" << report["same_accuracy"].dump() << "`\n";
+    if (report.contains("generic_table")) md << "\nGeneric table: `" << report["generic_table"].dump() << "`\n";
+    md << "\nPer material: `" << report["per_material"].dump() << "`\n";
+    md << "\nResolution: `" << report["resolution"]["axes"].dump() << "`\n";
+    md << "\nScaling: `" << report["scaling"].dump() << "`\n";
+    std::ofstream(out_dir + "/bench.md") << md.str();
+    if (!quiet) std::printf("%s\nwrote %s/bench.json, bench.csv, bench.md, pareto.svg\n", md.str().c_str(), out_dir.c_str());
+  }
+  return 0;
+}
