@@ -200,7 +200,7 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
       }
       if (!any) continue;
       // Nearest circle point to Φ and its offset d0; g_j = exp(−(d0 + jΔ)²/2β²) by the recurrence
-      // g_{j±1} = g_j ρ_j, ρ_{j+1} = ρ_j q (q = e^{−Δ²/β²}); ρ_down = q/ρ_up saves an exponential.
+      // g_{j±1} = g_j ρ_j, ρ_{j+1} = ρ_j q (q = e^{−Δ²/β²}).
       const double centre = exit_azimuth(p, nodes.gamma_i[i], nodes.gamma_t[i]);
       const double u = (centre - grid.phi0) / step;
       const double j0 = std::floor(u + 0.5);
@@ -210,10 +210,9 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
       double* c = circle[l].data();
       const double g0 = std::exp(-d0 * d0 * w.inv2var);
       for (std::size_t k = 0; k < K; ++k) c[static_cast<std::size_t>(r0) * K + k] += a[k] * g0;
-      const double rho_up = std::exp(-(2.0 * d0 * step + step * step) * w.inv2var);
-      for (const double rho0 : {rho_up, w.q / rho_up}) {
-        const long dir = rho0 == rho_up ? 1 : -1;
-        double gj = g0, rho = rho0;
+      for (const long dir : {1L, -1L}) {
+        // Both ratios are ≤ 1 since |d0| ≤ Δ/2; on coarse grids they underflow to 0 (no spread).
+        double gj = g0, rho = std::exp(-(2.0 * static_cast<double>(dir) * d0 * step + step * step) * w.inv2var);
         long r = r0;
         for (long j = 1; j <= w.reach; ++j) {
           gj *= rho;

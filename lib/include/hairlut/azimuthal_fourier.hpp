@@ -21,7 +21,8 @@
 
 namespace hairlut {
 
-/// Smallest N with 2 Σ_{n>N} e^{−n²β²/2} ≤ tolerance. Domain: β > 0, 0 < tolerance < 1.
+/// N with 2 Σ_{n>N} e^{−n²β²/2} ≤ tolerance / 2, from the ratio bound of the tail (a term or two
+/// more than strictly needed). Domain: β > 0, 0 < tolerance < 1.
 int fourier_terms(double beta, double tolerance);
 
 /// Gauss–Legendre nodes on γ ∈ [0, π/2] for C_n, n ≤ terms, of lobe p, from an error bound: the
