@@ -151,6 +151,29 @@ TEST_CASE("The Fourier method bakes N_p to the tolerance of the adaptive referen
   }
 }
 
+TEST_CASE("A target error picks the N_p resolution and the baked table reaches it", "[bake]") {
+  json j = small_config();
+  j["tables"].erase("mp");
+  j["tables"].erase("melanin");
+  j["tables"]["np"]["target_error"] = 0.03;
+  const BakeConfig c = config_in(temp_dir("target"), j);
+  BakeReport report;
+  const TableSet set = bake(c, {}, &report);
+  REQUIRE(report.resolution.is_object());
+  const double achieved = report.resolution["achieved_error"].get<double>();
+  INFO(report.resolution.dump());
+  CHECK(achieved <= 0.03);
+  CHECK(achieved > 0.0);
+  CHECK(set.metadata["resolution"]["counts"]["phi"].get<int>() >= 9);
+  // The chosen counts are in the table, and a smaller target needs more nodes.
+  CHECK(set.find("np/TT")->axes[3].count == set.metadata["resolution"]["counts"]["phi"].get<int>());
+  j["tables"]["np"]["target_error"] = 0.01;
+  BakeReport finer;
+  bake(config_in(temp_dir("target2"), j), {}, &finer);
+  CHECK(finer.resolution["entries_per_lobe"].get<std::size_t>() > report.resolution["entries_per_lobe"].get<std::size_t>());
+  CHECK(finer.resolution["achieved_error"].get<double>() <= 0.01);
+}
+
 TEST_CASE("HDF5 and OpenEXR round trips return exactly what was baked", "[io]") {
   const fs::path dir = temp_dir("roundtrip");
   json j = small_config();

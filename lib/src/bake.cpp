@@ -19,6 +19,7 @@
 #include "hairlut/lobe_energy.hpp"
 #include "hairlut/longitudinal_mp.hpp"
 #include "hairlut/melanin.hpp"
+#include "hairlut/resolution.hpp"
 #include "hairlut/version.hpp"
 
 namespace hairlut {
@@ -302,6 +303,18 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   NpSettings s{&c, c.lobe_count, GaussLegendreRule(c.quadrature.energy_order)};
   std::vector<GridAxis> np_axes;
   if (c.np_axes) np_axes = restricted_np_axes(c, &report.notes);
+  if (c.np_axes && c.np_target_error && !per_material) {
+    const ResolutionPlan plan = plan_np_resolution(np_axes, c.eta, c.path, c.lobe_count, *c.np_target_error);
+    np_axes = plan.axes;
+    report.resolution = {{"target_error", *c.np_target_error}, {"predicted_error", plan.predicted_error}, {"entries_per_lobe", plan.entries}};
+    for (const GridAxis& a : np_axes) {
+      report.resolution["counts"][a.name] = a.count;
+      report.resolution["predicted_axis_error"][a.name] = plan.axis_error.at(a.name);
+    }
+    report.notes.push_back("target_error " + std::to_string(*c.np_target_error) + ": counts beta " + std::to_string(np_axes[0].count) +
+                           ", sigma_a " + std::to_string(np_axes[1].count) + ", theta_d " + std::to_string(np_axes[2].count) + ", phi " +
+                           std::to_string(np_axes[3].count) + " (" + std::to_string(plan.entries) + " entries per lobe)");
+  }
 
   // Fold explicit lobes whose largest energy over everything baked stays below the threshold.
   if (c.np_axes && c.fold_below > 0.0) {
@@ -527,6 +540,12 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   }
 
   if (unconverged) report.notes.push_back(std::to_string(unconverged) + " adaptive N_p entries did not reach the tolerance");
+  if (!report.resolution.is_null() && generic_np) {
+    const double achieved = measure_np_error(set, c.eta, c.path);
+    report.resolution["achieved_error"] = achieved;
+    report.notes.push_back("target_error: achieved off-node error " + std::to_string(achieved) + " of the lobe peak (R, TT, TRT at cell centres)");
+    set.metadata["resolution"] = report.resolution;
+  }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   set.metadata["notes"] = report.notes;
   if (report_out) *report_out = report;

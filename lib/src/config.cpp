@@ -231,6 +231,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     if (ax.contains("sigma_a"))
       sigma_axis = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius",
                              "absorption coefficient per unit fiber radius");
+    if (tables.at("np").contains("target_error")) c.np_target_error = tables.at("np").at("target_error").get<double>();
     c.np_axes = std::vector<GridAxis>{
         beta_axis,
         sigma_axis,
@@ -336,7 +337,10 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
                      {"tolerance", c.quadrature.tolerance},
                      {"energy_order", c.quadrature.energy_order}};
   json t = json::object();
-  if (c.np_axes) t["np"] = {{"axes", axes_json(*c.np_axes)}};
+  if (c.np_axes) {
+    t["np"] = {{"axes", axes_json(*c.np_axes)}};
+    if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
+  }
   if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
   if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};
   n["tables"] = t;

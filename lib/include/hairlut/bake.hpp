@@ -42,6 +42,7 @@ struct BakeReport {
   std::vector<Folded> folded;           ///< explicit lobes folded into the residual
   int explicit_lobes = 0;               ///< lobes baked explicitly after folding
   std::vector<std::string> notes;       ///< one line each (e.g. restricted ranges of scene mode)
+  nlohmann::ordered_json resolution;    ///< counts chosen for tables.np.target_error and the error achieved
   std::size_t entries = 0;              ///< values computed
   double seconds = 0.0;
 };

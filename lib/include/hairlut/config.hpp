@@ -81,6 +81,7 @@ struct BakeConfig {
   NpQuadratureConfig quadrature;
   /// Table axes, in storage order (row-major, last fastest).
   std::optional<std::vector<GridAxis>> np_axes;       ///< beta, sigma_a, theta_d, phi
+  std::optional<double> np_target_error;              ///< choose the N_p counts for this off-node error
   std::optional<std::vector<GridAxis>> mp_axes;       ///< beta, theta_i, theta_r
   std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
   double melanin_path_length = 2.0;

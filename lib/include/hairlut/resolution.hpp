@@ -1,0 +1,40 @@
+// Table resolution from a target error: how many nodes each axis of a generic N_p table needs so
+// that multilinear interpolation stays within a given error relative to the lobe peak, with the
+// smallest table, and the error the baked table then achieves.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "hairlut/attenuation.hpp"
+#include "hairlut/grid.hpp"
+#include "hairlut/tables.hpp"
+
+namespace hairlut {
+
+struct ResolutionPlan {
+  std::vector<GridAxis> axes;                        ///< beta, sigma_a, theta_d, phi with the chosen counts
+  std::map<std::string, double> axis_error;          ///< predicted interpolation error per axis (at the chosen count)
+  std::map<std::string, double> slope;               ///< local error ∝ count^−slope per axis, where interpolated
+  double predicted_error = 0.0;                      ///< sum of the per-axis errors
+  std::size_t entries = 0;                           ///< entries per lobe
+};
+
+/// Chooses node counts for the N_p axes (beta, sigma_a, theta_d, phi: ranges, spacing and placement
+/// as given; given counts are lower bounds) so that the predicted off-node error relative to the
+/// lobe peak is at most `target`. The errors of the axes add; with second-order interpolation on
+/// every axis the smallest table (minimum of Σ ln n under Σ e_k = target, Lagrange) gives each
+/// axis the same share. An axis's error is measured (midpoints of the mapped coordinate, exact
+/// N_p, a fixed set of probes over the other axes, lobes R, TT, TRT) at 16, 32, 64, ... nodes until
+/// it is within its share, and the count is interpolated in log–log between the last two.
+/// Throws DomainError when the table would exceed max_entries per lobe.
+ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
+                                  std::size_t max_entries = std::size_t{1} << 31);
+
+/// The largest |sampled − exact| / lobe peak of baked N_p tables at `samples` deterministic points
+/// between the nodes (cell centres of every axis), over lobes R, TT, TRT present in the set.
+double measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = 3000);
+
+}  // namespace hairlut
