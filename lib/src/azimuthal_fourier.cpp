@@ -169,7 +169,7 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
   const double step = kTwoPi / static_cast<double>(P);
   // The grid is symmetric about φ = 0: point r mirrors to (shift − r) mod P.
   const long shift = std::lround(-2.0 * grid.phi0 / step);
-  std::vector<std::vector<double>> circle(L, std::vector<double>(static_cast<std::size_t>(P) * K, 0.0));  // [r][k]
+  std::vector<std::vector<double>> circle(L, std::vector<double>(static_cast<std::size_t>(P) * K, 0.0));  // [k][r]
   std::vector<double> sigma_prime(K), T(K), a(K);
   for (std::size_t k = 0; k < K; ++k) sigma_prime[k] = reduced_absorption(sigmas[k], g);
   struct Width {
@@ -184,6 +184,10 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
     width[l] = {static_cast<long>(std::ceil(radius / step)), 1.0 / (2.0 * beta * beta), std::exp(-step * step / (beta * beta)),
                 1.0 / (std::sqrt(kTwoPi) * beta)};
   }
+  long max_reach = 0;
+  for (const Width& w : width) max_reach = std::max(max_reach, w.reach);
+  std::vector<double> win_g(static_cast<std::size_t>(2 * max_reach + 1));
+  std::vector<std::size_t> win_r(win_g.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     for (std::size_t k = 0; k < K; ++k) T[k] = std::exp(-sigma_prime[k] * nodes.length[i]);  // shared by the lobes
     for (std::size_t l = 0; l < L; ++l) {
@@ -207,12 +211,16 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
       const double d0 = (j0 - u) * step;
       long r0 = static_cast<long>(std::fmod(j0, static_cast<double>(P)));
       if (r0 < 0) r0 += P;
-      double* c = circle[l].data();
+      // The window's Gaussian values and circle indices, then one pass per σa over them.
       const double g0 = std::exp(-d0 * d0 * w.inv2var);
-      for (std::size_t k = 0; k < K; ++k) c[static_cast<std::size_t>(r0) * K + k] += a[k] * g0;
+      std::size_t used = 0;
+      win_g[used] = g0, win_r[used] = static_cast<std::size_t>(r0), ++used;
+      // Both ratios are ≤ 1 since |d0| ≤ Δ/2 and ρ_up ρ_down = q; on coarse grids they underflow
+      // to 0 (nothing to spread), where ρ_down is computed on its own instead of as q/ρ_up.
+      const double rho_up = std::exp(-(2.0 * d0 * step + step * step) * w.inv2var);
+      const double rho_down = rho_up > 1e-150 ? w.q / rho_up : std::exp(-(-2.0 * d0 * step + step * step) * w.inv2var);
       for (const long dir : {1L, -1L}) {
-        // Both ratios are ≤ 1 since |d0| ≤ Δ/2; on coarse grids they underflow to 0 (no spread).
-        double gj = g0, rho = std::exp(-(2.0 * static_cast<double>(dir) * d0 * step + step * step) * w.inv2var);
+        double gj = g0, rho = dir > 0 ? rho_up : rho_down;
         long r = r0;
         for (long j = 1; j <= w.reach; ++j) {
           gj *= rho;
@@ -221,9 +229,13 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
           r += dir;
           if (r == P) r = 0;
           if (r < 0) r = P - 1;
-          double* cr = c + static_cast<std::size_t>(r) * K;
-          for (std::size_t k = 0; k < K; ++k) cr[k] += a[k] * gj;
+          win_g[used] = gj, win_r[used] = static_cast<std::size_t>(r), ++used;
         }
+      }
+      for (std::size_t k = 0; k < K; ++k) {
+        double* c = circle[l].data() + k * static_cast<std::size_t>(P);
+        const double ak = a[k];
+        for (std::size_t v = 0; v < used; ++v) c[win_r[v]] += ak * win_g[v];
       }
     }
   }
@@ -235,7 +247,7 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
       if (mirror < 0) mirror += P;
       for (std::size_t k = 0; k < K; ++k)
         out[l][k * static_cast<std::size_t>(grid.points) + j] =
-            std::max(0.0, 0.5 * (circle[l][j * K + k] + circle[l][static_cast<std::size_t>(mirror) * K + k]));
+            std::max(0.0, 0.5 * (circle[l][k * static_cast<std::size_t>(P) + j] + circle[l][k * static_cast<std::size_t>(P) + static_cast<std::size_t>(mirror)]));
     }
 }
 

@@ -49,61 +49,64 @@ std::uint64_t next_random(std::uint64_t& state) {
 
 }  // namespace
 
-ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
-                                  std::size_t max_entries) {
-  if (axes.size() != 4 || axes[0].name != "beta" || axes[1].name != "sigma_a" || axes[2].name != "theta_d" || axes[3].name != "phi")
-    throw DomainError("plan_np_resolution needs the axes beta, sigma_a, theta_d, phi");
-  if (!(target > 0.0 && target < 0.5)) throw_domain_error("tables.np.target_error", "must lie in (0, 0.5)", target);
-  const auto rules = std::make_shared<GaussLegendreCache>();
-  // Probes: fixed points over the other axes (deterministic).
+AxisErrorProbe::AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes)
+    : axes_(std::move(axes)), eta_(eta), path_(path), lobes_(std::min(lobes, 3)), rules_(std::make_shared<GaussLegendreCache>()) {
+  if (axes_.size() != 4 || axes_[0].name != "beta" || axes_[1].name != "sigma_a" || axes_[2].name != "theta_d" || axes_[3].name != "phi")
+    throw DomainError("the N_p resolution needs the axes beta, sigma_a, theta_d, phi");
+  // Probes: fixed points over the domain (deterministic).
   std::uint64_t state = 12345;
   auto uniform = [&]() { return static_cast<double>(next_random(state) >> 11) * 0x1.0p-53; };
-  std::vector<std::array<double, 4>> probes;
-  for (int i = 0; i < 6; ++i) {
+  for (int i = 0; i < probes; ++i) {
     std::array<double, 4> x{};
     for (std::size_t k = 0; k < 4; ++k) {
-      const GridAxis& a = axes[k];
+      const GridAxis& a = axes_[k];
       const double t0 = sampler::mapped(a.spacing, a.lo), t1 = sampler::mapped(a.spacing, a.hi);
       x[k] = a.spacing == Spacing::explicit_values ? a.values[next_random(state) % a.values.size()]
                                                    : sampler::unmapped(a.spacing, t0 + uniform() * (t1 - t0));
     }
-    probes.push_back(x);
+    probes_.push_back(x);
   }
-  // The peak of each lobe over the table's domain (coarse grid of the four axes): errors are
-  // relative to it, as the validator reports them.
-  std::vector<double> lobe_peak(3, 1e-300);
-  {
-    std::vector<std::vector<double>> coarse(4);
-    for (std::size_t k = 0; k < 4; ++k) {
-      GridAxis a = axes[k];
-      if (a.spacing != Spacing::explicit_values) a.count = k == 3 ? 128 : 8, a.values.clear();
-      coarse[k] = a.nodes();
+  // The peak of each lobe over the domain (coarse grid of the four axes).
+  peak_.assign(3, 1e-300);
+  std::vector<std::vector<double>> coarse(4);
+  for (std::size_t k = 0; k < 4; ++k) {
+    GridAxis a = axes_[k];
+    if (a.spacing != Spacing::explicit_values) a.count = k == 3 ? 128 : 8, a.values.clear();
+    coarse[k] = a.nodes();
+  }
+  for (int p = 0; p < lobes_; ++p)
+    for (double v : exact_grid(eta_, path_, p, coarse[0], coarse[1], coarse[2], coarse[3], rules_))
+      peak_[static_cast<std::size_t>(p)] = std::max(peak_[static_cast<std::size_t>(p)], v);
+}
+
+double AxisErrorProbe::error(std::size_t k, int count) const {
+  GridAxis a = axes_[k];
+  if (a.spacing == Spacing::explicit_values) return 0.0;  // explicit nodes are fixed
+  a.count = count;
+  a.values.clear();
+  const std::vector<double> nodes = a.nodes();
+  std::vector<double> mids;
+  for (int i = 0; i + 1 < count; ++i) mids.push_back(midpoint(a, i));
+  double worst = 0.0;
+  for (const auto& pr : probes_)
+    for (int p = 0; p < lobes_; ++p) {
+      auto along = [&](const std::vector<double>& xs) {
+        std::vector<std::vector<double>> lists = {{pr[0]}, {pr[1]}, {pr[2]}, {pr[3]}};
+        lists[k] = xs;
+        return exact_grid(eta_, path_, p, lists[0], lists[1], lists[2], lists[3], rules_);
+      };
+      const auto vn = along(nodes), vm = along(mids);
+      const double peak = peak_[static_cast<std::size_t>(p)];
+      for (std::size_t i = 0; i < vm.size(); ++i) worst = std::max(worst, std::abs(0.5 * (vn[i] + vn[i + 1]) - vm[i]) / peak);
     }
-    for (int p = 0; p < std::min(lobes, 3); ++p)
-      for (double v : exact_grid(eta, path, p, coarse[0], coarse[1], coarse[2], coarse[3], rules)) lobe_peak[static_cast<std::size_t>(p)] = std::max(lobe_peak[static_cast<std::size_t>(p)], v);
-  }
-  auto axis_error = [&](std::size_t k, int count) {
-    GridAxis a = axes[k];
-    if (a.spacing == Spacing::explicit_values) return 0.0;  // explicit nodes are fixed
-    a.count = count;
-    a.values.clear();
-    const std::vector<double> nodes = a.nodes();
-    std::vector<double> mids;
-    for (int i = 0; i + 1 < count; ++i) mids.push_back(midpoint(a, i));
-    double worst = 0.0;
-    for (const auto& pr : probes)
-      for (int p = 0; p < std::min(lobes, 3); ++p) {
-        auto along = [&](const std::vector<double>& xs) {
-          std::vector<std::vector<double>> lists = {{pr[0]}, {pr[1]}, {pr[2]}, {pr[3]}};
-          lists[k] = xs;
-          return exact_grid(eta, path, p, lists[0], lists[1], lists[2], lists[3], rules);
-        };
-        const auto vn = along(nodes), vm = along(mids);
-        const double peak = lobe_peak[static_cast<std::size_t>(p)];
-        for (std::size_t i = 0; i < vm.size(); ++i) worst = std::max(worst, std::abs(0.5 * (vn[i] + vn[i + 1]) - vm[i]) / peak);
-      }
-    return worst;
-  };
+  return worst;
+}
+
+ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
+                                  std::size_t max_entries) {
+  if (!(target > 0.0 && target < 0.5)) throw_domain_error("tables.np.target_error", "must lie in (0, 0.5)", target);
+  const AxisErrorProbe probe(axes, eta, path, lobes);
+  auto axis_error = [&](std::size_t k, int count) { return probe.error(k, count); };
   ResolutionPlan plan;
   plan.axes = axes;
   plan.entries = 1;

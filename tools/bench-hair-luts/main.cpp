@@ -19,6 +19,7 @@
 #include <hairlut/benchmark.hpp>
 #include <hairlut/hairlut.hpp>
 #include <hairlut/melanin.hpp>
+#include <hairlut/resolution.hpp>
 #include <hairlut/svg_plot.hpp>
 #include <hairlut/version.hpp>
 #include <map>
@@ -134,57 +135,6 @@ double time_per_entry(const NpQuadratureConfig& q, std::size_t n_theta, std::siz
   }
   (void)sink;
   return median(t) / entries * 1e9;
-}
-
-// ---- Interpolation error against resolution --------------------------------------------------
-
-struct AxisSpec {
-  std::string name;
-  Spacing spacing;
-  double lo, hi;
-};
-
-// Largest error of linear interpolation (in the axis's mapped coordinate) along one axis at the
-// cell midpoints, relative to the lobe's peak over the probe, for `count` nodes.
-double axis_error(const AxisSpec& ax, int count, int p, const std::vector<std::array<double, 4>>& probes, int axis_index) {
-  GridAxis g;
-  g.name = ax.name;
-  g.spacing = ax.spacing;
-  g.lo = ax.lo;
-  g.hi = ax.hi;
-  g.count = count;
-  const auto nodes = g.nodes();
-  std::vector<double> mids;
-  for (int i = 0; i + 1 < count; ++i) {
-    const double t0 = sampler::mapped(ax.spacing, nodes[static_cast<std::size_t>(i)]), t1 = sampler::mapped(ax.spacing, nodes[static_cast<std::size_t>(i) + 1]);
-    mids.push_back(sampler::unmapped(ax.spacing, 0.5 * (t0 + t1)));
-  }
-  double worst = 0.0;
-  const double tol = 1e-11;
-  for (const auto& pr : probes) {
-    // Exact values at nodes and midpoints along the axis, by the Fourier method.
-    auto exact = [&](const std::vector<double>& xs) {
-      std::vector<double> v(xs.size());
-      double beta = pr[0], sigma = pr[1], theta = pr[2], phi = pr[3];
-      for (std::size_t i = 0; i < xs.size(); ++i) {
-        (axis_index == 0 ? beta : axis_index == 1 ? sigma : axis_index == 2 ? theta : phi) = xs[i];
-        const FiberGeometry geo = FiberGeometry::make(1.55, theta);
-        const int N = fourier_terms(beta, tol);
-        const GaussLegendreRule rule(fourier_nodes(N, p, geo, tol));
-        std::vector<double> C;
-        const double s[1] = {sigma};
-        fourier_coefficients(geo, AbsorptionPath::chord, p, s, N, rule, C);
-        v[i] = fourier_np(C, 1, beta, phi, tol);
-      }
-      return v;
-    };
-    const auto vn = exact(nodes), vm = exact(mids);
-    double peak = 1e-300;
-    for (double v : vn) peak = std::max(peak, v);
-    for (double v : vm) peak = std::max(peak, v);
-    for (std::size_t i = 0; i < vm.size(); ++i) worst = std::max(worst, std::abs(0.5 * (vn[i] + vn[i + 1]) - vm[i]) / peak);
-  }
-  return worst;
 }
 
 // ---- Child process: the baker, for wall time and peak memory ---------------------------------
@@ -436,25 +386,25 @@ int main(int argc, char** argv) {
   // ---- 5. Interpolation error against resolution, per axis of the generic table.
   log(quiet, "resolution ...\n");
   {
-    const AxisSpec axes[4] = {{"beta", Spacing::log, radians(0.5), radians(60.0)},
-                              {"sigma_a", Spacing::sqrt, 0.0, 20.0},
-                              {"theta_d", Spacing::cos, 0.0, radians(89.5)},
-                              {"phi", Spacing::uniform, 0.0, kPi}};
-    std::vector<std::array<double, 4>> probes;
-    std::uint64_t st = 7;
-    auto uni = [&st]() { st = st * 6364136223846793005ULL + 1442695040888963407ULL; return static_cast<double>(st >> 11) * 0x1.0p-53; };
-    for (int i = 0; i < (quick ? 2 : 5); ++i)
-      probes.push_back({radians(2.0) * std::pow(30.0, uni()), 5.0 * uni() * uni(), radians(80.0) * uni(), kPi * uni()});
+    auto axis = [](const char* name, Spacing sp, double lo, double hi, Wrap w) {
+      GridAxis a;
+      a.name = name, a.spacing = sp, a.lo = lo, a.hi = hi, a.wrap = w, a.count = 2;
+      return a;
+    };
+    const std::vector<GridAxis> axes = {axis("beta", Spacing::log, radians(0.5), radians(60.0), Wrap::clamp),
+                                        axis("sigma_a", Spacing::sqrt, 0.0, 20.0, Wrap::clamp),
+                                        axis("theta_d", Spacing::cos, 0.0, radians(89.5), Wrap::clamp),
+                                        axis("phi", Spacing::uniform, 0.0, kPi, Wrap::even)};
+    const AxisErrorProbe probe(axes, 1.55, AbsorptionPath::chord, 3, quick ? 3 : 8);
     json res = json::array();
-    for (int a = 0; a < 4; ++a) {
-      json axis = {{"axis", axes[a].name}, {"spacing", std::string(to_string(axes[a].spacing))}, {"counts", json::array()}, {"max_rel", json::array()}};
+    for (std::size_t a = 0; a < 4; ++a) {
+      json ax = {{"axis", axes[a].name}, {"spacing", std::string(to_string(axes[a].spacing))}, {"counts", json::array()}, {"max_rel", json::array()}};
       std::vector<double> counts, errs;
-      for (int n : {8, 16, 32, 64, 128}) {
+      for (int n : {8, 16, 32, 64, 128, 256}) {
         if (quick && n > 32) break;
-        double e = 0.0;
-        for (int p : {0, 1, 2}) e = std::max(e, axis_error(axes[a], n, p, probes, a));
+        const double e = probe.error(a, n);
         counts.push_back(n), errs.push_back(e);
-        axis["counts"].push_back(n), axis["max_rel"].push_back(e);
+        ax["counts"].push_back(n), ax["max_rel"].push_back(e);
       }
       // Nodes needed for 1e−2, 1e−3, 1e−4, from the log–log slope of the last two counts.
       for (double target : {1e-2, 1e-3, 1e-4}) {
@@ -465,12 +415,12 @@ int main(int argc, char** argv) {
           const double slope = std::log(errs[errs.size() - 2] / errs.back()) / std::log(counts.back() / counts[counts.size() - 2]);
           need = std::ceil(counts.back() * std::pow(errs.back() / target, 1.0 / slope));
         }
-        axis["nodes_for_" + fmt(target, 1)] = need;
+        ax["nodes_for_" + fmt(target, 1)] = need;
       }
-      res.push_back(axis);
+      res.push_back(ax);
     }
-    report["resolution"] = {{"note", "linear interpolation in the axis's mapped coordinate at cell midpoints, other axes at random probes "
-                                     "(beta 2-60 deg), lobes R, TT, TRT, relative to the probe's peak"},
+    report["resolution"] = {{"note", "linear interpolation in the axis's mapped coordinate at cell midpoints, the other axes at fixed "
+                                     "probes over the generic table's domain, lobes R, TT, TRT, relative to the lobe's peak over the domain"},
                             {"axes", res}};
   }
 

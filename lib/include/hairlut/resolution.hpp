@@ -4,12 +4,15 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "hairlut/attenuation.hpp"
 #include "hairlut/grid.hpp"
+#include "hairlut/quadrature.hpp"
 #include "hairlut/tables.hpp"
 
 namespace hairlut {
@@ -20,6 +23,27 @@ struct ResolutionPlan {
   std::map<std::string, double> slope;               ///< local error ∝ count^−slope per axis, where interpolated
   double predicted_error = 0.0;                      ///< sum of the per-axis errors
   std::size_t entries = 0;                           ///< entries per lobe
+};
+
+/// The interpolation error of one N_p axis at a given node count: linear interpolation in the
+/// axis's mapped coordinate at the cell midpoints, the other axes at a fixed set of probes, lobes
+/// R, TT, TRT, relative to each lobe's peak over the domain of the axes (exact N_p by the Fourier
+/// method at 1e−12).
+class AxisErrorProbe {
+ public:
+  /// axes: beta, sigma_a, theta_d, phi (ranges, spacing, placement used; counts ignored).
+  AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes = 6);
+  /// Largest error relative to the lobe peak of axis k (0 … 3) with `count` nodes.
+  double error(std::size_t k, int count) const;
+
+ private:
+  std::vector<GridAxis> axes_;
+  double eta_;
+  AbsorptionPath path_;
+  int lobes_;
+  std::vector<std::array<double, 4>> probes_;
+  std::vector<double> peak_;
+  std::shared_ptr<GaussLegendreCache> rules_;
 };
 
 /// Chooses node counts for the N_p axes (beta, sigma_a, theta_d, phi: ranges, spacing and placement
