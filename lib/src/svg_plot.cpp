@@ -73,8 +73,12 @@ std::string escape(const std::string& text) {
 }
 
 std::string line_plot(const LinePlot& p) {
-  const double left = 64, right = 150, top = 28, bottom = 44;
-  const double w = p.width - left - right, h = p.height - top - bottom;
+  // The legend's width follows its longest label (about 6.2 px per character at 11 px).
+  std::size_t longest = 0;
+  for (const Series& s : p.series) longest = std::max(longest, s.name.size());
+  const double left = 64, right = std::max(150.0, 40.0 + 6.2 * static_cast<double>(longest)), top = 28, bottom = 44;
+  const double w = std::max(200.0, p.width - left - right), h = p.height - top - bottom;
+  const int total_width = static_cast<int>(left + w + right);
   double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
   auto ty = [&](double y) { return p.log_y ? std::log10(std::max(y, 1e-300)) : y; };
   auto tx = [&](double x) { return p.log_x ? std::log10(std::max(x, 1e-300)) : x; };
@@ -101,7 +105,7 @@ std::string line_plot(const LinePlot& p) {
   auto X = [&](double x) { return left + (tx(x) - xlo) / (xhi - xlo) * w; };
   auto Y = [&](double y) { return top + (1.0 - (ty(y) - ylo) / (yhi - ylo)) * h; };
   std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << p.width << "\" height=\"" << p.height << "\" viewBox=\"0 0 " << p.width << ' '
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << total_width << "\" height=\"" << p.height << "\" viewBox=\"0 0 " << total_width << ' '
     << p.height << "\" font-family=\"sans-serif\" font-size=\"11\">";
   o << "<text x=\"" << num(left + w / 2) << "\" y=\"16\" text-anchor=\"middle\" font-weight=\"bold\">" << escape(p.title) << "</text>";
   o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << h << "\" fill=\"none\" stroke=\"#444\"/>";
