@@ -1,8 +1,6 @@
 #include "hairlut/azimuthal_np.hpp"
 
 #include <algorithm>
-#include <boost/math/tools/roots.hpp>
-#include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -10,6 +8,7 @@
 #include "hairlut/angles.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/gaussian_detector.hpp"
+#include "monotone_roots.hpp"
 
 namespace hairlut {
 namespace {
@@ -107,33 +106,9 @@ AdaptiveResult azimuthal_np_reference(const AttenuationSlice& slice, int p, doub
 std::vector<double> azimuthal_roots(const FiberGeometry& geometry, int p, double phi) {
   if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
   if (!std::isfinite(phi)) throw_domain_error("phi", "must be finite", phi);
-  phi = wrap_azimuth(phi);
   std::vector<double> edges = {-kHalfPi, kHalfPi};
   if (const double gc = caustic_gamma(p, geometry); gc > 0.0) edges = {-kHalfPi, -gc, gc, kHalfPi};
-  std::vector<double> roots;
-  for (std::size_t e = 0; e + 1 < edges.size(); ++e) {
-    const double lo = edges[e], hi = edges[e + 1];
-    const double f_lo = exit_azimuth_at(geometry, p, lo), f_hi = exit_azimuth_at(geometry, p, hi);
-    const double mn = std::min(f_lo, f_hi), mx = std::max(f_lo, f_hi);
-    const auto k_min = static_cast<long>(std::ceil((mn - phi) / kTwoPi));
-    const auto k_max = static_cast<long>(std::floor((mx - phi) / kTwoPi));
-    for (long k = k_min; k <= k_max; ++k) {
-      const double target = phi + kTwoPi * static_cast<double>(k);
-      auto f = [&](double g) { return exit_azimuth_at(geometry, p, g) - target; };
-      const double a_val = f(lo), b_val = f(hi);
-      if (a_val == 0.0) { roots.push_back(lo); continue; }
-      if (b_val == 0.0) { roots.push_back(hi); continue; }
-      if ((a_val < 0.0) == (b_val < 0.0)) continue;  // target only touches the piece at rounding level
-      std::uintmax_t iterations = 200;
-      const auto bracket = boost::math::tools::toms748_solve(f, lo, hi, a_val, b_val,
-                                                             boost::math::tools::eps_tolerance<double>(52), iterations);
-      roots.push_back(0.5 * (bracket.first + bracket.second));
-    }
-  }
-  std::sort(roots.begin(), roots.end());
-  roots.erase(std::unique(roots.begin(), roots.end(), [](double a, double b) { return std::abs(a - b) < 1e-13; }),
-              roots.end());
-  return roots;
+  return detail::monotone_piece_roots([&](double g) { return exit_azimuth_at(geometry, p, g); }, edges, phi);
 }
 
 double azimuthal_np_smooth(const AttenuationSlice& slice, int p, double phi) {

@@ -1,6 +1,7 @@
 // Exact unpolarized dielectric Fresnel reflectance and the Bravais indices of a circular fiber.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 namespace hairlut {
@@ -37,6 +38,16 @@ inline double fresnel_transmittance_unchecked(double eta, double ci) {
   const double T = 0.5 * (num / (ds * ds) + num / (dp * dp));
   return T < 1.0 ? T : 1.0;
 }
+/// fresnel_bravais without argument checks: F and 1 − F (the latter without cancellation,
+/// 1 − F_s² = 4 a cos γi cos γt/(a cos γi + cos γt)², 1 − F_p² = 4 η'' cos γi cos γt/(η'' cos γi + cos γt)²).
+inline void fresnel_bravais_unchecked(double inv_eta_prime, double eta_double_prime, double ci, double& F, double& one_minus_F) {
+  const double a = inv_eta_prime;
+  const double ct = std::sqrt(1.0 - a * a * (1.0 - ci) * (1.0 + ci));  // cos γt ≥ √(1 − a²) > 0
+  const double ds = a * ci + ct, dp = eta_double_prime * ci + ct;
+  const double fs = (a * ci - ct) / ds, fp = (eta_double_prime * ci - ct) / dp;
+  F = std::min(1.0, 0.5 * (fs * fs + fp * fp));
+  one_minus_F = std::min(1.0, 2.0 * ci * ct * (a / (ds * ds) + eta_double_prime / (dp * dp)));
+}
 }  // namespace detail
 
 /// η² − sin²θd for a fiber of index η, evaluated as (η − 1)(η + 1) + cos²θd so that it keeps its
@@ -55,5 +66,16 @@ double inverse_bravais_eta_prime(double eta, double theta_d);
 /// Bravais index for the polarization-mixing Fresnel factor of Marschner 2003:
 /// η'' = η² cos θd / √(η² − sin²θd). Domain: η > 1, θd in [−π/2, π/2]; 0 at |θd| = π/2.
 double bravais_eta_double_prime(double eta, double theta_d);
+
+/// Fresnel reflectance of the normal-plane problem with the two Bravais indices (Marschner 2003
+/// Appendix B, Khungurn 2013 §1.1): F = ½ (F_s² + F_p²),
+///   F_s = (cos γi − η' cos γt)/(cos γi + η' cos γt),  F_p = (η'' cos γi − cos γt)/(η'' cos γi + cos γt),
+///   sin γt = sin γi / η'.
+/// Evaluated with 1/η' (finite at grazing θd) as F_s = (cos γi/η' − cos γt)/(cos γi/η' + cos γt).
+/// It equals the 3D reflectance F(η, cos θd cos γi) exactly when η' and η'' belong to η and θd
+/// (multiply F_s and F_p through by cos θd and √(η² − sin²θd) respectively), which the tests
+/// check; the internal reflections of Marschner's A(p, h), F(1/η', 1/η'', γt), equal it too.
+/// Domain: 1/η' in [0, 1), η'' ≥ 0 finite, cos γi in [0, 1]. Result in [0, 1]; 1 at cos γi = 0.
+double fresnel_bravais(double inv_eta_prime, double eta_double_prime, double cos_gamma_i);
 
 }  // namespace hairlut
