@@ -21,62 +21,16 @@
 #include "hairlut/melanin.hpp"
 #include "hairlut/resolution.hpp"
 #include "hairlut/version.hpp"
+#include "bake_internal.hpp"
 
 namespace hairlut {
 namespace {
 
+using detail::axis_named;
+using detail::make_table;
+using detail::parallel_for;
+
 using json = nlohmann::ordered_json;
-
-// Runs body(k) for k in [0, n) on the configured threads with dynamic scheduling, reports
-// progress from one thread at a time, stops at the cancellation flag and rethrows the first
-// exception after the loop. The work items are independent, so the result does not depend on the
-// thread count.
-template <class Body>
-void parallel_for(std::size_t n, const BakeOptions& opt, std::string_view stage, std::size_t weight, Body&& body) {
-  std::atomic<std::size_t> done{0};
-  std::exception_ptr error;
-  std::mutex report_mutex;
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  const auto total = n * weight;
-  if (opt.progress) opt.progress(stage, 0, total);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t k = 0; k < n; ++k) {
-    if (error || (opt.cancel && opt.cancel->load(std::memory_order_relaxed))) continue;
-    try {
-      body(k);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(report_mutex);
-      if (!error) error = std::current_exception();
-    }
-    const std::size_t d = (done += 1) * weight;
-    if (opt.progress && report_mutex.try_lock()) {
-      opt.progress(stage, d, total);
-      report_mutex.unlock();
-    }
-  }
-  if (error) std::rethrow_exception(error);
-  if (opt.cancel && opt.cancel->load()) throw BakeCancelled();
-  if (opt.progress) opt.progress(stage, total, total);
-}
-
-Table make_table(std::string group, std::string name, std::string quantity, std::string units, std::string long_name,
-                 std::vector<GridAxis> axes, Precision precision) {
-  Table t;
-  t.group = std::move(group);
-  t.name = std::move(name);
-  t.quantity = std::move(quantity);
-  t.units = std::move(units);
-  t.long_name = std::move(long_name);
-  t.axes = std::move(axes);
-  t.allocate(precision);
-  return t;
-}
-
-const GridAxis& axis_named(const std::vector<GridAxis>& axes, const std::string& name) {
-  for (const GridAxis& a : axes)
-    if (a.name == name) return a;
-  throw DomainError("internal: no axis named " + name);
-}
 
 // Everything the N_p bake of one (σa, θd) pair needs from the config.
 struct NpSettings {
@@ -292,7 +246,48 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
 }
 
 
+namespace detail {
+
+void append_melanin_tables(const BakeConfig& c, Precision precision, TableSet& set, BakeReport& report) {
+  if (!c.melanin_axes) return;
+  const GridAxis channel = channel_axis({"R", "G", "B"}, "colour channel (linear sRGB primaries)");
+  std::vector<GridAxis> axes = *c.melanin_axes;
+  axes.push_back(channel);
+  const std::vector<double> ce = axes[0].nodes(), cp = axes[1].nodes();
+  SpectralMelanin::Options so;
+  so.path_length = c.melanin_path_length;
+  const SpectralMelanin spectral = SpectralMelanin::builtin(so);
+  const SpectralMelanin::Fit fit = spectral.fit_rgb_cross_sections();
+  Table deon = make_table("melanin", "sigma_a_deon", "sigma_a", "1/radius",
+                          "absorption per unit radius from d'Eon 2011's RGB cross-sections", axes, precision);
+  deon.attributes = {{"eumelanin_cross_section", {0.419, 0.697, 1.37}}, {"pheomelanin_cross_section", {0.187, 0.4, 1.05}},
+                     {"method", "sigma_a = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05) (d'Eon 2011 sec. 6.1)"}};
+  Table spec = make_table("melanin", "sigma_a_spectral", "sigma_a", "1/radius",
+                          "RGB-equivalent absorption from the Donner-Jensen 2006 spectra, CIE 1931 2 deg and D65", axes, precision);
+  spec.attributes = {{"path_length", c.melanin_path_length},
+                     {"spectral_scale", spectral.options().spectral_scale},
+                     {"fitted_eumelanin_cross_section", {fit.eumelanin.r, fit.eumelanin.g, fit.eumelanin.b}},
+                     {"fitted_pheomelanin_cross_section", {fit.pheomelanin.r, fit.pheomelanin.g, fit.pheomelanin.b}},
+                     {"fit_rms_relative_error", fit.rms_relative_error},
+                     {"method", "sigma_a_c = -ln(T_c)/L, T_c = linear sRGB (IEC 61966-2-1, white-balanced to D65) of D65 light "
+                                "through exp(-sigma_a(lambda) L), 380-780 nm in 5 nm steps"}};
+  for (std::size_t i = 0; i < ce.size(); ++i)
+    for (std::size_t j = 0; j < cp.size(); ++j) {
+      const Rgb a = melanin_sigma_a_rgb(ce[i], cp[j]);
+      const Rgb b = spectral.sigma_a_rgb(ce[i], cp[j]);
+      const std::size_t o = (i * cp.size() + j) * 3;
+      deon.set(o, a.r), deon.set(o + 1, a.g), deon.set(o + 2, a.b);
+      spec.set(o, b.r), spec.set(o + 1, b.g), spec.set(o + 2, b.b);
+    }
+  set.tables.push_back(std::move(deon));
+  set.tables.push_back(std::move(spec));
+  report.entries += 2 * ce.size() * cp.size() * 3;
+}
+
+}  // namespace detail
+
 TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_out) {
+  if (c.marschner) return bake_marschner(c, opt, report_out);
   const auto t0 = std::chrono::steady_clock::now();
   BakeReport report;
   TableSet set;
@@ -503,41 +498,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     }
   }
 
-  // ---- Melanin → RGB σa, by d'Eon's cross-sections and by the spectral model.
-  if (c.melanin_axes) {
-    const GridAxis channel = channel_axis({"R", "G", "B"}, "colour channel (linear sRGB primaries)");
-    std::vector<GridAxis> axes = *c.melanin_axes;
-    axes.push_back(channel);
-    const std::vector<double> ce = axes[0].nodes(), cp = axes[1].nodes();
-    SpectralMelanin::Options so;
-    so.path_length = c.melanin_path_length;
-    const SpectralMelanin spectral = SpectralMelanin::builtin(so);
-    const SpectralMelanin::Fit fit = spectral.fit_rgb_cross_sections();
-    Table deon = make_table("melanin", "sigma_a_deon", "sigma_a", "1/radius",
-                            "absorption per unit radius from d'Eon 2011's RGB cross-sections", axes, precision);
-    deon.attributes = {{"eumelanin_cross_section", {0.419, 0.697, 1.37}}, {"pheomelanin_cross_section", {0.187, 0.4, 1.05}},
-                       {"method", "sigma_a = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05) (d'Eon 2011 sec. 6.1)"}};
-    Table spec = make_table("melanin", "sigma_a_spectral", "sigma_a", "1/radius",
-                            "RGB-equivalent absorption from the Donner-Jensen 2006 spectra, CIE 1931 2 deg and D65", axes, precision);
-    spec.attributes = {{"path_length", c.melanin_path_length},
-                       {"spectral_scale", spectral.options().spectral_scale},
-                       {"fitted_eumelanin_cross_section", {fit.eumelanin.r, fit.eumelanin.g, fit.eumelanin.b}},
-                       {"fitted_pheomelanin_cross_section", {fit.pheomelanin.r, fit.pheomelanin.g, fit.pheomelanin.b}},
-                       {"fit_rms_relative_error", fit.rms_relative_error},
-                       {"method", "sigma_a_c = -ln(T_c)/L, T_c = linear sRGB (IEC 61966-2-1, white-balanced to D65) of D65 light "
-                                  "through exp(-sigma_a(lambda) L), 380-780 nm in 5 nm steps"}};
-    for (std::size_t i = 0; i < ce.size(); ++i)
-      for (std::size_t j = 0; j < cp.size(); ++j) {
-        const Rgb a = melanin_sigma_a_rgb(ce[i], cp[j]);
-        const Rgb b = spectral.sigma_a_rgb(ce[i], cp[j]);
-        const std::size_t o = (i * cp.size() + j) * 3;
-        deon.set(o, a.r), deon.set(o + 1, a.g), deon.set(o + 2, a.b);
-        spec.set(o, b.r), spec.set(o + 1, b.g), spec.set(o + 2, b.b);
-      }
-    set.tables.push_back(std::move(deon));
-    set.tables.push_back(std::move(spec));
-    report.entries += 2 * ce.size() * cp.size() * 3;
-  }
+  detail::append_melanin_tables(c, precision, set, report);
 
   if (unconverged) report.notes.push_back(std::to_string(unconverged) + " adaptive N_p entries did not reach the tolerance");
   if (!report.resolution.is_null() && generic_np) {

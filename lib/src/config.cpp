@@ -172,6 +172,41 @@ json axes_json(const std::vector<GridAxis>& axes) {
   return a;
 }
 
+// The settings of model marschner2003, and the keys of the d'Eon model it has no use for.
+MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeConfig& c) {
+  if (c.lobe_count > 3)
+    fail("lobes.explicit", "model marschner2003 has the lobes R, TT and TRT only (got " + std::to_string(c.lobe_count) + " lobes)");
+  if (lobes.contains("residual") && lobes.at("residual").get<bool>())
+    fail("lobes.residual", "model marschner2003 has no residual lobe: set it to false or leave it out");
+  if (lobes.contains("tilt_deg"))
+    fail("lobes.tilt_deg", "does not apply to model marschner2003: its lobes are shifted by marschner.longitudinal.alpha_R_deg with Table 1's relations");
+  if (lobes.contains("fold_below")) fail("lobes.fold_below", "applies to model deon2011 only");
+  if (doc.contains("quadrature")) fail("quadrature", "applies to model deon2011 only (marschner2003 solves for the smooth fiber's paths)");
+  const json mj = doc.value("marschner", json::object());
+  MarschnerConfig m;
+  m.params.eta = c.eta;
+  m.params.path = c.path;
+  m.params.roots = parse_marschner_roots(mj.value("roots", std::string("exact")), "marschner.roots");
+  const json k = mj.value("caustic", json::object());
+  m.params.caustic.k_G = get_number(k, "k_G", 0.5);
+  m.params.caustic.w_c = radians(get_number(k, "w_c_deg", 15.0));
+  m.params.caustic.delta_eta_prime = get_number(k, "delta_eta_prime", 0.3);
+  m.params.caustic.delta_h_max = get_number(k, "delta_h_max", 0.5);
+  m.params.eccentricity = get_number(mj, "eccentricity", 1.0);
+  m.params.eccentric_fresnel = parse_eccentric_fresnel(mj.value("eccentric_fresnel", std::string("eta")), "marschner.eccentric_fresnel");
+  const json l = mj.value("longitudinal", json::object());
+  m.alpha_r = radians(get_number(l, "alpha_R_deg", -5.0));
+  m.argument = l.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
+  checked([&] {
+    try {
+      m.params.validate();
+    } catch (const DomainError& e) {
+      throw DomainError("marschner." + std::string(e.what()));
+    }
+  });
+  return m;
+}
+
 BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir) {
   BakeConfig c;
   c.name = doc.at("name").get<std::string>();
@@ -193,7 +228,10 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
                      names[i] + "\")");
   }
   c.lobe_count = static_cast<int>(names.size());
-  c.residual = lobes.value("residual", true);
+  if (doc.contains("marschner") && c.model != "marschner2003")
+    fail("marschner", "applies to model \"marschner2003\" only (model is \"" + c.model + "\")");
+  if (c.model == "marschner2003") c.marschner = parse_marschner(doc, lobes, c);
+  c.residual = c.marschner ? false : lobes.value("residual", true);
   c.fold_below = get_number(lobes, "fold_below", 0.0);
   c.tilt.assign(static_cast<std::size_t>(c.lobe_count), 0.0);
   if (lobes.contains("tilt_deg")) {
@@ -220,8 +258,11 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     const std::string p = "tables.np.axes.";
     // Per-material scenes take sigma_a and beta from their materials; generic tables need them.
     const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
+    if (c.marschner && ax.contains("beta"))
+      fail(p + "beta", "model marschner2003 has no azimuthal roughness (its N_p is the smooth fiber's): remove this axis");
+    if (!c.marschner && ax.contains("phi_h")) fail(p + "phi_h", "applies to model marschner2003 with an eccentric fiber only");
     for (const char* key : {"sigma_a", "beta"})
-      if (!ax.contains(key) && !per_material)
+      if (!ax.contains(key) && !per_material && !(c.marschner && key == std::string("beta")))
         fail("tables.np.axes", std::string("missing required key \"") + key + "\" (needed unless scene.mode is per-material)");
     GridAxis beta_axis, sigma_axis;
     beta_axis.name = "beta", sigma_axis.name = "sigma_a";
@@ -231,13 +272,31 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     if (ax.contains("sigma_a"))
       sigma_axis = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius",
                              "absorption coefficient per unit fiber radius");
-    if (tables.at("np").contains("target_error")) c.np_target_error = tables.at("np").at("target_error").get<double>();
-    c.np_axes = std::vector<GridAxis>{
-        beta_axis,
-        sigma_axis,
-        make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
-                  "longitudinal difference angle theta_d = (theta_r - theta_i)/2"),
-        make_phi_axis(ax.at("phi"), p + "phi")};
+    if (tables.at("np").contains("target_error")) {
+      if (c.marschner) fail("tables.np.target_error", "applies to model deon2011 only");
+      c.np_target_error = tables.at("np").at("target_error").get<double>();
+    }
+    const GridAxis theta_axis = make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                                          "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+    if (c.marschner) {
+      // N_R, N_TT over (sigma_a, theta_d, phi); an eccentric TRT also over phi_h (before phi).
+      c.np_axes = std::vector<GridAxis>{sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
+      const bool eccentric = c.marschner->params.eccentricity != 1.0;
+      if (ax.contains("phi_h") && !eccentric)
+        fail(p + "phi_h", "applies to an eccentric fiber only (marschner.eccentricity is 1)");
+      if (eccentric) {
+        const json def = {{"count", 9}, {"range_deg", {0, 90}}};
+        GridAxis ph = make_axis(ax.contains("phi_h") ? ax.at("phi_h") : def, p + "phi_h", "phi_h", true, 0.0, kHalfPi, "rad",
+                                "azimuthal half angle phi_h = (phi_i + phi_r)/2 from the axis where eta* = eta1* (period pi, even)");
+        ph.wrap = Wrap::reflect;
+        if (ph.lo != 0.0 || std::abs(ph.hi - kHalfPi) > 1e-12)
+          fail(p + "phi_h", "must cover [0, 90] degrees (eta* is even in phi_h with period 180 degrees; the sampler folds phi_h into it)");
+        ph.hi = kHalfPi;
+        c.np_axes->insert(c.np_axes->begin() + 2, ph);
+      }
+    } else {
+      c.np_axes = std::vector<GridAxis>{beta_axis, sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
+    }
   }
   if (tables.contains("mp")) {
     const json& ax = tables.at("mp").at("axes");
@@ -249,7 +308,9 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     beta_axis.name = "beta";
     beta_axis.count = 0;  // unused (per-material scene) unless given
     if (ax.contains("beta"))
-      beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad", "longitudinal roughness beta, v = beta^2");
+      beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad",
+                            c.marschner ? "width beta_R of the R lobe's Gaussian (lobe p uses Table 1's beta_p = ratio_p beta_R)"
+                                        : "longitudinal roughness beta, v = beta^2");
     c.mp_axes = std::vector<GridAxis>{
         beta_axis,
         make_axis(ax.at("theta_i"), p + "theta_i", "theta_i", true, -kHalfPi, kHalfPi, "rad", "incident inclination theta_i"),
@@ -297,6 +358,20 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
         const auto v = mj.at("sigma_a").get<std::vector<double>>();
         m.sigma_a = {v[0], v[1], v[2]};
       }
+      if (c.marschner) {
+        // Gaussian widths: R given, TT and TRT given or from Table 1 (β_R/2, 2β_R).
+        const json& b = mj.at("beta_deg");
+        if (!b.contains("R")) fail(path + ".beta_deg", "must give R for model marschner2003 (TT and TRT default to Table 1's beta_R/2 and 2 beta_R)");
+        if (b.contains("residual")) fail(path + ".beta_deg.residual", "model marschner2003 has no residual lobe");
+        if (mj.contains("beta_n_deg")) fail(path + ".beta_n_deg", "applies to model deon2011 only (marschner2003 has no azimuthal roughness)");
+        for (const auto& [key, value] : b.items()) lobe_index(key, c.lobe_count, path + ".beta_deg." + key);
+        const MarschnerLobes table1 = c.marschner->lobes(radians(b.at("R").get<double>()));
+        for (int lobe = 0; lobe < c.lobe_count; ++lobe)
+          m.beta_m.push_back(b.contains(lobe_name(lobe)) ? radians(b.at(lobe_name(lobe)).get<double>()) : table1.beta[lobe]);
+        m.beta_n = m.beta_m;
+        scene.materials.push_back(std::move(m));
+        continue;
+      }
       per_lobe_values(mj.at("beta_deg"), path + ".beta_deg", c.lobe_count, kPi / 180.0, m.beta_m, m.residual_beta_m);
       if (mj.contains("beta_n_deg"))
         per_lobe_values(mj.at("beta_n_deg"), path + ".beta_n_deg", c.lobe_count, kPi / 180.0, m.beta_n, m.residual_beta_n);
@@ -327,15 +402,20 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   n["description"] = c.description;
   n["model"] = c.model;
   n["fiber"] = {{"eta", c.eta}, {"absorption_path", to_string(c.path)}};
-  json tilt = json::object();
-  for (int p = 0; p < c.lobe_count; ++p) tilt[lobe_name(p)] = c.tilt[static_cast<std::size_t>(p)];
-  tilt["residual"] = c.residual_tilt;
-  n["lobes"] = {{"explicit", names}, {"residual", c.residual}, {"fold_below", c.fold_below}, {"tilt", tilt}};
-  n["quadrature"] = {{"method", to_string(c.quadrature.method)},
-                     {"order", c.quadrature.order},
-                     {"variable", to_string(c.quadrature.variable)},
-                     {"tolerance", c.quadrature.tolerance},
-                     {"energy_order", c.quadrature.energy_order}};
+  if (c.marschner) {
+    n["lobes"] = {{"explicit", names}, {"residual", false}};
+    n["marschner"] = marschner_json(*c.marschner);
+  } else {
+    json tilt = json::object();
+    for (int p = 0; p < c.lobe_count; ++p) tilt[lobe_name(p)] = c.tilt[static_cast<std::size_t>(p)];
+    tilt["residual"] = c.residual_tilt;
+    n["lobes"] = {{"explicit", names}, {"residual", c.residual}, {"fold_below", c.fold_below}, {"tilt", tilt}};
+    n["quadrature"] = {{"method", to_string(c.quadrature.method)},
+                       {"order", c.quadrature.order},
+                       {"variable", to_string(c.quadrature.variable)},
+                       {"tolerance", c.quadrature.tolerance},
+                       {"energy_order", c.quadrature.energy_order}};
+  }
   json t = json::object();
   if (c.np_axes) {
     t["np"] = {{"axes", axes_json(*c.np_axes)}};
@@ -368,6 +448,45 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
 }
 
 }  // namespace
+
+nlohmann::json marschner_json(const MarschnerConfig& m) {
+  const CausticParams& k = m.params.caustic;
+  return {{"roots", to_string(m.params.roots)},
+          {"caustic", {{"k_G", k.k_G}, {"w_c", k.w_c}, {"delta_eta_prime", k.delta_eta_prime}, {"delta_h_max", k.delta_h_max}}},
+          {"eccentricity", m.params.eccentricity},
+          {"eccentric_fresnel", to_string(m.params.eccentric_fresnel)},
+          {"longitudinal", {{"alpha_R", m.alpha_r}, {"argument", m.argument == GaussianArgument::theta_h ? "theta-h" : "2theta-h"},
+                            {"relations", "alpha_TT = -alpha_R/2, alpha_TRT = -3 alpha_R/2, beta_TT = beta_R/2, beta_TRT = 2 beta_R (Table 1)"}}}};
+}
+
+MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path) {
+  MarschnerConfig m;
+  try {
+    m.params.eta = eta;
+    m.params.path = path;
+    m.params.roots = parse_marschner_roots(j.at("roots").get<std::string>(), "marschner.roots");
+    const auto& k = j.at("caustic");
+    m.params.caustic.k_G = k.at("k_G").get<double>();
+    m.params.caustic.w_c = k.at("w_c").get<double>();
+    m.params.caustic.delta_eta_prime = k.at("delta_eta_prime").get<double>();
+    m.params.caustic.delta_h_max = k.at("delta_h_max").get<double>();
+    m.params.eccentricity = j.at("eccentricity").get<double>();
+    m.params.eccentric_fresnel = parse_eccentric_fresnel(j.at("eccentric_fresnel").get<std::string>(), "marschner.eccentric_fresnel");
+    const auto& l = j.at("longitudinal");
+    m.alpha_r = l.at("alpha_R").get<double>();
+    const std::string arg = l.at("argument").get<std::string>();
+    if (arg != "theta-h" && arg != "2theta-h") throw DomainError("marschner.longitudinal.argument must be theta-h or 2theta-h (got \"" + arg + "\")");
+    m.argument = arg == "theta-h" ? GaussianArgument::theta_h : GaussianArgument::two_theta_h;
+  } catch (const nlohmann::json::exception& e) {
+    throw DomainError(std::string("marschner settings malformed (") + e.what() + ")");
+  }
+  try {
+    m.params.validate();
+  } catch (const DomainError& e) {
+    throw DomainError("marschner." + std::string(e.what()));
+  }
+  return m;
+}
 
 BakeConfig parse_config(const nlohmann::json& document, const std::string& source, const std::filesystem::path& base_dir) {
   static_assert(sizeof(char) == 1);

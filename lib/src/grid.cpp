@@ -24,7 +24,7 @@ constexpr std::pair<std::string_view, Spacing> kSpacings[] = {
 constexpr std::pair<std::string_view, Placement> kPlacements[] = {{"edges", Placement::edges},
                                                                   {"centers", Placement::centers}};
 constexpr std::pair<std::string_view, Wrap> kWraps[] = {
-    {"clamp", Wrap::clamp}, {"periodic", Wrap::periodic}, {"even", Wrap::even}};
+    {"clamp", Wrap::clamp}, {"periodic", Wrap::periodic}, {"even", Wrap::even}, {"reflect", Wrap::reflect}};
 
 template <class E, std::size_t N>
 std::string_view name_of(E value, const std::pair<std::string_view, E> (&names)[N]) {

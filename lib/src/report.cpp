@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "hairlut/compare.hpp"
 #include "hairlut/hdf5_io.hpp"  // IoError
 #include "hairlut/svg_plot.hpp"
 
@@ -72,14 +73,6 @@ std::string render_report_markdown(const json& r) {
 std::string render_report_html(const json& r) {
   std::ostringstream o;
   const json& s = r["summary"];
-  o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>hairlut validation: " << escape(r["source"].get<std::string>())
-    << "</title><style>"
-       "body{font-family:sans-serif;margin:24px;max-width:1200px;color:#1f2328}"
-       "table{border-collapse:collapse;margin:8px 0 16px}td,th{border:1px solid #d0d7de;padding:4px 8px;font-size:13px;text-align:left;vertical-align:top}"
-       "th{background:#f6f8fa}.badge{color:#fff;border-radius:4px;padding:1px 6px;font-weight:bold}"
-       ".big{font-size:20px}.plots{display:flex;flex-wrap:wrap;gap:12px}h2{border-bottom:1px solid #d0d7de;padding-bottom:4px;margin-top:32px}"
-       "code{background:#f6f8fa;padding:1px 4px}"
-       "</style></head><body>\n";
   o << "<h1>hairlut validation report</h1>\n<p class=\"big\">" << status_badge(s["status"].get<std::string>()) << " &nbsp; " << s["passed"]
     << " passed, " << s["failed"] << " failed, " << s["skipped"] << " skipped</p>\n";
   const json& m = r["table_metadata"];
@@ -94,43 +87,65 @@ std::string render_report_html(const json& r) {
       << ' ' << fmt(c["threshold"]) << "</td><td>" << escape(c["detail"].get<std::string>()) << "</td></tr>\n";
   o << "</table>\n";
 
-  // White furnace.
-  const json& f = r["furnace"];
-  o << "<h2>White furnace: E(&theta;<sub>i</sub>) per lobe</h2>\n<p>Directional albedo of the model for a non-absorbing fiber with all lobes, "
-       "the same roughness for every lobe and no tilt (d'Eon 2011 &sect;4): the total must be 1. Dashed: the same from the sampled N<sub>p</sub> "
-       "tables at &sigma;<sub>a</sub> = "
-    << fmt(f["table_sigma_a"]) << ".</p><div class=\"plots\">\n";
-  const auto thetas = vec(f["theta_i_deg"]);
-  for (const json& c : f["curves"]) {
-    svg::LinePlot p;
-    p.title = "E(theta_i), beta = " + fmt(c["beta_deg"]) + " deg";
-    p.xlabel = "theta_i [deg]";
-    p.ylabel = "energy";
-    p.y_reference = 1.0;
-    p.min_span = 0.2;
-    for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k, thetas, vec(v), lobe_colour(k), false});
-    if (c.contains("table"))
-      for (const auto& [k, v] : c["table"].items())
-        if (k != "direct_at_table_sigma_a") p.series.push_back({k + " (tables)", thetas, vec(v), lobe_colour(k), true});
-    o << svg::line_plot(p) << "\n";
+  if (r.contains("furnace")) {
+    // White furnace.
+    const json& f = r["furnace"];
+    o << "<h2>White furnace: E(&theta;<sub>i</sub>) per lobe</h2>\n<p>Directional albedo of the model for a non-absorbing fiber with all lobes, "
+         "the same roughness for every lobe and no tilt (d'Eon 2011 &sect;4): the total must be 1. Dashed: the same from the sampled N<sub>p</sub> "
+         "tables at &sigma;<sub>a</sub> = "
+      << fmt(f["table_sigma_a"]) << ".</p><div class=\"plots\">\n";
+    const auto thetas = vec(f["theta_i_deg"]);
+    for (const json& c : f["curves"]) {
+      svg::LinePlot p;
+      p.title = "E(theta_i), beta = " + fmt(c["beta_deg"]) + " deg";
+      p.xlabel = "theta_i [deg]";
+      p.ylabel = "energy";
+      p.y_reference = 1.0;
+      p.min_span = 0.2;
+      for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k, thetas, vec(v), lobe_colour(k), false});
+      if (c.contains("table"))
+        for (const auto& [k, v] : c["table"].items())
+          if (k != "direct_at_table_sigma_a") p.series.push_back({k + " (tables)", thetas, vec(v), lobe_colour(k), true});
+      o << svg::line_plot(p) << "\n";
+    }
+    o << "</div>\n";
+    // Truncation.
+    const json& t = r["truncation"];
+    o << "<h2>Truncation: energy kept by R + TT + TRT</h2>\n<p>White fiber, &eta; = " << fmt(t["eta"]) << ", &beta; = " << fmt(t["beta_deg"])
+      << "&deg;. d'Eon 2011 Fig. 5: the first three lobes miss close to 15% at grazing angles; TRRT recovers part of it and the residual the rest. "
+         "Largest loss: "
+      << fmt(t["largest_loss"]) << " at &theta;<sub>i</sub> = " << fmt(t["largest_loss_theta_i_deg"]) << "&deg;.</p>\n";
+    {
+      svg::LinePlot p;
+      p.title = "E(theta_i) with truncated lobe sets";
+      p.xlabel = "theta_i [deg]";
+      p.ylabel = "energy";
+      p.y_reference = 1.0;
+      const auto th = vec(t["theta_i_deg"]);
+      for (const char* k : {"R+TT+TRT", "R+TT+TRT+TRRT", "R+TT+TRT+residual"}) p.series.push_back({k, th, vec(t[k]), "", false});
+      o << svg::line_plot(p) << "\n";
+    }
+}
+  if (r.contains("marschner_energy")) {
+    const json& me = r["marschner_energy"];
+    o << "<h2>Energy of Marschner's model: E(&theta;<sub>i</sub>) per lobe</h2>\n<p>Marschner 2003 does not conserve energy: "
+      << escape(me["measure"].get<std::string>()) << ", &sigma;<sub>a</sub> = " << fmt(me["sigma_a"])
+      << ". Solid: direct evaluation; dashed: from the sampled tables (N<sub>p</sub> integrated over &phi;, M<sub>p</sub> over &theta;<sub>r</sub>).</p>"
+         "<div class=\"plots\">\n";
+    const auto th = vec(me["theta_i_deg"]);
+    for (const json& c : me["curves"]) {
+      svg::LinePlot p;
+      p.title = "E(theta_i), beta_R = " + fmt(c["beta_R_deg"]) + " deg";
+      p.xlabel = "theta_i [deg]";
+      p.ylabel = "energy";
+      p.y_reference = 1.0;
+      for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k, th, vec(v), lobe_colour(k), false});
+      if (c.contains("table")) p.series.push_back({"total (tables)", th, vec(c["table"]["total"]), lobe_colour("total"), true});
+      o << svg::line_plot(p) << "\n";
+    }
+    o << "</div>\n";
   }
-  o << "</div>\n";
-  // Truncation.
-  const json& t = r["truncation"];
-  o << "<h2>Truncation: energy kept by R + TT + TRT</h2>\n<p>White fiber, &eta; = " << fmt(t["eta"]) << ", &beta; = " << fmt(t["beta_deg"])
-    << "&deg;. d'Eon 2011 Fig. 5: the first three lobes miss close to 15% at grazing angles; TRRT recovers part of it and the residual the rest. "
-       "Largest loss: "
-    << fmt(t["largest_loss"]) << " at &theta;<sub>i</sub> = " << fmt(t["largest_loss_theta_i_deg"]) << "&deg;.</p>\n";
-  {
-    svg::LinePlot p;
-    p.title = "E(theta_i) with truncated lobe sets";
-    p.xlabel = "theta_i [deg]";
-    p.ylabel = "energy";
-    p.y_reference = 1.0;
-    const auto th = vec(t["theta_i_deg"]);
-    for (const char* k : {"R+TT+TRT", "R+TT+TRT+TRRT", "R+TT+TRT+residual"}) p.series.push_back({k, th, vec(t[k]), "", false});
-    o << svg::line_plot(p) << "\n";
-  }
+  if (r.contains("compare")) o << render_compare_html_sections(r["compare"]);
   // Longitudinal.
   const json& l = r["longitudinal"];
   o << "<h2>Longitudinal energy: &int; M cos &theta;<sub>r</sub> d&theta;<sub>r</sub></h2>\n<p>d'Eon's M<sub>p</sub> (solid) is 1 everywhere; "
@@ -237,22 +252,31 @@ std::string render_report_html(const json& r) {
     o << "</p>\n" << svg::swatch_grid(mel["table"].get<std::string>(), sw, static_cast<int>(cols.size()), rows, cols, "eumelanin", "pheomelanin") << "\n";
   }
   o << "<h2>Thresholds</h2><p><code>" << escape(r["thresholds"].dump()) << "</code></p>\n";
-  o << "</body></html>\n";
-  return o.str();
+  return html_page("hairlut validation: " + r["source"].get<std::string>(), o.str());
 }
 
-void write_report(const json& report, const std::filesystem::path& directory) {
+std::string html_page(const std::string& title, const std::string& body) {
+  return "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + escape(title) +
+         "</title><style>"
+         "body{font-family:sans-serif;margin:24px;max-width:1200px;color:#1f2328}"
+         "table{border-collapse:collapse;margin:8px 0 16px}td,th{border:1px solid #d0d7de;padding:4px 8px;font-size:13px;text-align:left;vertical-align:top}"
+         "th{background:#f6f8fa}.badge{color:#fff;border-radius:4px;padding:1px 6px;font-weight:bold}"
+         ".big{font-size:20px}.plots{display:flex;flex-wrap:wrap;gap:12px}h2{border-bottom:1px solid #d0d7de;padding-bottom:4px;margin-top:32px}"
+         "code{background:#f6f8fa;padding:1px 4px}"
+         "</style></head><body>\n" +
+         body + "</body></html>\n";
+}
+
+void write_text_files(const std::filesystem::path& directory, const std::vector<std::pair<std::string, std::string>>& files) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(directory, ec);
   if (ec) throw IoError(directory.string() + ": cannot create report directory (" + ec.message() + ")");
   const std::string suffix = ".tmp-" + std::to_string(::getpid());
-  const std::pair<const char*, std::string> files[] = {
-      {"report.json", report.dump(1) + "\n"}, {"report.md", render_report_markdown(report)}, {"report.html", render_report_html(report)}};
   std::vector<fs::path> temps;
   try {
     for (const auto& [name, text] : files) {
-      const fs::path tmp = directory / (std::string(name) + suffix);
+      const fs::path tmp = directory / (name + suffix);
       temps.push_back(tmp);
       std::ofstream out(tmp, std::ios::binary);
       out << text;
@@ -266,6 +290,11 @@ void write_report(const json& report, const std::filesystem::path& directory) {
     for (const auto& t : temps) fs::remove(t, ec);
     throw;
   }
+}
+
+void write_report(const json& report, const std::filesystem::path& directory) {
+  write_text_files(directory, {{"report.json", report.dump(1) + "\n"}, {"report.md", render_report_markdown(report)},
+                               {"report.html", render_report_html(report)}});
 }
 
 }  // namespace hairlut

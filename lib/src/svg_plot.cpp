@@ -201,6 +201,70 @@ std::string heat_map(const HeatMap& m) {
   return o.str();
 }
 
+std::string polar_plot(const PolarPlot& p) {
+  std::size_t longest = 0;
+  for (const Series& s : p.series) longest = std::max(longest, s.name.size());
+  const double legend = std::max(120.0, 40.0 + 6.2 * static_cast<double>(longest));
+  const double top = p.note.empty() ? 30 : 44, pad = 24;
+  const double radius = 0.5 * p.size - pad, cx = pad + radius + 8, cy = top + pad + radius;
+  const int width = static_cast<int>(2 * (pad + radius) + 16 + legend), height = static_cast<int>(top + 2 * (pad + radius) + 6);
+  double r_max = p.r_max;
+  if (!std::isfinite(r_max)) {
+    r_max = 0.0;
+    for (const Series& s : p.series)
+      for (double v : s.y)
+        if (std::isfinite(v)) r_max = std::max(r_max, v);
+  }
+  if (!(r_max > 0.0)) r_max = 1.0;
+  auto X = [&](double phi, double r) { return cx + radius * std::min(r, r_max) / r_max * std::cos(phi); };
+  auto Y = [&](double phi, double r) { return cy - radius * std::min(r, r_max) / r_max * std::sin(phi); };
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height << "\" viewBox=\"0 0 " << width << ' ' << height
+    << "\" font-family=\"sans-serif\" font-size=\"11\">";
+  o << "<text x=\"" << num(cx) << "\" y=\"16\" text-anchor=\"middle\" font-weight=\"bold\">" << escape(p.title) << "</text>";
+  if (!p.note.empty()) o << "<text x=\"" << num(cx) << "\" y=\"31\" text-anchor=\"middle\" fill=\"#555\">" << escape(p.note) << "</text>";
+  for (double t : ticks(0.0, r_max, 4)) {
+    if (t <= 0.0) continue;
+    o << "<circle cx=\"" << num(cx) << "\" cy=\"" << num(cy) << "\" r=\"" << num(radius * t / r_max) << "\" fill=\"none\" stroke=\"#e4e4e4\"/>"
+      << "<text x=\"" << num(cx + 3) << "\" y=\"" << num(cy - radius * t / r_max - 2) << "\" fill=\"#888\" font-size=\"9\">" << label(t) << "</text>";
+  }
+  o << "<circle cx=\"" << num(cx) << "\" cy=\"" << num(cy) << "\" r=\"" << num(radius) << "\" fill=\"none\" stroke=\"#444\"/>";
+  for (int d = 0; d < 360; d += 30) {
+    const double a = d * 3.14159265358979323846 / 180.0;
+    o << "<line x1=\"" << num(cx) << "\" y1=\"" << num(cy) << "\" x2=\"" << num(X(a, r_max)) << "\" y2=\"" << num(Y(a, r_max))
+      << "\" stroke=\"#eee\"/><text x=\"" << num(cx + (radius + 12) * std::cos(a)) << "\" y=\"" << num(cy - (radius + 12) * std::sin(a) + 4)
+      << "\" text-anchor=\"middle\" fill=\"#555\" font-size=\"9\">" << (d > 180 ? d - 360 : d) << "&#176;</text>";
+  }
+  for (std::size_t si = 0; si < p.series.size(); ++si) {
+    const Series& s = p.series[si];
+    const std::string c = s.color.empty() ? kPalette[si % 9] : s.color;
+    for (double sign : p.mirror ? std::vector<double>{1.0, -1.0} : std::vector<double>{1.0}) {
+      std::string points;
+      auto flush = [&] {
+        if (!points.empty())
+          o << "<polyline fill=\"none\" stroke=\"" << c << "\" stroke-width=\"1.5\"" << (s.dashed ? " stroke-dasharray=\"5,3\"" : "")
+            << " points=\"" << points << "\"/>";
+        points.clear();
+      };
+      for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+        if (!(s.y[i] >= 0.0) || std::isnan(s.y[i])) {
+          flush();
+          continue;
+        }
+        const double r = std::isfinite(s.y[i]) ? s.y[i] : r_max;
+        points += num(X(sign * s.x[i], r)) + "," + num(Y(sign * s.x[i], r)) + " ";
+      }
+      flush();
+    }
+    const double ly = top + 10 + 15.0 * static_cast<double>(si), lx = 2 * (pad + radius) + 16;
+    o << "<line x1=\"" << num(lx) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(lx + 20) << "\" y2=\"" << num(ly) << "\" stroke=\"" << c
+      << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\"" << num(lx + 24) << "\" y=\"" << num(ly + 4)
+      << "\">" << escape(s.name) << "</text>";
+  }
+  o << "</svg>";
+  return o.str();
+}
+
 std::string swatch_grid(const std::string& title, const std::vector<Swatch>& swatches, int columns, const std::vector<std::string>& row_labels,
                         const std::vector<std::string>& column_labels, const std::string& row_title, const std::string& column_title) {
   const int cell = 22, left = 70, top = 40;

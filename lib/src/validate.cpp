@@ -13,12 +13,15 @@
 #include "hairlut/angles.hpp"
 #include "hairlut/azimuthal_np.hpp"
 #include "hairlut/bake.hpp"
+#include "hairlut/compare.hpp"
+#include "hairlut/config.hpp"
 #include "hairlut/directional_albedo.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/hair_model.hpp"
 #include "hairlut/hash.hpp"
 #include "hairlut/lobe_energy.hpp"
 #include "hairlut/longitudinal_mp.hpp"
+#include "hairlut/marschner.hpp"
 #include "hairlut/melanin.hpp"
 
 namespace hairlut {
@@ -59,12 +62,14 @@ using json = nlohmann::ordered_json;
 // ---------------------------------------------------------------------------------------------
 // The model the tables were baked with, from their metadata.
 struct ModelInfo {
+  std::string model = "deon2011";
   double eta = 1.55;
   AbsorptionPath path = AbsorptionPath::chord;
   std::vector<std::string> lobes;
   int explicit_lobes = 0;
   bool residual = false;
   int energy_order = 128;
+  std::optional<MarschnerConfig> marschner;  ///< model "marschner2003"
 };
 
 ModelInfo model_from(const TableSet& set) {
@@ -81,10 +86,17 @@ ModelInfo model_from(const TableSet& set) {
     info.residual = need("residual").get<bool>();
     info.explicit_lobes = static_cast<int>(info.lobes.size());
     if (m.contains("quadrature")) info.energy_order = m.at("quadrature").value("energy_order", 128);
+    info.model = m.value("model", std::string("deon2011"));
   } catch (const nlohmann::json::exception& e) {
     throw DomainError(std::string("table metadata: malformed (") + e.what() + ")");
   }
   require_greater("table metadata eta", info.eta, 1.0, "must be > 1");
+  if (info.model == "marschner2003") {
+    if (!m.contains("marschner")) throw DomainError("table metadata: model marschner2003 without its \"marschner\" settings");
+    info.marschner = marschner_from_json(m.at("marschner"), info.eta, info.path);
+  } else if (info.model != "deon2011") {
+    throw DomainError("table metadata: unknown model \"" + info.model + "\"");
+  }
   if (info.lobes.empty()) throw DomainError("table metadata: lobes is empty");
   for (std::size_t p = 0; p < info.lobes.size(); ++p)
     if (parse_lobe(info.lobes[p], "table metadata lobes") != static_cast<int>(p))
@@ -195,7 +207,8 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
     problems.push_back("metadata lacks config, config_hash or hairlut_version");
   }
   static const std::map<std::string, std::string> units = {{"theta_d", "rad"}, {"phi", "rad"},     {"beta", "rad"},
-                                                           {"theta_i", "rad"}, {"theta_r", "rad"}, {"sigma_a", "1/radius"}};
+                                                           {"theta_i", "rad"}, {"theta_r", "rad"}, {"sigma_a", "1/radius"},
+                                                           {"phi_h", "rad"}};
   for (const Table& t : set.tables) {
     for (const GridAxis& a : t.axes) {
       const auto u = units.find(a.name);
@@ -220,24 +233,36 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
 // ---------------------------------------------------------------------------------------------
 // Energy: white furnace (direct and from the tables) and truncation.
 
-// ∫_{−π}^{π} N_table(β, σa, θd, φ) dφ, exactly for the sampled table: between its φ nodes the
-// sampler is linear in φ (uniform spacing) and constant beyond the outermost nodes, so the
+// ∫_{−π}^{π} N(φ) dφ of a table sampled along its φ axis, exactly for the sampler: between the φ
+// nodes it is linear in φ (uniform spacing) and constant beyond the outermost nodes, so the
 // trapezoid rule over the nodes and the ends of the interval is exact.
-double table_energy(const Table& t, double beta, double sigma, double theta_d) {
-  const GridAxis& a = t.axes[3];
+template <class Sample>
+double phi_integral(const GridAxis& a, Sample&& sample) {
   std::vector<double> phis = a.nodes();
   const bool even = a.wrap == Wrap::even;
   phis.push_back(even ? 0.0 : -kPi);
   phis.push_back(kPi);
   std::sort(phis.begin(), phis.end());
   phis.erase(std::unique(phis.begin(), phis.end()), phis.end());
-  double sum = 0.0, prev_phi = phis.front(), prev = t.sample({beta, sigma, theta_d, prev_phi});
+  double sum = 0.0, prev_phi = phis.front(), prev = sample(prev_phi);
   for (std::size_t i = 1; i < phis.size(); ++i) {
-    const double v = t.sample({beta, sigma, theta_d, phis[i]});
+    const double v = sample(phis[i]);
     sum += 0.5 * (v + prev) * (phis[i] - prev_phi);
     prev = v, prev_phi = phis[i];
   }
   return even ? 2.0 * sum : sum;
+}
+
+// ∫ N_table(β, σa, θd, φ) dφ of a d'Eon table.
+double table_energy(const Table& t, double beta, double sigma, double theta_d) {
+  return phi_integral(t.axes[3], [&](double phi) { return t.sample({beta, sigma, theta_d, phi}); });
+}
+
+// ∫ N_table dφ of a Marschner table (σa, θd, [φh,] φ) at φh (ignored without that axis).
+double marschner_table_energy(const Table& t, double sigma, double theta_d, double phi_h) {
+  return phi_integral(t.axes.back(), [&](double phi) {
+    return t.axes.size() == 4 ? t.sample({sigma, theta_d, phi_h, phi}) : t.sample({sigma, theta_d, phi});
+  });
 }
 
 // e_p,table(θd) on a fine θd grid, for interpolation inside the θr integral.
@@ -377,6 +402,89 @@ json truncation_section(const ModelInfo& info, std::vector<json>& checks) {
   return out;
 }
 
+// Marschner 2003 is not energy conserving: its E(θi) (per lobe, direct) is shown, and the same
+// from the tables (the sampled N_p integrated over φ, the sampled M_p over θr) is checked against it.
+json marschner_energy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
+  const MarschnerConfig& m = *info.marschner;
+  json out;
+  std::vector<double> thetas;
+  for (int d = -85; d <= 85; d += 5) thetas.push_back(d);
+  out["theta_i_deg"] = thetas;
+  const Table* mp_first = set.find("mp/" + info.lobes[0]);
+  const Table* np_first = set.find("np/" + info.lobes[0]);
+  std::vector<double> betas = {radians(2.0), radians(5.0), radians(10.0)};
+  if (mp_first && mp_first->axes.size() == 3) betas = representative(mp_first->axes[0]);
+  const bool have_tables = mp_first && mp_first->axes.size() == 3 && np_first && np_first->axes.size() >= 3 && np_first->group == "np";
+  const double sigma = np_first && np_first->group == "np" ? np_first->axes[0].nodes().front() : 0.0;
+  out["sigma_a"] = sigma;
+  out["measure"] = "E(theta_i) = sum_p int M_p e_p(theta_d) cos^2(theta_r) dtheta_r (d'Eon 2011 eq. 5), e_p = int N_p dphi, phi_h = 0";
+  double worst = 0.0;
+  std::string where = "-";
+  json curves = json::array();
+  const int lobes = static_cast<int>(info.lobes.size());
+  for (double beta : betas) {
+    check_cancel(opt);
+    const MarschnerLobes l = m.lobes(beta);
+    json c = {{"beta_R_deg", degrees(beta)}};
+    std::vector<double> total;
+    std::vector<std::vector<double>> per(static_cast<std::size_t>(lobes));
+    for (double td : thetas) {
+      const MarschnerAlbedo a = marschner_directional_albedo(m.params, l, m.argument, sigma, radians(td));
+      double t = 0.0;
+      for (int p = 0; p < lobes; ++p) per[static_cast<std::size_t>(p)].push_back(a.per_lobe[static_cast<std::size_t>(p)]), t += a.per_lobe[static_cast<std::size_t>(p)];
+      total.push_back(t);
+    }
+    c["direct"] = {{"total", total}};
+    for (int p = 0; p < lobes; ++p) c["direct"][info.lobes[static_cast<std::size_t>(p)]] = per[static_cast<std::size_t>(p)];
+    if (have_tables) {
+      std::vector<const Table*> np, mp;
+      for (const auto& name : info.lobes) np.push_back(set.find("np/" + name)), mp.push_back(set.find("mp/" + name));
+      std::vector<EnergyCurve> e(static_cast<std::size_t>(lobes));
+      for (int p = 0; p < lobes; ++p) {
+        e[static_cast<std::size_t>(p)].values.resize(1001);
+        for (std::size_t k = 0; k <= 1000; ++k)
+          e[static_cast<std::size_t>(p)].values[k] = np[static_cast<std::size_t>(p)]
+                                                         ? marschner_table_energy(*np[static_cast<std::size_t>(p)], sigma, kHalfPi * static_cast<double>(k) / 1000.0, 0.0)
+                                                         : 0.0;
+      }
+      std::vector<double> table_total;
+      for (std::size_t i = 0; i < thetas.size(); ++i) {
+        const double ti = radians(thetas[i]);
+        std::vector<double> bp = {-kHalfPi, kHalfPi};
+        for (int p = 0; p < lobes; ++p)
+          if (std::abs(2.0 * l.alpha[p] - ti) < kHalfPi) bp.push_back(2.0 * l.alpha[p] - ti);
+        std::sort(bp.begin(), bp.end());
+        AdaptiveOptions ao;
+        ao.rel_tol = 1e-7;
+        ao.max_intervals = 400;
+        const AdaptiveResult r = integrate_adaptive(
+            [&](double tr, std::span<double> o) {
+              const double c2 = std::cos(tr) * std::cos(tr), thd = std::abs(0.5 * (tr - ti));
+              o[0] = 0.0;
+              for (int p = 0; p < lobes; ++p)
+                if (mp[static_cast<std::size_t>(p)]) o[0] += mp[static_cast<std::size_t>(p)]->sample({beta, ti, tr}) * e[static_cast<std::size_t>(p)].at(thd) * c2;
+            },
+            1, bp, ao);
+        table_total.push_back(r.value[0]);
+        const double d = std::abs(r.value[0] - total[i]) / std::max(1.0, total[i]);
+        if (d > worst) worst = d, where = "theta_i = " + fmt(thetas[i]) + " deg, beta_R = " + fmt(degrees(beta)) + " deg";
+      }
+      c["table"] = {{"total", table_total}};
+    }
+    curves.push_back(c);
+  }
+  out["curves"] = curves;
+  checks.push_back(skipped("furnace_direct", "White furnace of the model", "model marschner2003 does not conserve energy (see its energy section)"));
+  if (have_tables) {
+    const double t = opt.thresholds.furnace_table;
+    checks.push_back(check("energy_table", "Energy E(theta_i) from the sampled N_p and M_p tables against direct evaluation (relative, sigma_a = " + fmt(sigma) + ")",
+                           worst <= t, worst, t, "<=", "worst at " + where));
+  } else {
+    checks.push_back(skipped("energy_table", "Energy from the tables", "needs generic np and mp tables"));
+  }
+  return out;
+}
+
 json longitudinal_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
   (void)info;
   json out;
@@ -415,7 +523,13 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
   std::string worst_where;
   for (const Table& tb : set.tables) {
     if (tb.quantity != "M_p" || tb.axes.size() != 3) continue;
-    const double alpha = tb.attributes.value("alpha", 0.0);
+    // d'Eon's tilted M (measure cos θr, tilt α of θr) or Marschner's Gaussian (measure cos²θr,
+    // shift α of θh, width beta_ratio·β).
+    const bool gaussian = tb.attributes.value("function", std::string()) == "gaussian";
+    const double alpha = gaussian ? tb.attributes.value("alpha_theta_h", 0.0) : tb.attributes.value("alpha", 0.0);
+    const double ratio = tb.attributes.value("beta_ratio", 1.0);
+    const GaussianArgument argument =
+        tb.attributes.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
     json tj = {{"path", tb.path()}, {"alpha", alpha}, {"curves", json::array()}};
     for (double beta : representative(tb.axes[0])) {
       std::vector<double> sampled, exact;
@@ -425,12 +539,13 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
         ao.rel_tol = 1e-7;
         ao.max_intervals = 400;
         std::vector<double> bp = {-kHalfPi, kHalfPi};
-        const double centre = fold_inclination(-ti + alpha);
+        const double centre = gaussian ? 2.0 * alpha - ti : fold_inclination(-ti + alpha);
         if (std::abs(centre) < kHalfPi) bp.insert(bp.begin() + 1, centre);
         const AdaptiveResult r = integrate_adaptive(
-            [&](double tr, std::span<double> o) { o[0] = tb.sample({beta, ti, tr}) * std::cos(tr); }, 1, bp, ao);
+            [&](double tr, std::span<double> o) { o[0] = tb.sample({beta, ti, tr}) * std::cos(tr) * (gaussian ? std::cos(tr) : 1.0); }, 1, bp, ao);
         sampled.push_back(r.value[0]);
-        exact.push_back(longitudinal_energy_deon(beta * beta, alpha, ti).value[0]);
+        exact.push_back(gaussian ? longitudinal_energy_gaussian(ratio * beta, alpha, ti, argument).value[0]
+                                 : longitudinal_energy_deon(beta * beta, alpha, ti).value[0]);
         if (std::abs(sampled.back() - exact.back()) > worst_table)
           worst_table = std::abs(sampled.back() - exact.back()), worst_where = tb.path() + " at theta_i = " + fmt(td) + " deg, beta = " + fmt(degrees(beta)) + " deg";
       }
@@ -441,7 +556,7 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
   out["tables"] = tables;
   if (!tables.empty()) {
     const double tt = opt.thresholds.mp_table_energy;
-    checks.push_back(check("mp_table_energy", "M_p tables: |int M_table cos(theta_r) - int M cos(theta_r)| (with the lobe's tilt)",
+    checks.push_back(check("mp_table_energy", "M_p tables: |int M_table - int M| over theta_r with the model's measure (with the lobe's tilt)",
                            worst_table <= tt, worst_table, tt, "<=", "worst: " + worst_where));
   }
   return out;
@@ -465,12 +580,65 @@ struct Truth {
   std::function<std::function<double(const std::vector<double>&)>(const std::vector<double>&)> make;
 };
 
+// Marschner 2003 tables: N_p and energies over (σa or channel, θd, [φh,] φ) evaluated directly
+// (no quadrature in N_p; the energies by adaptive quadrature), M_p the closed-form Gaussian.
+std::optional<Truth> marschner_truth_for(const Table& t, const MarschnerConfig& m, const std::vector<std::string>& dims) {
+  const int p = t.attributes.value("p", -1);
+  if (dims.size() < 2 || p < 0 || p > 2) return std::nullopt;
+  if (t.quantity == "M_p" && t.attributes.value("function", std::string()) == "gaussian") {
+    const double alpha = t.attributes.value("alpha_theta_h", 0.0);
+    const GaussianArgument arg = t.attributes.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
+    if (dims == std::vector<std::string>{"beta", "theta_i", "theta_r"}) {
+      const double ratio = t.attributes.value("beta_ratio", 1.0);
+      return Truth{{}, [=](const std::vector<double>&) {
+                     return std::function<double(const std::vector<double>&)>(
+                         [=](const std::vector<double>& y) { return longitudinal_gaussian(ratio * y[0], alpha, y[1], y[2], arg); });
+                   }};
+    }
+    if (dims == std::vector<std::string>{"theta_i", "theta_r"}) {
+      const double beta = t.attributes.value("beta", 0.1);
+      return Truth{{}, [=](const std::vector<double>&) {
+                     return std::function<double(const std::vector<double>&)>(
+                         [=](const std::vector<double>& y) { return longitudinal_gaussian(beta, alpha, y[0], y[1], arg); });
+                   }};
+    }
+    return std::nullopt;
+  }
+  if (dims[0] != "sigma_a" && dims[0] != "channel") return std::nullopt;
+  if (dims[1] != "theta_d") return std::nullopt;
+  const bool with_h = dims.size() > 2 && dims[2] == "phi_h";
+  std::vector<double> channel_sigmas;
+  if (dims[0] == "channel") {
+    if (!t.attributes.contains("sigma_a")) return std::nullopt;
+    channel_sigmas = t.attributes["sigma_a"].get<std::vector<double>>();
+  }
+  auto sigma_of = [channel_sigmas](double x) {
+    return channel_sigmas.empty() ? x : channel_sigmas[static_cast<std::size_t>(std::clamp<long>(std::lround(x), 0, static_cast<long>(channel_sigmas.size()) - 1))];
+  };
+  const std::vector<int> slab = with_h ? std::vector<int>{1, 2} : std::vector<int>{1};
+  const MarschnerParams params = m.params;
+  const bool np = t.quantity == "N_p" && dims.back() == "phi" && dims.size() == (with_h ? 4u : 3u);
+  const bool energy = t.quantity == "energy" && dims.size() == (with_h ? 3u : 2u);
+  if (!np && !energy) return std::nullopt;
+  return Truth{slab, [=](const std::vector<double>& x) {
+                 auto az = std::make_shared<MarschnerAzimuthal>(params, x[1], with_h ? x[2] : 0.0);
+                 return std::function<double(const std::vector<double>&)>([=](const std::vector<double>& y) {
+                   const double sig = sigma_of(y[0]);
+                   if (np) return az->np(p, sig, y.back());
+                   double e = 0.0;
+                   az->energy(p, std::span<const double>(&sig, 1), std::span<double>(&e, 1));
+                   return e;
+                 });
+               }};
+}
+
 std::optional<Truth> truth_for(const Table& t, const ModelInfo& info, std::shared_ptr<const GaussLegendreRule> rule) {
   const auto dims = [&]() {
     std::vector<std::string> d;
     for (const GridAxis& a : t.axes) d.push_back(a.name);
     return d;
   }();
+  if (info.marschner && t.attributes.value("model", std::string()) == "marschner2003") return marschner_truth_for(t, *info.marschner, dims);
   const int p = t.attributes.value("p", -1);
   const bool is_residual = t.attributes.value("lobe", std::string()) == "residual";
   // Exact N_p: Gauss–Legendre of order 1024 in γ (converged to ~1e−14 for β ≥ 1°, see the
@@ -727,7 +895,14 @@ json absorption_section(const TableSet& set, const ModelInfo& info, const Valida
         emax = std::max(emax, grid[i][j]);
       }
     energies.push_back({{"lobe", l}, {"sigma_a", sig}, {"theta_d", th}, {"energy", grid}});
-    if (n && n->axes.size() == 4) {
+    if (n && n->axes.size() == 3 && n->axes[2].name == "phi" && n->group == "np") {  // Marschner (σa, θd, φ)
+      for (std::size_t i = 0; i < sig.size(); i += std::max<std::size_t>(1, sig.size() / 4))
+        for (std::size_t j = 0; j < th.size(); j += std::max<std::size_t>(1, th.size() / 6)) {
+          const double d = std::abs(marschner_table_energy(*n, sig[i], th[j], 0.0) - grid[i][j]) / std::max(emax, 1e-12);
+          if (d > worst) worst = d, where = "np/" + l + " at sigma_a = " + fmt(sig[i]) + ", theta_d = " + fmt(degrees(th[j])) + " deg";
+        }
+    }
+    if (n && n->axes.size() == 4 && n->axes[0].name == "beta") {
       for (double beta : representative(n->axes[0]))
         for (std::size_t i = 0; i < sig.size(); i += std::max<std::size_t>(1, sig.size() / 4))
           for (std::size_t j = 0; j < th.size(); j += std::max<std::size_t>(1, th.size() / 6)) {
@@ -759,6 +934,28 @@ json absorption_section(const TableSet& set, const ModelInfo& info, const Valida
   return out;
 }
 
+// The model comparison for the fiber of a Marschner table set: its η, path and settings, the
+// σa node nearest 0.5 (a light brown) and the middle β_R of its M_p tables.
+json compare_for(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt) {
+  CompareSettings s;
+  s.eta = info.eta;
+  s.path = info.path;
+  s.marschner = *info.marschner;
+  s.cancel = opt.cancel;
+  if (const Table* n = set.find("np/R"); n && n->axes[0].name == "sigma_a") {
+    double best = INFINITY;
+    for (double v : n->axes[0].nodes())
+      if (std::abs(v - 0.5) < std::abs(best - 0.5)) best = v;
+    s.sigma_a = best;
+  }
+  if (const Table* mt = set.find("mp/R"); mt && mt->axes.size() == 3) {
+    const auto b = mt->axes[0].nodes();
+    s.beta_r = b[b.size() / 2];
+  }
+  s.fiber = "from the tables' metadata";
+  return compare_models(s);
+}
+
 }  // namespace
 
 nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& source, const ValidationOptions& opt) {
@@ -772,10 +969,17 @@ nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& s
   report["thresholds"] = opt.thresholds.to_json();
   if (opt.progress) opt.progress("sanity", 0, 6);
   report["sanity"] = sanity_section(set, info, checks);
-  if (opt.progress) opt.progress("white furnace", 1, 6);
-  report["furnace"] = furnace_section(set, info, opt, checks);
-  if (opt.progress) opt.progress("truncation", 2, 6);
-  report["truncation"] = truncation_section(info, checks);
+  if (info.marschner) {
+    if (opt.progress) opt.progress("energy", 1, 6);
+    report["marschner_energy"] = marschner_energy_section(set, info, opt, checks);
+    if (opt.progress) opt.progress("compare", 2, 6);
+    report["compare"] = compare_for(set, info, opt);
+  } else {
+    if (opt.progress) opt.progress("white furnace", 1, 6);
+    report["furnace"] = furnace_section(set, info, opt, checks);
+    if (opt.progress) opt.progress("truncation", 2, 6);
+    report["truncation"] = truncation_section(info, checks);
+  }
   check_cancel(opt);
   if (opt.progress) opt.progress("longitudinal", 3, 6);
   report["longitudinal"] = longitudinal_section(set, info, opt, checks);

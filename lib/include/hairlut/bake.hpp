@@ -65,8 +65,13 @@ using NpGridOutput = std::function<void(int p, std::size_t k, std::size_t t, std
 /// Returns how many adaptive entries missed their tolerance (0 for the other methods).
 std::size_t bake_np_grid(const NpGridRequest& request, const BakeOptions& options, const std::string& stage, const NpGridOutput& out);
 
-/// Bakes every table of the config. Throws BakeCancelled or DomainError.
+/// Bakes every table of the config (either model). Throws BakeCancelled or DomainError.
 TableSet bake(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr);
+
+/// The tables of a model "marschner2003" config (bake() calls it for such configs): N_R, N_TT,
+/// N_TRT over (sigma_a, theta_d, [phi_h,] phi) with their energies, Gaussian M_p over
+/// (beta_R, theta_i, theta_r), per-material RGB tables, melanin tables.
+TableSet bake_marschner(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr);
 
 /// The generic N_p axes a scene in restrict-generic mode ends up with: sigma_a and beta ranges
 /// narrowed to [min, max] of what its materials use (counts kept; one node if min = max).

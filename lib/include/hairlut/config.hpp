@@ -16,6 +16,8 @@
 #include "hairlut/error.hpp"
 #include "hairlut/grid.hpp"
 #include "hairlut/hash.hpp"
+#include "hairlut/longitudinal_mp.hpp"
+#include "hairlut/marschner.hpp"
 
 namespace hairlut {
 
@@ -57,6 +59,15 @@ struct SceneConfig {
   std::vector<MaterialConfig> materials;
 };
 
+/// Settings of model "marschner2003" (Marschner et al. 2003 §5, Table 1).
+struct MarschnerConfig {
+  MarschnerParams params;                              ///< η and the absorption path mirror BakeConfig's
+  double alpha_r = radians(-5.0);                      ///< R lobe's shift of θh (Table 1: −10° to −5°)
+  GaussianArgument argument = GaussianArgument::theta_h;
+  /// Table 1's lobes for a given β_R.
+  MarschnerLobes lobes(double beta_r) const { return MarschnerLobes::table1(alpha_r, beta_r); }
+};
+
 struct OutputConfig {
   std::filesystem::path directory;  ///< absolute, or relative to the process's working directory
   std::string basename;
@@ -71,6 +82,7 @@ struct OutputConfig {
 struct BakeConfig {
   std::string name, description;
   std::string model = "deon2011";
+  std::optional<MarschnerConfig> marschner;  ///< set exactly when model == "marschner2003"
   double eta = 1.55;
   AbsorptionPath path = AbsorptionPath::chord;
   int lobe_count = 4;                ///< explicit lobes p = 0 … lobe_count − 1
@@ -80,9 +92,11 @@ struct BakeConfig {
   double residual_tilt = 0.0;
   NpQuadratureConfig quadrature;
   /// Table axes, in storage order (row-major, last fastest).
-  std::optional<std::vector<GridAxis>> np_axes;       ///< beta, sigma_a, theta_d, phi
+  /// beta, sigma_a, theta_d, phi (deon2011); sigma_a, theta_d, phi and, for an eccentric fiber,
+  /// phi_h (marschner2003: TRT over sigma_a, theta_d, phi_h, phi)
+  std::optional<std::vector<GridAxis>> np_axes;
   std::optional<double> np_target_error;              ///< choose the N_p counts for this off-node error
-  std::optional<std::vector<GridAxis>> mp_axes;       ///< beta, theta_i, theta_r
+  std::optional<std::vector<GridAxis>> mp_axes;       ///< beta (β_R for marschner2003), theta_i, theta_r
   std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
   double melanin_path_length = 2.0;
   std::optional<SceneConfig> scene;
@@ -98,6 +112,13 @@ struct BakeConfig {
 /// `base_dir` resolves a relative output.directory. Throws ConfigError.
 BakeConfig parse_config(const nlohmann::json& document, const std::string& source,
                         const std::filesystem::path& base_dir);
+
+/// The marschner2003 settings as recorded in the normalized config and the table metadata
+/// (angles in radians).
+nlohmann::json marschner_json(const MarschnerConfig& m);
+/// The inverse of marschner_json (for tables read back), with the fiber's η and path; throws
+/// DomainError naming the malformed or out-of-domain field.
+MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path);
 
 /// Reads, parses and validates a config file (JSON syntax errors report line and column).
 BakeConfig load_config(const std::filesystem::path& file);

@@ -13,8 +13,10 @@
 //       centers puts node i at the centre of cell i, u_i = (i + ½)/count (texture convention);
 //       node x_i = t⁻¹(t(lo) + u_i (t(hi) − t(lo))).
 //   - `wrap`: clamp (x is clamped to the outermost nodes), periodic (period hi − lo; uniform
-//       spacing; edges places count nodes at lo + i (hi − lo)/count), or even (x is an azimuth of
-//       an even function: it is wrapped to [−π, π], folded to |x|, then clamped).
+//       spacing; edges places count nodes at lo + i (hi − lo)/count), even (x is an azimuth of
+//       an even function: it is wrapped to [−π, π], folded to |x|, then clamped), or reflect (x is
+//       folded into [lo, hi] by reflection: the function is even about lo and periodic with
+//       period 2 (hi − lo), e.g. the azimuthal half angle φh over [0, π/2] of a function of cos 2φh).
 //   - Data are stored row-major: the last axis varies fastest.
 #pragma once
 
@@ -27,7 +29,7 @@ namespace sampler {
 
 enum class Spacing : int { uniform = 0, cos = 1, sin = 2, log = 3, sqrt = 4, explicit_values = 5 };
 enum class Placement : int { edges = 0, centers = 1 };
-enum class Wrap : int { clamp = 0, periodic = 1, even = 2 };
+enum class Wrap : int { clamp = 0, periodic = 1, even = 2, reflect = 3 };
 
 struct Axis {
   Spacing spacing = Spacing::uniform;
@@ -109,6 +111,7 @@ inline Lerp locate(const Axis& a, double x) {
     return r;
   }
   if (a.wrap == Wrap::even) x = std::fabs(std::remainder(x, 2.0 * pi));
+  if (a.wrap == Wrap::reflect && a.hi > a.lo) x = a.lo + std::fabs(std::remainder(x - a.lo, 2.0 * (a.hi - a.lo)));
   x = std::max(a.lo, std::min(a.hi, x));
   double s;
   if (a.spacing == Spacing::explicit_values) {

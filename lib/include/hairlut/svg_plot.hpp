@@ -50,6 +50,18 @@ std::string swatch_grid(const std::string& title, const std::vector<Swatch>& swa
                         const std::vector<std::string>& row_labels, const std::vector<std::string>& column_labels,
                         const std::string& row_title, const std::string& column_title);
 
+struct PolarPlot {
+  std::string title;
+  std::vector<Series> series;  ///< x: azimuth φ (radians), y: radius ≥ 0; non-finite values break the curve
+  double r_max = NAN;          ///< radii beyond are drawn on the rim (clipped); NaN: the largest finite radius
+  bool mirror = true;          ///< also draw each curve at −φ (an even function given on [0, π])
+  std::string note;            ///< a line under the title (e.g. what was clipped)
+  int size = 360;              ///< width and height of the circle's square
+};
+
+/// Polar plot with φ = 0 to the right and φ growing counterclockwise, rings and spokes every 30°.
+std::string polar_plot(const PolarPlot& plot);
+
 /// Escapes &, <, >, " for HTML and SVG text.
 std::string escape(const std::string& text);
 
