@@ -99,6 +99,27 @@ TEST_CASE("Periodic and even azimuth axes wrap", "[sampler]") {
   }
 }
 
+TEST_CASE("Reflect axes fold by reflection about lo with period 2 (hi - lo)", "[sampler]") {
+  // A function of cos 2x over [0, π/2]: even about 0 with period π, like η*(φh).
+  const GridAxis a = axis(Spacing::uniform, Placement::edges, Wrap::reflect, 0.0, kHalfPi, 7);
+  const sampler::Axis v = a.view();
+  std::vector<double> d;
+  for (double x : a.nodes()) d.push_back(std::cos(2.0 * x));
+  for (double x : {0.1, 0.5, 1.2}) {
+    const double ref = sampler::sample(d.data(), &v, 1, &x);
+    for (double y : {-x, kPi - x, x + kPi, -x - 3.0 * kPi, x + 10.0 * kPi})
+      CHECK(sampler::sample(d.data(), &v, 1, &y) == Approx(ref).epsilon(1e-12));
+  }
+  // At the nodes and their images: the stored values.
+  const auto nodes = a.nodes();
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const double image = kPi - nodes[i];
+    CHECK(sampler::sample(d.data(), &v, 1, &image) == Approx(d[i]).epsilon(1e-12));
+  }
+  CHECK(parse_wrap("reflect", "wrap") == Wrap::reflect);
+  CHECK(to_string(Wrap::reflect) == "reflect");
+}
+
 TEST_CASE("Multilinear sampling in several dimensions", "[sampler]") {
   const GridAxis a = axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 1.0, 3);
   const GridAxis b = axis(Spacing::log, Placement::centers, Wrap::clamp, 1.0, 100.0, 4);

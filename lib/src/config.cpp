@@ -218,7 +218,8 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   c.path = parse_absorption_path(fiber.value("absorption_path", std::string("chord")), "fiber.absorption_path");
 
   const json lobes = doc.value("lobes", json::object());
-  const auto names = lobes.value("explicit", std::vector<std::string>{"R", "TT", "TRT", "TRRT"});
+  const auto names = lobes.value("explicit", c.model == "marschner2003" ? std::vector<std::string>{"R", "TT", "TRT"}
+                                                                       : std::vector<std::string>{"R", "TT", "TRT", "TRRT"});
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string path = "lobes.explicit[" + std::to_string(i) + "]";
     int p = -1;
