@@ -23,6 +23,8 @@ Examples:
   hairlut-eval energy --eta 1.55 --sigma-a 0 --theta-d-deg 80 --lobes 4 --residual
   hairlut-eval furnace --beta-deg 10 --lobes 3 --residual --theta-i-deg 0,45,80,89
   hairlut-eval furnace --beta-deg 5,2.5,10 --alpha-deg -4,2,6 --lobes 3 --residual --json
+  hairlut-eval marschner --lobe TRT --sigma-a 0.2 --theta-d-deg 10 --phi-deg 15 --roots cubic
+  hairlut-eval marschner --lobe TRT --eccentricity 0.9 --phi-h-deg 30 --phi-deg 25 --k-g 1 --w-c-deg 10
 )";
 
 // Expands a per-lobe list given once for all lobes or once per lobe (plus one for the residual).
@@ -55,7 +57,7 @@ void print(const ordered_json& j, bool as_json) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"hairlut-eval: evaluate d'Eon 2011 hair scattering functions at given parameters"};
+  CLI::App app{"hairlut-eval: evaluate d'Eon 2011 (and Marschner 2003) hair scattering functions at given parameters"};
   app.footer(kExamples);
   app.require_subcommand(1);
   bool as_json = false;
@@ -120,6 +122,20 @@ int main(int argc, char** argv) {
   furnace->add_option("--lobes", lobes, "number of explicit lobes P")->capture_default_str();
   furnace->add_flag("--residual", residual, "include the residual of all lobes p >= P");
   furnace->add_option("--theta-i-deg", thetas, "incident inclinations in degrees")->delimiter(',');
+
+  // marschner
+  auto* marschner = app.add_subcommand("marschner", "Marschner 2003's N_p(phi) of one lobe (R, TT or TRT), with its paths and caustic");
+  add_fiber(marschner);
+  std::string roots = "exact";
+  double k_g = 0.5, w_c = 15.0, eccentricity = 1.0, phi_h = 0.0;
+  marschner->add_option("--lobe", lobe, "R, TT or TRT")->capture_default_str();
+  marschner->add_option("--theta-d-deg", theta_d, "longitudinal difference angle in degrees")->capture_default_str();
+  marschner->add_option("--phi-deg", phi, "relative azimuth in degrees")->capture_default_str();
+  marschner->add_option("--roots", roots, "exact or cubic (Marschner's eq. 10)")->capture_default_str();
+  marschner->add_option("--k-g", k_g, "glint scale factor k_G")->capture_default_str();
+  marschner->add_option("--w-c-deg", w_c, "caustic width w_c in degrees")->capture_default_str();
+  marschner->add_option("--eccentricity", eccentricity, "eccentricity a of the cross-section")->capture_default_str();
+  marschner->add_option("--phi-h-deg", phi_h, "azimuthal half angle in degrees (eccentric TRT)")->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
 
@@ -197,6 +213,35 @@ int main(int argc, char** argv) {
         rows.push_back(row);
       }
       out["E_theta_i"] = rows;
+    } else if (marschner->parsed()) {
+      const int p = hairlut::parse_lobe(lobe, "--lobe");
+      hairlut::MarschnerParams mp_params;
+      mp_params.eta = eta;
+      mp_params.path = hairlut::parse_absorption_path(path, "--absorption-path");
+      mp_params.roots = hairlut::parse_marschner_roots(roots, "--roots");
+      mp_params.caustic.k_G = k_g;
+      mp_params.caustic.w_c = radians(w_c);
+      mp_params.eccentricity = eccentricity;
+      const hairlut::MarschnerAzimuthal az(mp_params, radians(theta_d), radians(phi_h));
+      out["lobe"] = hairlut::lobe_name(p);
+      out["roots"] = roots;
+      out["N"] = az.np(p, sigma_a, radians(phi));
+      out["N_without_caustic_replacement"] = az.np_smooth(p, sigma_a, radians(phi));
+      ordered_json paths = ordered_json::array();
+      for (const auto& path_r : hairlut::marschner_paths(az.geometry(p), p, radians(phi), mp_params.roots))
+        paths.push_back({{"gamma_i_deg", hairlut::degrees(path_r.gamma_i)}, {"h", std::sin(path_r.gamma_i)}, {"density", path_r.density}});
+      out["paths"] = paths;
+      out["eta_prime"] = 1.0 / az.geometry(p).inv_eta_prime;
+      if (p == 2) {
+        const auto& k = az.caustic();
+        out["caustic_t"] = k.t;
+        out["caustic_phi_c_deg"] = hairlut::degrees(k.phi_c);
+        out["caustic_delta_h"] = k.delta_h;
+        out["eta_star"] = az.geometry(2).eta;
+      }
+      double e = 0.0;
+      az.energy(p, std::span<const double>(&sigma_a, 1), std::span<double>(&e, 1));
+      out["lobe_energy"] = e;
     }
     print(out, as_json);
   } catch (const hairlut::DomainError& e) {
