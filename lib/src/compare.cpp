@@ -381,7 +381,9 @@ std::string render_compare_html_sections(const json& c) {
     const json& en = c["energy"];
     o << "<h3>Total energy per &theta;<sub>i</sub></h3><p>" << escape(en["measure"].get<std::string>())
       << ". d'Eon's model conserves energy when every lobe is included (the residual); Marschner's does not (its &theta;<sub>h</sub> Gaussian "
-         "doubles the energy at low roughness; the caustic replacement adds or removes some); Kajiya&ndash;Kay is normalized to E(0) = 1 (k<sub>s</sub> = "
+         "doubles the energy at low roughness; the caustic replacement adds or removes some); d'Eon's tilted lobes are only approximately normalized "
+         "near grazing incidence (about cos(&theta;<sub>i</sub> &minus; &alpha;)/cos &theta;<sub>i</sub>, docs/conventions.md), which shows at "
+         "|&theta;<sub>i</sub>| &gt; 75&deg;; Kajiya&ndash;Kay is normalized to E(0) = 1 (k<sub>s</sub> = "
       << fmt(en["kajiya_kay_params"]["ks"].get<double>()) << ", n = " << fmt(en["kajiya_kay_params"]["exponent"].get<double>()) << ").</p><div class=\"plots\">\n";
     svg::LinePlot p;
     p.title = "E(theta_i), sigma_a = " + fmt(f["sigma_a"].get<double>());
