@@ -87,7 +87,7 @@ json polar_section(const CompareSettings& s) {
   std::vector<double> phis(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j) phis[static_cast<std::size_t>(j)] = kPi * j / (n - 1);
   const MarschnerLobes lobes = s.marschner.lobes(s.beta_r);
-  const GaussLegendreRule rule(2048);  // resolves detectors down to β ≈ 0.25° (bench-hair-luts)
+  const GaussLegendreRule rule(2048);
   const GaussLegendreRule energy_rule(256);
   for (std::size_t it = 0; it < s.theta_d.size(); ++it) {
     check_cancel(s);
@@ -105,7 +105,9 @@ json polar_section(const CompareSettings& s) {
       std::vector<double> smooth, rough, ex, cu;
       for (std::size_t j = 0; j < phis.size(); ++j) {
         smooth.push_back(azimuthal_np_smooth(slice, p, phis[j]));
-        rough.push_back(slab(lobes.beta[p], phis[j]));
+        // Order 2048 resolves detectors down to 0.25°; narrower ones take the adaptive reference.
+        rough.push_back(lobes.beta[p] >= radians(0.25) ? slab(lobes.beta[p], phis[j])
+                                                       : azimuthal_np_reference(slice, p, lobes.beta[p], phis[j], 1e-10).value[0]);
         ex.push_back(exact.np(p, s.sigma_a, phis[j]));
         cu.push_back(cubic.np(p, s.sigma_a, phis[j]));
         tot_smooth[j] += smooth.back(), tot_rough[j] += rough.back(), tot_exact[j] += ex.back(), tot_cubic[j] += cu.back();
