@@ -214,3 +214,13 @@ TEST_CASE("The validator checks Marschner tables against Marschner's model", "[m
   const auto rb = validate_tables(bad, "unit", opt);
   CHECK(rb["summary"]["status"] == "fail");
 }
+
+TEST_CASE("Model short names are recorded as the full ones", "[marschner][config]") {
+  json j = marschner_config();
+  const BakeConfig full = parse_config(j, "m.json", ".");
+  j["model"] = "marschner";
+  const BakeConfig shorter = parse_config(j, "m.json", ".");
+  CHECK(shorter.model == "marschner2003");
+  CHECK(shorter.hash == full.hash);
+  CHECK(shorter.marschner.has_value());
+}

@@ -212,6 +212,8 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   c.name = doc.at("name").get<std::string>();
   c.description = doc.value("description", std::string());
   c.model = doc.value("model", std::string("deon2011"));
+  if (c.model == "deon") c.model = "deon2011";  // short names (schema enum) → the recorded ones
+  if (c.model == "marschner") c.model = "marschner2003";
 
   const json fiber = doc.value("fiber", json::object());
   c.eta = get_number(fiber, "eta", 1.55);
