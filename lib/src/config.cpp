@@ -216,7 +216,7 @@ EngineConfig parse_engine(const json& j, const std::vector<std::string>& lobe_na
     try {
       engine_preset_textures(e);
     } catch (const DomainError& err) {
-      // "tables.engine.textures: ..." names its key; the unknown-preset message is about tables.engine.preset.
+      // "tables.engine.textures ..." names its key; the unknown-preset message names tables.engine.preset.
       const std::string m = err.what();
       throw DomainError(m.rfind("tables.engine", 0) == 0 ? m : "tables.engine.preset " + m);
     }

@@ -133,7 +133,12 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
   // ---- Curves over θd: e[l][k][j]; half[p][width][k] holds b and f at [2j], [2j + 1].
   const int J = rq.theta_d_intervals;
   const std::size_t nodes = static_cast<std::size_t>(J) + 1;
-  const double h = kHalfPi / J;
+  // Nodes θd_j = (π/2) sin((π/2) j/J): uniform in u = (2/π) asin(2θd/π), dense near θd = π/2, where
+  // the halves of grazing paths change fastest; the curves stay even in u about 0.
+  auto theta_d_of = [J](std::size_t j) { return std::min(kHalfPi, kHalfPi * std::sin(kHalfPi * static_cast<double>(j) / J)); };
+  auto grid_coordinate = [J](double theta_d) {
+    return static_cast<double>(J) * std::asin(std::clamp(theta_d / kHalfPi, 0.0, 1.0)) / kHalfPi;
+  };
   std::vector<std::vector<std::vector<double>>> energy(L, std::vector<std::vector<double>>(K, std::vector<double>(nodes)));
   std::vector<std::vector<std::vector<std::vector<double>>>> half(static_cast<std::size_t>(P));
   for (int p = 0; p < P; ++p)
@@ -142,7 +147,7 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
   const GaussLegendreRule energy_rule(rq.options.energy_order);
   std::atomic<std::size_t> unconverged{0};
   for_each_item(nodes, opt, stage + " (azimuthal halves)", K, [&](std::size_t j) {
-    const double theta_d = std::min(kHalfPi, static_cast<double>(j) * h);
+    const double theta_d = theta_d_of(j);
     const FiberGeometry g = FiberGeometry::make(rq.eta, theta_d);
     for (std::size_t k = 0; k < K; ++k) {
       const auto e = lobe_energies(AttenuationSlice(rq.eta, theta_d, rq.sigmas[k], rq.path), LobeSet{P, rq.residual}, energy_rule);
@@ -194,7 +199,7 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
       const double c = std::cos(theta_r);
       for (std::size_t l = 0; l < L; ++l)
         M[l] = longitudinal_deon_tilted(lobes[l].beta_m * lobes[l].beta_m, lobes[l].alpha, theta_i, theta_r) * c;
-      const double s = std::min(0.5 * std::abs(theta_r - theta_i), kHalfPi) / h;
+      const double s = grid_coordinate(0.5 * std::abs(theta_r - theta_i));
       const Stencil st = stencil_at(s, J);
       // The odd stencil nodes of the interleaved (b, f) curves: node n → [2n] and [2n + 1].
       Stencil sb = st, sf = st;

@@ -323,7 +323,7 @@ std::vector<EngineTexture> engine_preset_textures(const EngineConfig& c) {
     if (std::find(names.begin(), names.end(), t) == names.end()) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-      throw DomainError("tables.engine.textures: \"" + t + "\" is not a texture of " + c.preset + " (its textures: " + list + ")");
+      throw DomainError("tables.engine.textures \"" + t + "\" is not a texture of " + c.preset + " (its textures: " + list + ")");
     }
   auto wanted = [&](const std::string& n) { return c.textures.empty() || std::find(c.textures.begin(), c.textures.end(), n) != c.textures.end(); };
   std::vector<EngineTexture> out;

@@ -1,7 +1,9 @@
 // Dual-scattering results (dual_scattering.hpp) on a grid of absorptions, roughnesses and incident
 // inclinations, as the baker needs them: the azimuthal halves b_p, f_p and the lobe energies e_p are
-// computed once per (θd, σa, lobe width) on a uniform θd grid and shared by every θi and longitudinal
-// width; each θr integral then interpolates them (cubic Lagrange in θd, even about θd = 0).
+// computed once per (θd, σa, lobe width) on a θd grid and shared by every θi and longitudinal width;
+// each θr integral then interpolates them. The grid is θd_j = (π/2) sin((π/2) j/J), j = 0 … J: uniform in
+// u = (2/π) asin(2θd/π), denser towards grazing θd = π/2 where the halves change fastest; interpolation
+// is cubic Lagrange in u (even about u = 0).
 //
 // Exact and approximate: b_p and f_p come from the Fourier coefficients of N_p (half_range_fourier)
 // for widths that need at most `fourier_max_terms` terms, and from half_range_direct for narrower
@@ -31,7 +33,7 @@ struct DualScatteringGridRequest {
   std::vector<std::vector<LobeParams>> roughness;
   std::vector<double> thetas;    ///< θi of each incidence node, in [−π/2, π/2]
   DualScatteringOptions options;
-  int theta_d_intervals = 256;   ///< intervals of the uniform θd grid over [0, π/2]
+  int theta_d_intervals = 256;   ///< J, intervals of the θd grid over [0, π/2]
   double fourier_tolerance = 1e-11;
   int fourier_max_terms = 320;   ///< widths needing more Fourier terms use half_range_direct
   std::shared_ptr<GaussLegendreCache> rules;  ///< optional, shared Gauss–Legendre rules
