@@ -284,3 +284,22 @@ TEST_CASE("Roughness and absorption mappings of the presets", "[dual_scattering]
   CHECK(back.lobes_at(0.3)[2].alpha == un_specs[0].roughness.lobes_at(0.3)[2].alpha);
   CHECK_THROWS_AS(m.lobes_at(1.5), DomainError);
 }
+
+TEST_CASE("Narrow longitudinal lobes: the theta_r integrals find peaks far narrower than a Gauss-Kronrod panel", "[dual_scattering][domain]") {
+  // Without breakpoints around the peak every Kronrod node of a panel next to a lobe of width
+  // β ≲ 1e−3 misses it and the integral comes out 0 or 1/2 with a converged estimate.
+  for (double beta : {3e-4, 6e-5, 1e-6})
+    for (double theta_i : {0.0078, -0.9, 1.5}) {
+      INFO("beta " << beta << " theta_i " << theta_i);
+      CHECK(longitudinal_energy_deon(beta * beta, 0.0, theta_i).value[0] == Approx(1.0).margin(1e-9));
+      // A narrow tilted lobe puts its unit mass in θ* = θr − α at θ* = −θi: its energy is cos(α − θi)/cos θi.
+      // (At θi = 1.5 the peak sits 8e−4 from the pole, where cos θr varies on the lobe's own scale.)
+      const double limit = std::cos(-0.07 - theta_i) / std::cos(theta_i);
+      CHECK(longitudinal_energy_deon(beta * beta, -0.07, theta_i).value[0] == Approx(limit).epsilon(theta_i > 1.4 ? 1e-3 : 1e-6));
+      const HairModel m = HairModel::uniform(1.55, 0.0, beta, 3, true);
+      CHECK(directional_albedo(m, theta_i).total == Approx(1.0).margin(1e-8));
+      const DualScatteringPoint p = dual_scattering(m, theta_i);
+      CHECK(p.energy_total == Approx(1.0).margin(1e-8));
+      CHECK(p.a_f + p.a_b == Approx(1.0).margin(1e-8));
+    }
+}

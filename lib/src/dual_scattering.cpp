@@ -6,6 +6,7 @@
 #include "hairlut/angles.hpp"
 #include "hairlut/azimuthal_fourier.hpp"
 #include "hairlut/azimuthal_np.hpp"
+#include "hairlut/directional_albedo.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/fresnel.hpp"
 #include "hairlut/lobe_energy.hpp"
@@ -71,13 +72,6 @@ std::vector<double> half_range_breakpoints(const FiberGeometry& g, int p, double
   std::sort(bp.begin(), bp.end());
   bp.erase(std::unique(bp.begin(), bp.end()), bp.end());
   return bp;
-}
-
-// Breakpoints in θr for a lobe of tilt α at incidence θi: its specular cone and the two θr where
-// θr − α crosses a pole (the fold of the tilted lobe makes a kink there).
-void add_cone_breakpoints(std::vector<double>& bp, double theta_i, double alpha) {
-  for (double t : {-theta_i + alpha, alpha - kHalfPi, alpha + kHalfPi})
-    if (t > -kHalfPi && t < kHalfPi) bp.push_back(t);
 }
 
 }  // namespace
@@ -214,8 +208,11 @@ DualScatteringPoint dual_scattering(const HairModel& model, double theta_i, cons
   if (model.residual) params.push_back(*model.residual);
   const std::size_t L = params.size();
 
-  std::vector<double> bp = {-kHalfPi, kHalfPi};
-  for (const LobeParams& l : params) add_cone_breakpoints(bp, theta_i, l.alpha);
+  std::vector<double> bp;
+  for (const LobeParams& l : params) add_longitudinal_breakpoints(bp, l.beta_m, l.alpha, theta_i);
+  std::erase_if(bp, [](double t) { return !(t > -kHalfPi && t < kHalfPi); });
+  bp.push_back(-kHalfPi);
+  bp.push_back(kHalfPi);
   std::sort(bp.begin(), bp.end());
   bp.erase(std::unique(bp.begin(), bp.end()), bp.end());
 

@@ -11,6 +11,7 @@
 
 #include "hairlut/angles.hpp"
 #include "hairlut/azimuthal_fourier.hpp"
+#include "hairlut/directional_albedo.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/lobe_energy.hpp"
 #include "hairlut/longitudinal_mp.hpp"
@@ -185,10 +186,11 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
     const std::size_t r = item / T, t = item % T;
     const double theta_i = thetas[t];
     const std::vector<LobeParams>& lobes = rq.roughness[r];
-    std::vector<double> bp = {-kHalfPi, kHalfPi};
-    for (const LobeParams& l : lobes)
-      for (double x : {-theta_i + l.alpha, l.alpha - kHalfPi, l.alpha + kHalfPi})
-        if (x > -kHalfPi && x < kHalfPi) bp.push_back(x);
+    std::vector<double> bp;
+    for (const LobeParams& l : lobes) add_longitudinal_breakpoints(bp, l.beta_m, l.alpha, theta_i);
+    std::erase_if(bp, [](double x) { return !(x > -kHalfPi && x < kHalfPi); });
+    bp.push_back(-kHalfPi);
+    bp.push_back(kHalfPi);
     std::sort(bp.begin(), bp.end());
     bp.erase(std::unique(bp.begin(), bp.end()), bp.end());
     std::vector<const std::vector<std::vector<double>>*> lobe_half(static_cast<std::size_t>(P));
