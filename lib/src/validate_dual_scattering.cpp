@@ -73,7 +73,9 @@ json dual_scattering_section(const TableSet& set, const ValidationOptions& opt, 
   Worst consistency, furnace, accuracy;
   bool any_consistency = false, any_furnace = false, any_accuracy = false;
   std::vector<std::string> furnace_skips;
-  for (const auto& [name, entry] : groups.items()) {
+  for (const auto& item : groups.items()) {
+    const std::string name = item.key();  // (a structured binding cannot be captured by the lambdas below under clang 14)
+    const json& entry = item.value();
     if (opt.cancel && opt.cancel->load()) break;
     json g = {{"group", name}};
     std::string me_path;
