@@ -303,3 +303,32 @@ TEST_CASE("Narrow longitudinal lobes: the theta_r integrals find peaks far narro
       CHECK(p.a_f + p.a_b == Approx(1.0).margin(1e-8));
     }
 }
+
+TEST_CASE("Dual scattering stays finite over the domain: grazing, tiny and huge roughness, no and extreme absorption, tilts",
+          "[dual_scattering][domain]") {
+  auto finite_point = [](const DualScatteringPoint& p) {
+    bool ok = std::isfinite(p.energy_total) && std::isfinite(p.a_f) && std::isfinite(p.a_b) && std::isfinite(p.alpha_f) &&
+              std::isfinite(p.alpha_b) && std::isfinite(p.beta_f2) && std::isfinite(p.beta_b2) && std::isfinite(p.backscatter.A_b) &&
+              std::isfinite(p.backscatter.delta_b) && std::isfinite(p.backscatter.sigma_b) && std::isfinite(p.backscatter.sigma_b_mixed);
+    ok = ok && p.energy_total >= 0 && p.a_f >= 0 && p.a_b >= 0 && p.beta_f2 >= 0 && p.backscatter.A_b >= 0 && p.backscatter.sigma_b >= 0;
+    for (std::size_t l = 0; l < p.energy.size(); ++l) ok = ok && p.energy[l] >= 0 && p.forward[l] >= 0 && p.backward[l] >= 0;
+    return ok;
+  };
+  DualScatteringGridRequest rq;
+  rq.sigmas = {0.0, 1e5};
+  for (double beta : {1e-6, 3.0})
+    for (double tilt : {0.0, 0.3}) rq.roughness.push_back({{beta, beta, -tilt}, {beta, beta, tilt}, {beta, beta, tilt}, {beta, beta, tilt}});
+  rq.thetas = {-1.5707963267948966, 0.0, 1.5707963267948966};
+  int cells = 0;
+  dual_scattering_grid(rq, BakeOptions{}, "", [&](std::size_t k, std::size_t r, std::size_t t, const DualScatteringPoint& p) {
+    INFO("sigma_a " << rq.sigmas[k] << " roughness " << r << " theta_i " << rq.thetas[t]);
+    CHECK(finite_point(p));
+    ++cells;
+  });
+  CHECK(cells == 24);
+  for (double sigma : {0.0, 1e5})
+    for (double theta_i : {-1.5707963267948966, 1.5707963267948966}) {
+      HairModel m = HairModel::uniform(1.55, sigma, 3.0, 3, true);
+      CHECK(finite_point(dual_scattering(m, theta_i)));
+    }
+}

@@ -125,7 +125,10 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
   for (int p = 0; p < P; ++p) {
     const auto& w = widths[static_cast<std::size_t>(p)];
     std::size_t i = 0;
-    while (i < w.size() && fourier_terms(w[i], tol) > rq.fourier_max_terms) ++i;
+    // β · N ≤ 1 leaves e^{−N²β²/2} ≥ e^{−1/2}: far more than the allowed terms (and fourier_terms
+    // refuses β that would need millions).
+    auto fourier_ok = [&](double beta) { return beta * rq.fourier_max_terms > 1.0 && fourier_terms(beta, tol) <= rq.fourier_max_terms; };
+    while (i < w.size() && !fourier_ok(w[i])) ++i;
     first_fourier[static_cast<std::size_t>(p)] = i;
     stats.direct_widths += i;
     stats.fourier_widths += w.size() - i;
