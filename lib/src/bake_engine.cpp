@@ -382,7 +382,7 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
                  "each (a quarter of beta^2)"},
       {"density_factor", "d_b = d_f = 0.7 unless the config says otherwise"},
       {"method",
-       "b_p, f_p and e_p at 257 theta_d_j = (pi/2) sin(pi j / 512) over [0, pi/2] (cubic Lagrange interpolation in j, even about 0): b_p, f_p from "
+       "b_p, f_p and e_p at 513 theta_d_j = (pi/2) sin(pi j / 1024) over [0, pi/2] (cubic Lagrange interpolation in j, even about 0): b_p, f_p from "
        "the Fourier coefficients of N_p (int_{|phi|<=pi/2} cos(n phi) dphi = 2 sin(n pi/2)/n) for beta_n needing at most 320 terms "
        "(tolerance 1e-11), below that by adaptive Gauss-Kronrod of A(p, h) times the half-circle mass of the wrapped Gaussian, split "
        "where Phi(p, h) = +-pi/2; e_p by Gauss-Legendre in gamma; the theta_r integrals by adaptive Gauss-Kronrod (relative 1e-9) "

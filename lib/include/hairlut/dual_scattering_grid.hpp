@@ -33,7 +33,7 @@ struct DualScatteringGridRequest {
   std::vector<std::vector<LobeParams>> roughness;
   std::vector<double> thetas;    ///< θi of each incidence node, in [−π/2, π/2]
   DualScatteringOptions options;
-  int theta_d_intervals = 256;   ///< J, intervals of the θd grid over [0, π/2]
+  int theta_d_intervals = 512;   ///< J, intervals of the θd grid over [0, π/2]
   double fourier_tolerance = 1e-11;
   int fourier_max_terms = 320;   ///< widths needing more Fourier terms use half_range_direct
   std::shared_ptr<GaussLegendreCache> rules;  ///< optional, shared Gauss–Legendre rules
