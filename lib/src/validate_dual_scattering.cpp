@@ -48,6 +48,17 @@ std::vector<std::size_t> picks(int count) {
   return v;
 }
 
+// Series colours: the halves, and the report's lobe colours for the lobes' energies (dashed).
+constexpr const char* kForward = "#1f77b4";
+constexpr const char* kBackward = "#e377c2";
+std::string lobe_colour(const std::string& lobe) {
+  static const std::pair<const char*, const char*> colours[] = {{"R", "#d62728"}, {"TT", "#2ca02c"}, {"TRT", "#9467bd"},
+                                                                {"TRRT", "#ff7f0e"}, {"residual", "#17becf"}};
+  for (const auto& [k, c] : colours)
+    if (lobe == k) return c;
+  return "";
+}
+
 struct Worst {
   double value = 0.0;
   std::string where;
@@ -276,8 +287,8 @@ std::string render_dual_scattering_html(const json& r) {
       lp.xlabel = p["roughness_label"].get<std::string>();
       lp.ylabel = "energy";
       lp.min_span = 0.2;
-      if (c.contains("a_f")) lp.series.push_back({"a_f", xr, c["a_f"].get<std::vector<double>>(), "#2ca02c", false});
-      if (c.contains("a_b")) lp.series.push_back({"a_b", xr, c["a_b"].get<std::vector<double>>(), "#d62728", false});
+      if (c.contains("a_f")) lp.series.push_back({"a_f", xr, c["a_f"].get<std::vector<double>>(), kForward, false});
+      if (c.contains("a_b")) lp.series.push_back({"a_b", xr, c["a_b"].get<std::vector<double>>(), kBackward, false});
       if (c.contains("E_total")) lp.series.push_back({"E", xr, c["E_total"].get<std::vector<double>>(), "#000000", true});
       o << svg::line_plot(lp) << "\n";
     }
@@ -290,8 +301,8 @@ std::string render_dual_scattering_html(const json& r) {
       lp.min_span = 0.2;
       for (const auto& [k, v] : c.items()) {
         if (k == "roughness" || k == "theta_i_deg") continue;
-        const bool dashed = k.rfind("E_", 0) == 0 && k != "E_total";
-        lp.series.push_back({k, xa, v.get<std::vector<double>>(), "", dashed});
+        const std::string colour = k == "a_f" ? kForward : k == "a_b" ? kBackward : k == "E_total" ? "#000000" : lobe_colour(k.substr(2));
+        lp.series.push_back({k == "E_total" ? "E" : k, xa, v.get<std::vector<double>>(), colour, k.rfind("E_", 0) == 0});
       }
       o << svg::line_plot(lp) << "\n";
     }
