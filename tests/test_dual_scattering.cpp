@@ -161,7 +161,7 @@ TEST_CASE("Zinke terms: A_b against its series, limits, finiteness as a_f -> 1",
   CHECK_THROWS_AS(zinke_backscatter(1.5, 0.1, 0, 0, 0, 0, 0.7), DomainError);
 }
 
-TEST_CASE("The grid (interpolated halves, Fourier and direct) matches the point evaluation; bit-identical for any thread count",
+TEST_CASE("The grid (interpolated halves, Fourier and direct) matches the point evaluation and is bit-identical for any thread count",
           "[dual_scattering][grid]") {
   DualScatteringGridRequest rq;
   rq.lobes = 3;
