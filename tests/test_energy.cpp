@@ -27,7 +27,7 @@ TEST_CASE("White furnace: E(theta_i) = 1 within 1e-6 for sigma_a = 0 and all lob
       CHECK(directional_albedo(HairModel::uniform(eta, 0.0, radians(7.0), 5, true), radians(t)).total == Approx(1.0).epsilon(1e-6));
 }
 
-TEST_CASE("Absorbing fibers lose energy; more absorption loses more", "[furnace]") {
+TEST_CASE("Absorbing fibers lose energy, and more absorption loses more", "[furnace]") {
   double previous = 1.0;
   for (double sigma : {0.05, 0.5, 5.0, 1e3}) {
     const double e = directional_albedo(HairModel::uniform(1.55, sigma, radians(10.0), 3, true), 0.3).total;

@@ -44,7 +44,7 @@ TEST_CASE("Node placement follows the documented formulas", "[grid]") {
   CHECK(p.nodes()[7] == Approx(kPi - kPi / 4).epsilon(1e-15));
 }
 
-TEST_CASE("Sampling at nodes returns the stored value; linear functions of t are exact", "[sampler]") {
+TEST_CASE("Sampling at nodes returns the stored value, and linear functions of t are exact", "[sampler]") {
   struct Case {
     Spacing s;
     Placement p;

@@ -143,7 +143,7 @@ TEST_CASE("Marschner tables round-trip exactly through HDF5 and OpenEXR, and phi
   fs::remove_all(dir);
 }
 
-TEST_CASE("Marschner bakes are bit-identical for any thread count; a circular fiber has no phi_h axis", "[marschner][bake]") {
+TEST_CASE("Marschner bakes are bit-identical for any thread count, and a circular fiber has no phi_h axis", "[marschner][bake]") {
   const BakeConfig c = parse_config(marschner_config(), "m.json", temp_dir("threads"));
   BakeOptions one, two;
   one.threads = 1;

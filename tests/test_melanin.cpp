@@ -127,7 +127,7 @@ TEST_CASE("The embedded spectral tables are the shipped CSV files", "[melanin]")
   CHECK(m.d65()[(560 - 380) / 5] == 100.0);
 }
 
-TEST_CASE("The sRGB matrix maps D65's chromaticity to neutral; D65 white is (1, 1, 1)", "[melanin]") {
+TEST_CASE("The sRGB matrix maps D65's chromaticity to neutral: D65 white is (1, 1, 1)", "[melanin]") {
   // D65 white point x = 0.3127, y = 0.3290 with Y = 1 (independent of the tabulated spectrum).
   const double x = 0.3127, y = 0.3290;
   const Rgb w = srgb_linear_from_xyz(x / y, 1.0, (1.0 - x - y) / y);

@@ -14,6 +14,7 @@
 #include "hairlut/angles.hpp"
 #include "hairlut/azimuthal_fourier.hpp"
 #include "hairlut/azimuthal_np.hpp"
+#include "hairlut/bake_engine.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/hair_model.hpp"
 #include "hairlut/lobe_energy.hpp"
@@ -499,6 +500,9 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   }
 
   detail::append_melanin_tables(c, precision, set, report);
+
+  // ---- Mean energy and dual scattering (tables.dual_scattering), engine presets (tables.engine).
+  bake_dual_scattering_tables(c, opt, set, report);
 
   if (unconverged) report.notes.push_back(std::to_string(unconverged) + " adaptive N_p entries did not reach the tolerance");
   if (!report.resolution.is_null() && generic_np) {

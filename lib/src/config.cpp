@@ -207,6 +207,69 @@ MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeCo
   return m;
 }
 
+// ---- tables.dual_scattering and tables.engine (issue 7) ----------------------------------------
+
+// tables.dual_scattering: axes theta_i, beta, sigma_a; lobe_scale per lobe (lobes not listed: 1).
+DualScatteringTablesConfig parse_dual_scattering(const json& j, int lobe_count, bool residual) {
+  DualScatteringTablesConfig d;
+  const json& ax = j.at("axes");
+  const std::string p = "tables.dual_scattering.axes.";
+  d.axes = {make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius"),
+            make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad",
+                      "roughness beta: beta_m,p = beta_n,p = lobe_scale_p * beta"),
+            make_axis(ax.at("theta_i"), p + "theta_i", "theta_i", true, -kHalfPi, kHalfPi, "rad", "incident inclination theta_i")};
+  d.lobe_scale.assign(static_cast<std::size_t>(lobe_count) + (residual ? 1 : 0), 1.0);
+  if (j.contains("lobe_scale"))
+    for (const auto& [key, value] : j.at("lobe_scale").items()) {
+      const int lobe = lobe_index(key, lobe_count, "tables.dual_scattering.lobe_scale." + key);
+      if (lobe < 0 && !residual) fail("tables.dual_scattering.lobe_scale.residual", "is given but lobes.residual is false");
+      d.lobe_scale[lobe < 0 ? d.lobe_scale.size() - 1 : static_cast<std::size_t>(lobe)] = value.get<double>();
+    }
+  d.density_factor = get_number(j, "density_factor", 0.7);
+  return d;
+}
+
+// tables.engine: a preset of engine textures; the presets bake R, TT, TRT (and the residual).
+EngineConfig parse_engine(const json& j, const std::vector<std::string>& lobe_names) {
+  EngineConfig e;
+  e.preset = j.at("preset").get<std::string>();
+  if (j.contains("textures")) e.textures = j.at("textures").get<std::vector<std::string>>();
+  e.density_factor = get_number(j, "density_factor", 0.7);
+  if (j.contains("unity")) {
+    if (e.preset != "unity-hdrp-hair") fail("tables.engine.unity", "applies to the unity-hdrp-hair preset only (preset is " + e.preset + ")");
+    const json& u = j.at("unity");
+    e.radial_smoothness = get_number(u, "radial_smoothness", e.radial_smoothness);
+    e.cuticle_angle_deg = get_number(u, "cuticle_angle_deg", e.cuticle_angle_deg);
+    e.attenuation_scale = get_number(u, "attenuation_scale", e.attenuation_scale);
+  }
+  if (lobe_names != std::vector<std::string>{"R", "TT", "TRT"}) {
+    std::string got;
+    for (const auto& n : lobe_names) got += (got.empty() ? "" : ", ") + n;
+    fail("lobes.explicit", "must be [\"R\", \"TT\", \"TRT\"] for tables.engine (engines shade these three lobes; got [" + got + "])");
+  }
+  checked([&] {
+    try {
+      engine_preset_textures(e);
+    } catch (const DomainError& err) {
+      // "tables.engine.textures ..." names its key; the unknown-preset message names tables.engine.preset.
+      const std::string m = err.what();
+      throw DomainError(m.rfind("tables.engine", 0) == 0 ? m : "tables.engine.preset " + m);
+    }
+  });
+  return e;
+}
+
+json dual_scattering_json(const DualScatteringTablesConfig& d) {
+  return {{"axes", axes_json(d.axes)}, {"lobe_scale", d.lobe_scale}, {"density_factor", d.density_factor}};
+}
+
+json engine_json(const EngineConfig& e) {
+  json j = {{"preset", e.preset}, {"textures", e.textures}, {"density_factor", e.density_factor}};
+  if (e.preset == "unity-hdrp-hair")
+    j["unity"] = {{"radial_smoothness", e.radial_smoothness}, {"cuticle_angle_deg", e.cuticle_angle_deg}, {"attenuation_scale", e.attenuation_scale}};
+  return j;
+}
+
 BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir) {
   BakeConfig c;
   c.name = doc.at("name").get<std::string>();
@@ -330,6 +393,13 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     c.melanin_path_length = get_number(m, "path_length", 2.0);
   }
 
+  if (c.marschner)
+    for (const char* key : {"dual_scattering", "engine"})
+      if (tables.contains(key))
+        fail(std::string("tables.") + key, "applies to model deon2011 only (computed from d'Eon's energy-conserving M_p and N_p)");
+  if (tables.contains("dual_scattering")) c.dual_scattering = parse_dual_scattering(tables.at("dual_scattering"), c.lobe_count, c.residual);
+  if (tables.contains("engine")) c.engine = parse_engine(tables.at("engine"), names);
+
   if (doc.contains("scene")) {
     const json& s = doc.at("scene");
     SceneConfig scene;
@@ -384,7 +454,8 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     }
     c.scene = std::move(scene);
   }
-  if (!c.np_axes && !c.mp_axes && !c.melanin_axes) fail("tables", "must ask for at least one table (np, mp or melanin)");
+  if (!c.np_axes && !c.mp_axes && !c.melanin_axes && !c.dual_scattering && !c.engine)
+    fail("tables", "must ask for at least one table (np, mp, melanin, dual_scattering or engine)");
 
   if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", json::object());
   const json& out = doc.at("output");
@@ -426,6 +497,8 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   }
   if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
   if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};
+  if (c.dual_scattering) t["dual_scattering"] = dual_scattering_json(*c.dual_scattering);
+  if (c.engine) t["engine"] = engine_json(*c.engine);
   n["tables"] = t;
   if (c.scene) {
     json mats = json::array();

@@ -11,14 +11,8 @@
 namespace hairlut {
 namespace {
 
-// Breakpoints in θr for a lobe of tilt α at incidence θi: the specular cone θr = −θi + α and the
-// two θr where θr − α crosses a pole (the fold makes a kink there).
-void add_lobe_breakpoints(std::vector<double>& bp, double theta_i, double alpha) {
-  for (double t : {-theta_i + alpha, alpha - kHalfPi, alpha + kHalfPi})
-    if (t > -kHalfPi && t < kHalfPi) bp.push_back(t);
-}
-
 std::vector<double> finish_breakpoints(std::vector<double> bp) {
+  std::erase_if(bp, [](double t) { return !(t > -kHalfPi && t < kHalfPi); });
   bp.push_back(-kHalfPi);
   bp.push_back(kHalfPi);
   std::sort(bp.begin(), bp.end());
@@ -27,6 +21,20 @@ std::vector<double> finish_breakpoints(std::vector<double> bp) {
 }
 
 }  // namespace
+
+void add_longitudinal_breakpoints(std::vector<double>& bp, double beta, double alpha, double theta_i) {
+  // The lobe peaks where fold(θr − α) = −θi: θr − α = −θi, or π + θi / −π + θi folded over a pole.
+  for (double c : {-theta_i + alpha, kPi + theta_i + alpha, -kPi + theta_i + alpha}) {
+    if (!(c > -kHalfPi - 8.0 * beta && c < kHalfPi + 8.0 * beta)) continue;
+    bp.push_back(c);
+    for (double w = beta; w < kHalfPi; w *= 4.0) {
+      bp.push_back(c - w);
+      bp.push_back(c + w);
+    }
+  }
+  bp.push_back(alpha - kHalfPi);  // where θr − α crosses a pole: the fold makes a kink
+  bp.push_back(alpha + kHalfPi);
+}
 
 AlbedoResult directional_albedo(const HairModel& model, double theta_i, double rel_tol, int energy_order) {
   model.validate();
@@ -37,7 +45,7 @@ AlbedoResult directional_albedo(const HairModel& model, double theta_i, double r
   if (model.residual) params.push_back(*model.residual);
 
   std::vector<double> bp;
-  for (const LobeParams& l : params) add_lobe_breakpoints(bp, theta_i, l.alpha);
+  for (const LobeParams& l : params) add_longitudinal_breakpoints(bp, l.beta_m, l.alpha, theta_i);
   bp = finish_breakpoints(std::move(bp));
 
   auto integrand = [&](double theta_r, std::span<double> out) {
@@ -62,7 +70,7 @@ AlbedoResult directional_albedo(const HairModel& model, double theta_i, double r
 AdaptiveResult longitudinal_energy_deon(double v, double alpha, double theta_i, double rel_tol) {
   (void)longitudinal_deon_tilted(v, alpha, theta_i, 0.0);  // validates the arguments
   std::vector<double> bp;
-  add_lobe_breakpoints(bp, theta_i, alpha);
+  add_longitudinal_breakpoints(bp, std::sqrt(v), alpha, theta_i);
   bp = finish_breakpoints(std::move(bp));
   AdaptiveOptions opt;
   opt.rel_tol = rel_tol;

@@ -9,6 +9,7 @@
 #include "hairlut/compare.hpp"
 #include "hairlut/hdf5_io.hpp"  // IoError
 #include "hairlut/svg_plot.hpp"
+#include "validate_sections.hpp"
 
 namespace hairlut {
 namespace {
@@ -67,6 +68,7 @@ std::string render_report_markdown(const json& r) {
       o << "| " << t["path"].get<std::string>() << " | " << fmt(t["off_node"]["max_rel"]) << " | " << fmt(t["off_node"]["p99_rel"]) << " | "
         << fmt(t["off_node_half"]["max_rel"]) << " | " << t["needs_resolution"].get<std::string>() << " |\n";
   }
+  o << detail::render_dual_scattering_markdown(r);
   return o.str();
 }
 
@@ -251,6 +253,7 @@ std::string render_report_html(const json& r) {
         << triple(mel["attributes"]["fitted_pheomelanin_cross_section"]) << " (d'Eon: (0.419, 0.697, 1.37), (0.187, 0.4, 1.05)).";
     o << "</p>\n" << svg::swatch_grid(mel["table"].get<std::string>(), sw, static_cast<int>(cols.size()), rows, cols, "eumelanin", "pheomelanin") << "\n";
   }
+  o << detail::render_dual_scattering_html(r);
   o << "<h2>Thresholds</h2><p><code>" << escape(r["thresholds"].dump()) << "</code></p>\n";
   return html_page("hairlut validation: " + r["source"].get<std::string>(), o.str());
 }

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "hairlut/engine_exr.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/hash.hpp"
 #include "hairlut/version.hpp"
@@ -66,7 +67,7 @@ bool outputs_up_to_date(const BakeConfig& c) {
       if (fs::file_size(p, ec) != f.at("bytes").get<std::uintmax_t>() || ec) return false;
       ++formats;
     }
-    return formats == static_cast<std::size_t>(c.output.hdf5) + static_cast<std::size_t>(c.output.exr);
+    return formats == static_cast<std::size_t>(c.output.hdf5) + static_cast<std::size_t>(c.output.exr) + engine_outputs(c).size();
   } catch (const std::exception&) {
     return false;
   }
@@ -85,6 +86,7 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
   for (const auto& [format, path] : files) {
     json f = {{"format", format}, {"path", path.filename().string()}, {"bytes", fs::file_size(path)}, {"fnv1a64", file_fnv(path)}};
     if (format == "hdf5") f["precision"] = c.output.hdf5_double ? "float64" : "float32";
+    else if (format == "engine-exr") f["precision"] = "half";  // engine textures are RGBA half
     else f["precision"] = c.output.exr_half ? "half" : "float32";
     s["files"].push_back(f);
   }
@@ -112,6 +114,15 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
   for (const auto& f : report.folded) folded.push_back({{"lobe", f.lobe}, {"max_energy", f.max_energy}});
   s["report"] = {{"explicit_lobes", report.explicit_lobes}, {"folded_lobes", folded}, {"notes", report.notes}, {"entries", report.entries}};
   s["metadata"] = set.metadata;
+  // Engine textures (tables.engine): which file holds which texture and how it is laid out.
+  if (c.engine) {
+    s["engine_textures"] = json::array();
+    for (const EngineOutput& e : engine_outputs(c)) {
+      json d = e.texture.describe();
+      d["path"] = e.path.filename().string();
+      s["engine_textures"].push_back(d);
+    }
+  }
   return s;
 }
 
@@ -135,6 +146,14 @@ std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, co
     write_exr(set, t, {c.output.exr_half, c.output.exr_compression});
     written.emplace_back("exr", t);
   }
+  std::vector<fs::path> engine_finals;  // final paths of the engine textures, in `written` order after hdf5/exr
+  for (const EngineOutput& e : engine_outputs(c)) {
+    const fs::path t = temporary_for(e.path);
+    temps.paths.push_back(t);
+    write_engine_texture(set, e.texture, t);
+    written.emplace_back("engine-exr", t);
+    engine_finals.push_back(e.path);
+  }
   // The sidecar describes the final names.
   json side = sidecar_json(set, c, report, written);
   for (auto& f : side["files"]) {
@@ -155,7 +174,9 @@ std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, co
     if (ec) throw IoError(final_path.string() + ": cannot move the finished file into place (" + ec.message() + ")");
     finals.push_back(final_path);
   };
-  for (const auto& [format, tmp] : written) commit(tmp, format == "hdf5" ? paths.hdf5 : paths.exr);
+  std::size_t engine_index = 0;
+  for (const auto& [format, tmp] : written)
+    commit(tmp, format == "hdf5" ? paths.hdf5 : format == "exr" ? paths.exr : engine_finals[engine_index++]);
   commit(side_tmp, paths.sidecar);  // last: its presence marks a complete, up-to-date output
   temps.paths.clear();
   return finals;
@@ -168,7 +189,7 @@ void remove_stale_temporaries(const BakeConfig& c) {
   for (const auto& entry : fs::directory_iterator(c.output.directory, ec)) {
     const std::string n = entry.path().filename().string();
     const auto pos = n.find(".tmp-");
-    if (n.rfind(prefix, 0) != 0 || pos == std::string::npos) continue;
+    if ((n.rfind(prefix, 0) != 0 && n.rfind(c.output.basename + "-", 0) != 0) || pos == std::string::npos) continue;
     // Only temporaries of processes that no longer run (a concurrent bake keeps its own).
     const long pid = std::strtol(n.c_str() + pos + 5, nullptr, 10);
     if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) == 0) continue;

@@ -23,6 +23,7 @@
 #include "hairlut/longitudinal_mp.hpp"
 #include "hairlut/marschner.hpp"
 #include "hairlut/melanin.hpp"
+#include "validate_sections.hpp"
 
 namespace hairlut {
 
@@ -34,7 +35,10 @@ const std::map<std::string, double ValidationThresholds::*>& ValidationThreshold
       {"mp_table_energy", &ValidationThresholds::mp_table_energy},
       {"accuracy_max_rel", &ValidationThresholds::accuracy_max_rel},
       {"accuracy_p99_rel", &ValidationThresholds::accuracy_p99_rel},
-      {"energy_consistency", &ValidationThresholds::energy_consistency}};
+      {"energy_consistency", &ValidationThresholds::energy_consistency},
+      {"ds_furnace", &ValidationThresholds::ds_furnace},
+      {"ds_consistency", &ValidationThresholds::ds_consistency},
+      {"ds_accuracy", &ValidationThresholds::ds_accuracy}};
   return f;
 }
 
@@ -163,7 +167,7 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
       const double v = t.get(i);
       if (std::isnan(v)) ++tn;
       else if (std::isinf(v)) ++ti;
-      else if (v < 0.0) ++tneg;
+      else if (v < 0.0 && t.quantity != "shift") ++tneg;  // shifts (dual scattering) are signed
     }
     nan += tn, inf += ti, neg += tneg;
     per_table.push_back({{"path", t.path()}, {"values", t.size()}, {"nan", tn}, {"inf", ti}, {"negative", tneg}});
@@ -522,7 +526,7 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
   double worst_table = 0.0;
   std::string worst_where;
   for (const Table& tb : set.tables) {
-    if (tb.quantity != "M_p" || tb.axes.size() != 3) continue;
+    if (tb.quantity != "M_p" || tb.axes.size() != 3 || tb.axes[0].name != "beta") continue;
     // d'Eon's tilted M (measure cos θr, tilt α of θr) or Marschner's Gaussian (measure cos²θr,
     // shift α of θh, width beta_ratio·β).
     const bool gaussian = tb.attributes.value("function", std::string()) == "gaussian";
@@ -985,6 +989,7 @@ nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& s
   report["longitudinal"] = longitudinal_section(set, info, opt, checks);
   report["accuracy"] = accuracy_section(set, info, opt, checks);
   report["absorption"] = absorption_section(set, info, opt, checks);
+  report["dual_scattering"] = detail::dual_scattering_section(set, opt, checks);
   int passed = 0, failed = 0, skipped_n = 0;
   for (const json& c : checks) {
     const std::string s = c["status"].get<std::string>();

@@ -16,6 +16,8 @@
 #include <fstream>
 #include <hairlut/azimuthal_fourier.hpp>
 #include <hairlut/bake.hpp>
+#include <hairlut/config.hpp>
+#include <hairlut/engine_exr.hpp>
 #include <hairlut/benchmark.hpp>
 #include <hairlut/hairlut.hpp>
 #include <hairlut/melanin.hpp>
@@ -176,13 +178,80 @@ std::string fmt(double v, int digits = 3) {
   return buf;
 }
 
+// ---- Export presets: time to bake each shipped preset config -----------------------------------
+
+// Each shipped preset config: the bake in this process (all threads, median of `repeats`) and the
+// tool end to end (bake and write HDF5, engine textures and sidecar; wall time and peak memory).
+json bench_presets(const std::string& bake_tool, bool quick, bool quiet) {
+  json rows = json::array();
+  const int repeats = quick ? 1 : 3;
+  std::vector<const char*> names = {"unreal-hair-strands", "unity-hdrp-hair", "dual-scattering"};
+  if (quick) names = {"dual-scattering"};  // a smoke run: the smallest config
+  for (const char* name : names) {
+    const std::string path = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/" + name + ".json";
+    log(quiet, "preset %s ...\n", name);
+    const BakeConfig c = load_config(path);
+    std::vector<double> times;
+    BakeReport report;
+    std::size_t tables = 0;
+    for (int i = 0; i < repeats; ++i) {
+      const TableSet set = bake(c, {}, &report);
+      times.push_back(report.seconds);
+      tables = set.tables.size();
+    }
+    const std::string tmp = (std::filesystem::temp_directory_path() / ("hairlut-bench-preset-" + std::to_string(::getpid()))).string();
+    const ChildResult child = run_child({bake_tool, "--config", path, "--output-dir", tmp, "--force", "--quiet"});
+    json files = json::array();
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(tmp, ec))
+      files.push_back({{"file", e.path().filename().string()}, {"bytes", static_cast<double>(std::filesystem::file_size(e.path(), ec))}});
+    std::filesystem::remove_all(tmp, ec);
+    json textures = json::array();
+    BakeConfig named = c;
+    named.output.directory = ".";
+    for (const EngineOutput& o : engine_outputs(named)) textures.push_back(o.texture.name);
+    rows.push_back({{"preset", name},
+                    {"config", "tables/configs/" + std::string(name) + ".json"},
+                    {"textures", textures},
+                    {"tables", tables},
+                    {"entries", report.entries},
+                    {"threads", omp_get_max_threads()},
+                    {"bake_seconds_median", median(times)},
+                    {"bake_seconds_runs", times},
+                    {"tool_exit_status", child.status},
+                    {"tool_wall_seconds", child.seconds},
+                    {"tool_peak_rss_bytes", static_cast<double>(child.peak_rss_kb) * 1024.0},
+                    {"files", files}});
+  }
+  return rows;
+}
+
+void write_presets(const json& rows, const json& machine, const std::string& out_dir) {
+  std::filesystem::create_directories(out_dir);
+  std::ofstream(out_dir + "/presets.json") << json({{"machine", machine}, {"presets", rows}}).dump(2) << "\n";
+  std::ofstream csv(out_dir + "/presets.csv");
+  csv << "preset,textures,tables,entries,threads,bake_seconds_median,tool_wall_seconds,tool_peak_rss_bytes\n";
+  std::ostringstream md;
+  md << "| preset | textures | values | bake (median, " << rows.front()["threads"] << " threads) | bake-hair-luts end to end | peak memory |\n|---|---|---|---|---|---|\n";
+  for (const json& r : rows) {
+    std::string tex;
+    for (const auto& t : r["textures"]) tex += (tex.empty() ? "" : " ") + t.get<std::string>();
+    csv << r["preset"].get<std::string>() << ",\"" << tex << "\"," << r["tables"] << ',' << r["entries"] << ',' << r["threads"] << ','
+        << r["bake_seconds_median"] << ',' << r["tool_wall_seconds"] << ',' << r["tool_peak_rss_bytes"] << "\n";
+    md << "| " << r["preset"].get<std::string>() << " | " << (tex.empty() ? "(generic tables)" : tex) << " | " << r["entries"] << " | "
+       << fmt(r["bake_seconds_median"].get<double>()) << " s | " << fmt(r["tool_wall_seconds"].get<double>()) << " s | "
+       << fmt(r["tool_peak_rss_bytes"].get<double>() / 1048576.0) << " MiB |\n";
+  }
+  std::ofstream(out_dir + "/presets.md") << md.str();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"bench-hair-luts: run time against error of hairlut's N_p methods, bake targets, resolution and scaling"};
   std::string out_dir = "bench", bake_tool, generic_config;
   std::size_t slices = 80;
-  bool quick = false, quiet = false;
+  bool quick = false, quiet = false, presets_only = false;
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   bake_tool = (self.parent_path().parent_path() / "bake-hair-luts" / "bake-hair-luts").string();
   generic_config = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/generic.json";
@@ -192,6 +261,7 @@ int main(int argc, char** argv) {
   app.add_option("--generic-config", generic_config, "config of the generic table")->capture_default_str();
   app.add_flag("--quick", quick, "a smoke run: fewer slices, no generic-table bake, fewer repeats");
   app.add_flag("--quiet,-q", quiet, "no progress on stderr");
+  app.add_flag("--presets-only", presets_only, "only time the export presets (writes presets.json, presets.csv, presets.md)");
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)");
   CLI11_PARSE(app, argc, argv);
   if (quick) slices = std::min<std::size_t>(slices, 16);
@@ -204,6 +274,16 @@ int main(int argc, char** argv) {
   std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
   report["machine"] = {{"cpu", cpu_model()}, {"cores", max_threads}, {"date", date}, {"hairlut_version", kVersion}};
   report["command"] = "bench-hair-luts --out " + out_dir + (quick ? " --quick" : "") + " --slices " + std::to_string(slices);
+  if (presets_only) {
+    const json rows = bench_presets(bake_tool, quick, quiet);
+    write_presets(rows, report["machine"], out_dir);
+    if (!quiet) {
+      std::ostringstream md;
+      md << std::ifstream(out_dir + "/presets.md").rdbuf();
+      std::printf("%s\nwrote %s/presets.json, presets.csv, presets.md\n", md.str().c_str(), out_dir.c_str());
+    }
+    return 0;
+  }
 
   // ---- 1. Accuracy of every method on the stress set, against the adaptive reference.
   log(quiet, "stress set: %zu slices x 48 phi, reference ...\n", slices);
@@ -442,8 +522,12 @@ int main(int argc, char** argv) {
     report["scaling"] = sc;
   }
 
+  // ---- 7. The export presets.
+  report["presets"] = bench_presets(bake_tool, quick, quiet);
+
   // ---- Outputs.
   std::filesystem::create_directories(out_dir);
+  write_presets(report["presets"], report["machine"], out_dir);
   {
     std::ofstream(out_dir + "/bench.json") << report.dump(2) << "\n";
     std::ofstream csv(out_dir + "/bench.csv");
@@ -485,6 +569,7 @@ int main(int argc, char** argv) {
     md << "\nPer material: `" << report["per_material"].dump() << "`\n";
     md << "\nResolution: `" << report["resolution"]["axes"].dump() << "`\n";
     md << "\nScaling: `" << report["scaling"].dump() << "`\n";
+    md << "\nExport presets:\n\n" << std::ifstream(out_dir + "/presets.md").rdbuf();
     std::ofstream(out_dir + "/bench.md") << md.str();
     if (!quiet) std::printf("%s\nwrote %s/bench.json, bench.csv, bench.md, pareto.svg\n", md.str().c_str(), out_dir.c_str());
   }

@@ -25,6 +25,7 @@ Examples:
   hairlut-eval furnace --beta-deg 5,2.5,10 --alpha-deg -4,2,6 --lobes 3 --residual --json
   hairlut-eval marschner --lobe TRT --sigma-a 0.2 --theta-d-deg 10 --phi-deg 15 --roots cubic
   hairlut-eval marschner --lobe TRT --eccentricity 0.9 --phi-h-deg 30 --phi-deg 25 --k-g 1 --w-c-deg 10
+  hairlut-eval dual --beta-deg 14,7,28,28 --alpha-deg -4,2,8,8 --lobes 3 --residual --sigma-a 0.4 --theta-i-deg 0,30,60
 )";
 
 // Expands a per-lobe list given once for all lobes or once per lobe (plus one for the residual).
@@ -136,6 +137,16 @@ int main(int argc, char** argv) {
   marschner->add_option("--w-c-deg", w_c, "caustic width w_c in degrees")->capture_default_str();
   marschner->add_option("--eccentricity", eccentricity, "eccentricity a of the cross-section")->capture_default_str();
   marschner->add_option("--phi-h-deg", phi_h, "azimuthal half angle in degrees (eccentric TRT)")->capture_default_str();
+  // dual: mean energy and Zinke 2008's dual-scattering quantities at each theta_i.
+  auto* dual = app.add_subcommand("dual", "mean energy per lobe and dual scattering (a_f, a_b, alpha, beta^2, A_b, Delta_b, sigma_b)");
+  add_fiber(dual);
+  double density = 0.7;
+  dual->add_option("--beta-deg", betas, "roughness in degrees (beta_m = beta_n): one value, or one per lobe (+ residual)")->delimiter(',');
+  dual->add_option("--alpha-deg", alphas, "tilt in degrees: one value, or one per lobe (+ residual)")->delimiter(',');
+  dual->add_option("--lobes", lobes, "number of explicit lobes P")->capture_default_str();
+  dual->add_flag("--residual", residual, "include the residual of all lobes p >= P");
+  dual->add_option("--theta-i-deg", thetas, "incident inclinations in degrees")->delimiter(',');
+  dual->add_option("--density-factor", density, "d_b of Zinke eq. 17")->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
 
@@ -190,6 +201,43 @@ int main(int argc, char** argv) {
       out["lobes"] = rows;
       out["total"] = total;
       out["converged"] = r.converged;
+    } else if (dual->parsed()) {
+      hairlut::HairModel model;
+      model.eta = eta;
+      model.sigma_a = sigma_a;
+      model.path = hairlut::parse_absorption_path(path, "--absorption-path");
+      const std::size_t n = static_cast<std::size_t>(std::max(lobes, 0)) + (residual ? 1 : 0);
+      const auto b = per_lobe(betas, n, "--beta-deg");
+      const auto a = per_lobe(alphas, n, "--alpha-deg");
+      for (std::size_t p = 0; p < n; ++p) {
+        const hairlut::LobeParams lp{radians(b[p]), radians(b[p]), radians(a[p])};
+        if (residual && p + 1 == n) model.residual = lp;
+        else model.lobes.push_back(lp);
+      }
+      hairlut::DualScatteringOptions o;
+      o.density_factor = density;
+      ordered_json rows = ordered_json::array();
+      for (double t : thetas) {
+        const auto r = hairlut::dual_scattering(model, radians(t), o);
+        ordered_json row{{"theta_i_deg", t}, {"E", r.energy_total}, {"a_f", r.a_f}, {"a_b", r.a_b}};
+        for (std::size_t p = 0; p < r.energy.size(); ++p) {
+          const std::string l = p < model.lobes.size() ? hairlut::lobe_name(static_cast<int>(p)) : "residual";
+          row["E_" + l] = r.energy[p];
+          row["a_f_" + l] = r.forward[p];
+          row["a_b_" + l] = r.backward[p];
+        }
+        row["alpha_f_deg"] = hairlut::degrees(r.alpha_f);
+        row["alpha_b_deg"] = hairlut::degrees(r.alpha_b);
+        row["beta_f_deg"] = hairlut::degrees(std::sqrt(r.beta_f2));
+        row["beta_b_deg"] = hairlut::degrees(std::sqrt(r.beta_b2));
+        row["A_b"] = r.backscatter.A_b;
+        row["delta_b_deg"] = hairlut::degrees(r.backscatter.delta_b);
+        row["sigma_b_deg"] = hairlut::degrees(r.backscatter.sigma_b);
+        row["sigma_b_mixed_deg"] = hairlut::degrees(r.backscatter.sigma_b_mixed);
+        row["converged"] = r.converged;
+        rows.push_back(row);
+      }
+      out["dual_scattering"] = rows;
     } else if (furnace->parsed()) {
       hairlut::HairModel model;
       model.eta = eta;

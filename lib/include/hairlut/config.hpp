@@ -13,6 +13,7 @@
 
 #include "hairlut/attenuation.hpp"
 #include "hairlut/azimuthal_np.hpp"
+#include "hairlut/engine_presets.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/grid.hpp"
 #include "hairlut/hash.hpp"
@@ -68,6 +69,14 @@ struct MarschnerConfig {
   MarschnerLobes lobes(double beta_r) const { return MarschnerLobes::table1(alpha_r, beta_r); }
 };
 
+/// tables.dual_scattering: mean energy per lobe and Zinke 2008's dual-scattering quantities over
+/// generic physical axes (dual_scattering.hpp, docs/dual-scattering.md).
+struct DualScatteringTablesConfig {
+  std::vector<GridAxis> axes;      ///< sigma_a, beta, theta_i (storage order, theta_i fastest)
+  std::vector<double> lobe_scale;  ///< per explicit lobe, then the residual: β_m,p = β_n,p = scale_p β (default 1)
+  double density_factor = 0.7;     ///< d_b of Zinke eq. 17
+};
+
 struct OutputConfig {
   std::filesystem::path directory;  ///< absolute, or relative to the process's working directory
   std::string basename;
@@ -100,6 +109,8 @@ struct BakeConfig {
   std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
   double melanin_path_length = 2.0;
   std::optional<SceneConfig> scene;
+  std::optional<DualScatteringTablesConfig> dual_scattering;  ///< tables.dual_scattering
+  std::optional<EngineConfig> engine;                         ///< tables.engine (export presets)
   OutputConfig output;
 
   nlohmann::json validate_thresholds;  ///< "validate": {"thresholds": {...}} for validate-hair-luts (may be null)

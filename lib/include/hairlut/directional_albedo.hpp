@@ -28,6 +28,13 @@ struct AlbedoResult {
 AlbedoResult directional_albedo(const HairModel& model, double theta_i, double rel_tol = 1e-11,
                                 int energy_order = 128);
 
+/// Breakpoints for integrating a tilted lobe M(β², θi, fold(θr − α)) over θr in [−π/2, π/2]: every
+/// θr where the lobe peaks (θr − α ≡ −θi across the poles) with a ladder at ±β·4^k around it, so that
+/// no adaptive panel next to a narrow peak is more than four times wider than the peak (otherwise
+/// Gauss–Kronrod nodes can all miss a peak of width β ≲ 1e−3 at a panel's end), and the two fold
+/// points α ± π/2. Appends to bp (values outside [−π/2, π/2] included: filter them).
+void add_longitudinal_breakpoints(std::vector<double>& bp, double beta, double alpha, double theta_i);
+
 /// ∫_{−π/2}^{π/2} M(v, θi, θr − α) cos θr dθr for d'Eon's M_p (1 without tilt; tilted lobes lose or
 /// gain energy near grazing). Adaptive to rel_tol; converged in the result.
 AdaptiveResult longitudinal_energy_deon(double v, double alpha, double theta_i, double rel_tol = 1e-12);

@@ -6,6 +6,7 @@
 #include "hairlut/azimuthal_np.hpp"
 #include "hairlut/bessel.hpp"
 #include "hairlut/directional_albedo.hpp"
+#include "hairlut/dual_scattering.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/fiber_geometry.hpp"
 #include "hairlut/fresnel.hpp"

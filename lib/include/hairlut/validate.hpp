@@ -25,6 +25,9 @@ struct ValidationThresholds {
   double accuracy_max_rel = 5e-2;     ///< max |sampled − direct| / lobe peak over off-node points
   double accuracy_p99_rel = 1e-2;     ///< 99th percentile of the same
   double energy_consistency = 1e-2;   ///< max |∫N_table dφ − energy table| / max energy
+  double ds_furnace = 1e-4;           ///< max |Σ_p E_p − 1| of a mean-energy table at σa = 0 (uniform roughness, no tilt)
+  double ds_consistency = 1e-4;       ///< max |a_f + a_b − Σ_p E_p| between dual-scattering and mean-energy tables
+  double ds_accuracy = 1e-4;          ///< max |table − dual_scattering()| of a_f, a_b, E at sampled nodes
   /// Names as used on the command line and in report.json ("furnace_table", ...).
   static const std::map<std::string, double ValidationThresholds::*>& fields();
   /// Sets one threshold by name; throws DomainError naming the key when unknown or not > 0.
