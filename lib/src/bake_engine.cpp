@@ -1,12 +1,8 @@
 #include "hairlut/bake_engine.hpp"
 
-#include <omp.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
-#include <mutex>
 #include <optional>
 
 #include "hairlut/angles.hpp"
@@ -15,6 +11,7 @@
 #include "hairlut/engine_presets.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/longitudinal_mp.hpp"
+#include "bake_internal.hpp"
 
 namespace hairlut {
 namespace {
@@ -23,45 +20,11 @@ using json = nlohmann::ordered_json;
 
 constexpr double kAzimuthalTolerance = 1e-10;  // truncation of unit_attenuation_np, relative to its mean 1/2π
 
-// body(i) for i in [0, n) on the configured threads; see dual_scattering_grid.cpp.
-template <class Body>
-void for_each_item(std::size_t n, const BakeOptions& opt, const std::string& stage, Body&& body) {
-  std::atomic<std::size_t> done{0};
-  std::exception_ptr error;
-  std::mutex mutex;
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  if (opt.progress) opt.progress(stage, 0, n);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (error || (opt.cancel && opt.cancel->load(std::memory_order_relaxed))) continue;
-    try {
-      body(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!error) error = std::current_exception();
-    }
-    const std::size_t d = done += 1;
-    if (opt.progress && mutex.try_lock()) {
-      opt.progress(stage, d, n);
-      mutex.unlock();
-    }
-  }
-  if (error) std::rethrow_exception(error);
-  if (opt.cancel && opt.cancel->load()) throw BakeCancelled();
-  if (opt.progress) opt.progress(stage, n, n);
-}
-
+// A table with its attributes (detail::make_table allocates it).
 Table new_table(const std::string& group, const std::string& name, const std::string& quantity, const std::string& units,
                 const std::string& long_name, const std::vector<GridAxis>& axes, Precision precision, json attributes) {
-  Table t;
-  t.group = group;
-  t.name = name;
-  t.quantity = quantity;
-  t.units = units;
-  t.long_name = long_name;
-  t.axes = axes;
+  Table t = detail::make_table(group, name, quantity, units, long_name, axes, precision);
   t.attributes = std::move(attributes);
-  t.allocate(precision);
   return t;
 }
 
@@ -225,7 +188,7 @@ void bake_unity_azimuthal(const BakeConfig& c, const EngineTableSpec& s, const B
                                                                  "(Chiang 2016's logistic scale, matched in variance)"}}));
   const std::size_t nb = betas.size(), nc = cos_nodes.size(), nphi = phis.size();
   auto rules = std::make_shared<GaussLegendreCache>();
-  for_each_item(nc * 3, opt, s.group, [&](std::size_t item) {
+  detail::parallel_for(nc * 3, opt, s.group, 1, [&](std::size_t item) {
     const std::size_t y = item / 3;
     const int p = static_cast<int>(item % 3);
     std::vector<double> out;
@@ -246,7 +209,7 @@ void bake_unity_longitudinal(const BakeConfig& c, const EngineTableSpec& s, cons
                                    "d'Eon's M_p of lobe " + lobe_name(p) + " with the preset's width and tilt", s.axes, precision,
                                    {{"lobe", lobe_name(p)}, {"p", p}, {"alpha", s.roughness.tilt[static_cast<std::size_t>(p)]},
                                     {"roughness_mapping", s.roughness.describe()}}));
-  for_each_item(pr.size(), opt, s.group, [&](std::size_t z) {
+  detail::parallel_for(pr.size(), opt, s.group, 1, [&](std::size_t z) {
     const std::vector<LobeParams> lobes = s.roughness.lobes_at(pr[z]);
     for (int p = 0; p < 3; ++p) {
       Table& t = set.tables[first + static_cast<std::size_t>(p)];

@@ -1,13 +1,10 @@
 #include "hairlut/dual_scattering_grid.hpp"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
 #include <map>
-#include <mutex>
 
 #include "hairlut/angles.hpp"
 #include "hairlut/azimuthal_fourier.hpp"
@@ -15,40 +12,10 @@
 #include "hairlut/error.hpp"
 #include "hairlut/lobe_energy.hpp"
 #include "hairlut/longitudinal_mp.hpp"
+#include "bake_internal.hpp"
 
 namespace hairlut {
 namespace {
-
-// body(i) for i in [0, n) on the configured threads (dynamic schedule), progress from one thread at
-// a time, cancellation between items, the first exception rethrown after the loop. Items write
-// disjoint outputs, so the result does not depend on the thread count.
-template <class Body>
-void for_each_item(std::size_t n, const BakeOptions& opt, const std::string& stage, std::size_t weight, Body&& body) {
-  std::atomic<std::size_t> done{0};
-  std::exception_ptr error;
-  std::mutex mutex;
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  const std::size_t total = n * weight;
-  if (opt.progress) opt.progress(stage, 0, total);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (error || (opt.cancel && opt.cancel->load(std::memory_order_relaxed))) continue;
-    try {
-      body(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!error) error = std::current_exception();
-    }
-    const std::size_t d = (done += 1) * weight;
-    if (opt.progress && mutex.try_lock()) {
-      opt.progress(stage, d, total);
-      mutex.unlock();
-    }
-  }
-  if (error) std::rethrow_exception(error);
-  if (opt.cancel && opt.cancel->load()) throw BakeCancelled();
-  if (opt.progress) opt.progress(stage, total, total);
-}
 
 // Cubic Lagrange weights of a uniform grid at s = θd/h: the four nodes n0 … n0 + 3 (node −1 stands
 // for node 1: the curves are even in θd) and their weights.
@@ -150,7 +117,7 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
                                              std::vector<std::vector<double>>(K, std::vector<double>(2 * nodes)));
   const GaussLegendreRule energy_rule(rq.options.energy_order);
   std::atomic<std::size_t> unconverged{0};
-  for_each_item(nodes, opt, stage + " (azimuthal halves)", K, [&](std::size_t j) {
+  detail::parallel_for(nodes, opt, stage + " (azimuthal halves)", K, [&](std::size_t j) {
     const double theta_d = theta_d_of(j);
     const FiberGeometry g = FiberGeometry::make(rq.eta, theta_d);
     for (std::size_t k = 0; k < K; ++k) {
@@ -185,7 +152,7 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
 
   // ---- Cells: one work item per (roughness, incidence), every absorption at once (M_p does not
   // depend on σa). Components: [k][l][energy, forward, backward].
-  for_each_item(R * T, opt, stage, K, [&](std::size_t item) {
+  detail::parallel_for(R * T, opt, stage, K, [&](std::size_t item) {
     const std::size_t r = item / T, t = item % T;
     const double theta_i = thetas[t];
     const std::vector<LobeParams>& lobes = rq.roughness[r];

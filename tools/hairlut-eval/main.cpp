@@ -150,6 +150,22 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
 
+  // The full model of the furnace and dual subcommands: per-lobe β (β_m = β_n) and tilts.
+  auto model_from_options = [&] {
+    hairlut::HairModel model;
+    model.eta = eta;
+    model.sigma_a = sigma_a;
+    model.path = hairlut::parse_absorption_path(path, "--absorption-path");
+    const std::size_t n = static_cast<std::size_t>(std::max(lobes, 0)) + (residual ? 1 : 0);
+    const auto b = per_lobe(betas, n, "--beta-deg");
+    const auto a = per_lobe(alphas, n, "--alpha-deg");
+    for (std::size_t p = 0; p < n; ++p) {
+      const hairlut::LobeParams lp{radians(b[p]), radians(b[p]), radians(a[p])};
+      if (residual && p + 1 == n) model.residual = lp;
+      else model.lobes.push_back(lp);
+    }
+    return model;
+  };
   try {
     ordered_json out;
     if (mp->parsed()) {
@@ -202,18 +218,7 @@ int main(int argc, char** argv) {
       out["total"] = total;
       out["converged"] = r.converged;
     } else if (dual->parsed()) {
-      hairlut::HairModel model;
-      model.eta = eta;
-      model.sigma_a = sigma_a;
-      model.path = hairlut::parse_absorption_path(path, "--absorption-path");
-      const std::size_t n = static_cast<std::size_t>(std::max(lobes, 0)) + (residual ? 1 : 0);
-      const auto b = per_lobe(betas, n, "--beta-deg");
-      const auto a = per_lobe(alphas, n, "--alpha-deg");
-      for (std::size_t p = 0; p < n; ++p) {
-        const hairlut::LobeParams lp{radians(b[p]), radians(b[p]), radians(a[p])};
-        if (residual && p + 1 == n) model.residual = lp;
-        else model.lobes.push_back(lp);
-      }
+      const hairlut::HairModel model = model_from_options();
       hairlut::DualScatteringOptions o;
       o.density_factor = density;
       ordered_json rows = ordered_json::array();
@@ -239,18 +244,7 @@ int main(int argc, char** argv) {
       }
       out["dual_scattering"] = rows;
     } else if (furnace->parsed()) {
-      hairlut::HairModel model;
-      model.eta = eta;
-      model.sigma_a = sigma_a;
-      model.path = hairlut::parse_absorption_path(path, "--absorption-path");
-      const std::size_t n = static_cast<std::size_t>(std::max(lobes, 0)) + (residual ? 1 : 0);
-      const auto b = per_lobe(betas, n, "--beta-deg");
-      const auto a = per_lobe(alphas, n, "--alpha-deg");
-      for (std::size_t p = 0; p < n; ++p) {
-        const hairlut::LobeParams lp{radians(b[p]), radians(b[p]), radians(a[p])};
-        if (residual && p + 1 == n) model.residual = lp;
-        else model.lobes.push_back(lp);
-      }
+      const hairlut::HairModel model = model_from_options();
       ordered_json rows = ordered_json::array();
       for (double t : thetas) {
         const auto r = hairlut::directional_albedo(model, radians(t));
