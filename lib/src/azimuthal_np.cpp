@@ -81,26 +81,32 @@ AdaptiveResult azimuthal_np_reference(const AttenuationSlice& slice, int p, doub
   // Each peak of the integrand sits at a root γ0 of Φ ≡ ±φ and is about w = β/|dΦ/dγ| wide
   // (√β near a caustic). Breakpoints at γ0 ± w·4^k make every panel next to a peak no more than
   // four times wider than the peak, so no panel can miss a narrow peak between its nodes.
-  const FiberGeometry& geo = slice.geometry();
-  std::vector<double> bp = {0.0, kHalfPi};
-  for (double g : azimuthal_roots(geo, p, phi)) {
-    const PathPoint q = slice.at_gamma(g);
-    const double slope = std::abs(exit_azimuth_derivative(p, q.cos_gamma_i, q.cos_gamma_t, geo.inv_eta_prime));
-    const double centre = std::abs(g);
-    bp.push_back(centre);
-    for (double w = beta / std::max(slope, 2.0 * std::sqrt(beta)); w < kHalfPi; w *= 4.0) {
-      bp.push_back(centre - w);
-      bp.push_back(centre + w);
-    }
-  }
-  if (const double gc = caustic_gamma(p, geo); gc > 0.0) bp.push_back(gc);
-  std::erase_if(bp, [](double g) { return !(g >= 0.0 && g <= kHalfPi); });
-  std::sort(bp.begin(), bp.end());
-  bp.erase(std::unique(bp.begin(), bp.end()), bp.end());
+  const std::vector<double> bp = detector_breakpoints(slice.geometry(), p, beta, std::span<const double>(&phi, 1));
   AdaptiveOptions opt;
   opt.rel_tol = rel_tol;
   return integrate_adaptive(
       [&](double g, std::span<double> out) { out[0] = folded_integrand(slice, p, beta, phi, g); }, 1, bp, opt);
+}
+
+std::vector<double> detector_breakpoints(const FiberGeometry& geometry, int p, double beta, std::span<const double> phis) {
+  std::vector<double> bp = {0.0, kHalfPi};
+  for (double phi : phis)
+    for (double g : azimuthal_roots(geometry, p, phi)) {
+      const double centre = std::abs(g);
+      const double st = std::sin(centre) * geometry.inv_eta_prime;
+      const double slope =
+          std::abs(exit_azimuth_derivative(p, std::cos(centre), std::sqrt((1.0 - st) * (1.0 + st)), geometry.inv_eta_prime));
+      bp.push_back(centre);
+      for (double w = beta / std::max(slope, 2.0 * std::sqrt(beta)); w < kHalfPi; w *= 4.0) {
+        bp.push_back(centre - w);
+        bp.push_back(centre + w);
+      }
+    }
+  if (const double gc = caustic_gamma(p, geometry); gc > 0.0) bp.push_back(gc);
+  std::erase_if(bp, [](double x) { return !(x >= 0.0 && x <= kHalfPi); });
+  std::sort(bp.begin(), bp.end());
+  bp.erase(std::unique(bp.begin(), bp.end()), bp.end());
+  return bp;
 }
 
 std::vector<double> azimuthal_roots(const FiberGeometry& geometry, int p, double phi) {

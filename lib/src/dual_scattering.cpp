@@ -53,25 +53,8 @@ void check_beta(double beta) { require_positive("beta", beta); }
 // of the halves, where W_b and W_f step over a width δ = β/|dΦ/dγ|), refined at δ·4^k on both sides
 // so that no panel next to an edge is much wider than the edge, and the caustic.
 std::vector<double> half_range_breakpoints(const FiberGeometry& g, int p, double beta) {
-  std::vector<double> bp = {0.0, kHalfPi};
-  std::vector<double> roots = azimuthal_roots(g, p, kHalfPi);
-  const std::vector<double> more = azimuthal_roots(g, p, -kHalfPi);
-  roots.insert(roots.end(), more.begin(), more.end());
-  for (double r : roots) {
-    const double centre = std::abs(r);
-    const double st = std::sin(centre) * g.inv_eta_prime;
-    const double slope = std::abs(exit_azimuth_derivative(p, std::cos(centre), std::sqrt((1.0 - st) * (1.0 + st)), g.inv_eta_prime));
-    bp.push_back(centre);
-    for (double w = beta / std::max(slope, 2.0 * std::sqrt(beta)); w < kHalfPi; w *= 4.0) {
-      bp.push_back(centre - w);
-      bp.push_back(centre + w);
-    }
-  }
-  if (const double gc = caustic_gamma(p, g); gc > 0.0) bp.push_back(gc);
-  std::erase_if(bp, [](double x) { return !(x >= 0.0 && x <= kHalfPi); });
-  std::sort(bp.begin(), bp.end());
-  bp.erase(std::unique(bp.begin(), bp.end()), bp.end());
-  return bp;
+  const double edges[2] = {kHalfPi, -kHalfPi};
+  return detector_breakpoints(g, p, beta, edges);
 }
 
 }  // namespace

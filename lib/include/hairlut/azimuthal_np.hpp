@@ -9,6 +9,7 @@
 // D(φ − Φ) + D(φ + Φ), which makes N_p(−φ) = N_p(φ) hold exactly.
 #pragma once
 
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -52,6 +53,12 @@ class NpQuadratureSlab {
 /// relative to N_p(φ) (default 1e−12); converged = false says when it could not reach it.
 AdaptiveResult azimuthal_np_reference(const AttenuationSlice& slice, int p, double beta, double phi,
                                       double rel_tol = 1e-12);
+
+/// Breakpoints in γ ∈ [0, π/2] for integrating a detector of width β over the fiber: 0, π/2, the
+/// caustic, and at every |γ0| with Φ(p, γ0) ≡ φ for each φ of `phis` the points |γ0| ± w·4^k, where
+/// w = β/max(|dΦ/dγ|, 2√β) is the detector's width in γ (√β near a caustic), so that no panel next
+/// to a peak or step is more than four times wider than it. Sorted, without duplicates.
+std::vector<double> detector_breakpoints(const FiberGeometry& geometry, int p, double beta, std::span<const double> phis);
 
 /// Every γi in [−π/2, π/2] with Φ(p, sin γi) ≡ φ (mod 2π), ascending: one per monotone piece of Φ
 /// and multiple of 2π (one or three for TRT, one for R and TT). Found by bracketed TOMS 748 on the
