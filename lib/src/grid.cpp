@@ -26,6 +26,9 @@ constexpr std::pair<std::string_view, Placement> kPlacements[] = {{"edges", Plac
 constexpr std::pair<std::string_view, Wrap> kWraps[] = {
     {"clamp", Wrap::clamp}, {"periodic", Wrap::periodic}, {"even", Wrap::even}, {"reflect", Wrap::reflect}};
 
+constexpr std::pair<std::string_view, Interpolation> kInterpolations[] = {
+    {"linear", Interpolation::linear}, {"cubic", Interpolation::cubic}, {"geometric", Interpolation::geometric}};
+
 template <class E, std::size_t N>
 std::string_view name_of(E value, const std::pair<std::string_view, E> (&names)[N]) {
   for (const auto& [name, v] : names)
@@ -41,6 +44,8 @@ std::string_view to_string(Wrap w) { return name_of(w, kWraps); }
 Spacing parse_spacing(std::string_view text, std::string_view what) { return parse_enum(text, what, kSpacings); }
 Placement parse_placement(std::string_view text, std::string_view what) { return parse_enum(text, what, kPlacements); }
 Wrap parse_wrap(std::string_view text, std::string_view what) { return parse_enum(text, what, kWraps); }
+std::string_view to_string(Interpolation i) { return name_of(i, kInterpolations); }
+Interpolation parse_interpolation(std::string_view text, std::string_view what) { return parse_enum(text, what, kInterpolations); }
 
 sampler::Axis GridAxis::view() const {
   sampler::Axis a;
@@ -51,6 +56,7 @@ sampler::Axis GridAxis::view() const {
   a.hi = hi;
   a.count = count;
   a.values = values.empty() ? nullptr : values.data();
+  a.interpolation = interpolation;
   return a;
 }
 
@@ -62,6 +68,8 @@ std::vector<double> GridAxis::nodes() const {
 }
 
 void GridAxis::validate(const std::string& where) const {
+  if (interpolation == Interpolation::cubic && spacing == Spacing::explicit_values)
+    throw DomainError(where + ".interpolation cubic needs a mapped spacing, not explicit values");
   if (count < 1) throw_domain_error(where + ".count", "must be >= 1", static_cast<long long>(count));
   if (count > (1 << 20)) throw_domain_error(where + ".count", "must be <= 1048576", static_cast<long long>(count));
   if (spacing == Spacing::explicit_values) {
@@ -116,6 +124,7 @@ nlohmann::ordered_json GridAxis::to_json() const {
   j["placement"] = to_string(placement);
   j["wrap"] = to_string(wrap);
   j["range"] = {lo, hi};
+  j["interpolation"] = to_string(interpolation);
   j["values"] = nodes();
   if (!labels.empty()) j["labels"] = labels;
   return j;
@@ -140,12 +149,24 @@ GridAxis GridAxis::from_json(const nlohmann::json& j, const std::string& where) 
     a.lo = range[0].get<double>();
     a.hi = range[1].get<double>();
     if (a.spacing == Spacing::explicit_values) a.values = field("values").get<std::vector<double>>();
+    if (j.contains("interpolation"))
+      a.interpolation = parse_interpolation(j.at("interpolation").get<std::string>(), where + ".interpolation");
     if (j.contains("labels")) a.labels = j.at("labels").get<std::vector<std::string>>();
   } catch (const nlohmann::json::exception& e) {
     throw DomainError(where + ": malformed axis description (" + std::string(e.what()) + ")");
   }
   a.validate(where);
   return a;
+}
+
+void validate_interpolation(const std::vector<GridAxis>& axes, const std::string& where) {
+  int geometric = 0;
+  for (const GridAxis& a : axes) {
+    if (a.interpolation == Interpolation::geometric) ++geometric;
+    if (a.interpolation == Interpolation::cubic && a.spacing == Spacing::explicit_values)
+      throw DomainError(where + ".axes." + a.name + ".interpolation cubic needs a mapped spacing, not explicit values");
+  }
+  if (geometric > 1) throw DomainError(where + ": at most one axis may interpolate geometrically (got " + std::to_string(geometric) + ")");
 }
 
 GridAxis channel_axis(std::vector<std::string> labels, std::string long_name) {

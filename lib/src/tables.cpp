@@ -1,5 +1,7 @@
 #include "hairlut/tables.hpp"
 
+#include <algorithm>
+
 #include <Imath/half.h>
 
 #include "hairlut/error.hpp"
@@ -23,8 +25,27 @@ double Table::sample(const std::vector<double>& x) const {
   std::vector<sampler::Axis> v;
   for (const GridAxis& a : axes) v.push_back(a.view());
   const int dims = static_cast<int>(v.size());
-  return precision == Precision::float32 ? sampler::sample(f32.data(), v.data(), dims, x.data())
-                                         : sampler::sample(f64.data(), v.data(), dims, x.data());
+  const double value = precision == Precision::float32 ? sampler::sample(f32.data(), v.data(), dims, x.data())
+                                                       : sampler::sample(f64.data(), v.data(), dims, x.data());
+  // Cubic interpolation may undershoot below zero next to a steep fall; a non-negative quantity
+  // stays non-negative.
+  return quantity == "shift" ? value : std::max(value, 0.0);
+}
+
+double TableSet::sample_value(const Table& t, const std::vector<double>& x) const {
+  const double v = t.sample(x);
+  const std::string f = t.factor();
+  if (f.empty()) return v;
+  const Table* ft = find(f);
+  if (!ft) throw DomainError("table " + t.path() + ": its factor table " + f + " is missing");
+  std::vector<double> y;
+  for (const GridAxis& fa : ft->axes) {
+    std::size_t k = 0;
+    while (k < t.axes.size() && t.axes[k].name != fa.name) ++k;
+    if (k == t.axes.size()) throw DomainError("table " + t.path() + ": its factor table " + f + " has axis " + fa.name + " which it lacks");
+    y.push_back(x[k]);
+  }
+  return v * ft->sample(y);
 }
 
 nlohmann::ordered_json Table::describe() const {

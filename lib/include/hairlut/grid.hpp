@@ -15,6 +15,7 @@ namespace hairlut {
 using sampler::Placement;
 using sampler::Spacing;
 using sampler::Wrap;
+using sampler::Interpolation;
 
 std::string_view to_string(Spacing s);
 std::string_view to_string(Placement p);
@@ -23,6 +24,8 @@ std::string_view to_string(Wrap w);
 Spacing parse_spacing(std::string_view text, std::string_view what);
 Placement parse_placement(std::string_view text, std::string_view what);
 Wrap parse_wrap(std::string_view text, std::string_view what);
+std::string_view to_string(Interpolation i);
+Interpolation parse_interpolation(std::string_view text, std::string_view what);
 
 /// One axis of a table.
 struct GridAxis {
@@ -32,6 +35,7 @@ struct GridAxis {
   Spacing spacing = Spacing::uniform;
   Placement placement = Placement::edges;
   Wrap wrap = Wrap::clamp;
+  Interpolation interpolation = Interpolation::linear;  ///< along this axis (see sampler.hpp)
   double lo = 0.0, hi = 1.0;
   int count = 1;
   std::vector<double> values;  ///< explicit nodes (Spacing::explicit_values only)
@@ -50,6 +54,10 @@ struct GridAxis {
   /// Reads to_json()'s form back; throws DomainError naming `where` on missing or bad fields.
   static GridAxis from_json(const nlohmann::json& j, const std::string& where);
 };
+
+/// Throws DomainError naming `where` unless the axes' interpolations form a valid table: cubic
+/// only on mapped (not explicit) axes with at least 3 nodes, at most one geometric axis.
+void validate_interpolation(const std::vector<GridAxis>& axes, const std::string& where);
 
 /// A channel axis of `labels.size()` entries (values 0, 1, 2, ...), e.g. {"R", "G", "B"}.
 GridAxis channel_axis(std::vector<std::string> labels, std::string long_name);

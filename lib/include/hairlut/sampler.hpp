@@ -17,6 +17,14 @@
 //       an even function: it is wrapped to [−π, π], folded to |x|, then clamped), or reflect (x is
 //       folded into [lo, hi] by reflection: the function is even about lo and periodic with
 //       period 2 (hi − lo), e.g. the azimuthal half angle φh over [0, π/2] of a function of cos 2φh).
+//   - `interpolation` along the axis, in the mapped coordinate t (in the node index for explicit
+//       axes): linear (two nodes); cubic (Catmull–Rom through four nodes: exact at the nodes,
+//       continuous slope, exact for quadratics; beyond a clamped end the missing node is the
+//       quadratic extrapolation 3v₀ − 3v₁ + v₂, across an even or reflect end it is the mirror
+//       node, across a periodic end the wrapped one); or geometric (two nodes combined as
+//       v₀^(1−w) v₁^w, i.e. linear in log v, for quantities that fall exponentially along the
+//       axis such as N_p along σa; linear where either value is ≤ 0). A table has at most one
+//       geometric axis; it is combined last, after the tensor product over the other axes.
 //   - Data are stored row-major: the last axis varies fastest.
 #pragma once
 
@@ -30,6 +38,7 @@ namespace sampler {
 enum class Spacing : int { uniform = 0, cos = 1, sin = 2, log = 3, sqrt = 4, explicit_values = 5 };
 enum class Placement : int { edges = 0, centers = 1 };
 enum class Wrap : int { clamp = 0, periodic = 1, even = 2, reflect = 3 };
+enum class Interpolation : int { linear = 0, cubic = 1, geometric = 2 };
 
 struct Axis {
   Spacing spacing = Spacing::uniform;
@@ -39,6 +48,7 @@ struct Axis {
   double hi = 1.0;
   int count = 1;
   const double* values = nullptr;  ///< the `count` nodes, for Spacing::explicit_values only
+  Interpolation interpolation = Interpolation::linear;
 };
 
 /// Two neighbouring nodes and the weight of the second: value = (1 − w) v[i0] + w v[i1].
@@ -142,32 +152,117 @@ inline Lerp locate(const Axis& a, double x) {
   return r;
 }
 
-/// Multilinear interpolation of a row-major table of `dims` axes at the point x[0 … dims−1].
-/// T is float or double (or half, if it converts to float). dims ≤ 8.
+/// The nodes and weights that interpolate along one axis at x: one (at a clamped end or a
+/// single-node axis), two (linear, geometric) or four (cubic) taps.
+struct Taps {
+  int n = 1;
+  int i[4] = {0, 0, 0, 0};
+  double w[4] = {1.0, 0.0, 0.0, 0.0};
+};
+
+/// Index of node i of an axis after its wrap rule (−1 → the mirror or wrapped node), or −1 when
+/// i lies beyond a clamped end.
+inline int wrapped_index(const Axis& a, int i) {
+  const int n = a.count;
+  if (i >= 0 && i < n) return i;
+  if (a.wrap == Wrap::periodic) return ((i % n) + n) % n;
+  // Even azimuths are symmetric about 0 and π, reflect axes about both ends of their range:
+  // mirror about the end node (edges) or the end of the range (centers).
+  const double pi = 3.14159265358979323846;
+  const bool mirror = a.wrap == Wrap::reflect || (a.wrap == Wrap::even && (i < 0 ? a.lo == 0.0 : a.hi == pi));
+  if (!mirror) return -1;
+  const bool centers = a.placement == Placement::centers;
+  if (i < 0) i = centers ? -1 - i : -i;
+  if (i > n - 1) i = centers ? 2 * n - 1 - i : 2 * (n - 1) - i;
+  return std::max(0, std::min(n - 1, i));
+}
+
+/// Catmull–Rom weights of nodes i0 − 1 … i0 + 2 at fraction t of the cell [i0, i0 + 1].
+inline void catmull_rom_weights(double t, double* w) {
+  const double t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
+  w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+  w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+  w[3] = 0.5 * (t3 - t2);
+}
+
+/// The taps of axis a at x, with its interpolation and wrap rules.
+inline Taps taps(const Axis& a, double x) {
+  Taps r;
+  const Lerp l = locate(a, x);
+  r.i[0] = l.i0;
+  if (l.w == 0.0 || l.i0 == l.i1) return r;
+  if (a.interpolation != Interpolation::cubic || a.count < 3) {
+    r.n = 2;
+    r.i[1] = l.i1;
+    r.w[0] = 1.0 - l.w;
+    r.w[1] = l.w;
+    return r;
+  }
+  r.n = 4;
+  double w[4];
+  catmull_rom_weights(l.w, w);
+  int idx[4] = {l.i0 - 1, l.i0, l.i1, l.i1 + 1};
+  if (a.wrap == Wrap::periodic) idx[2] = l.i0 + 1;  // l.i1 may already be wrapped
+  for (int k = 0; k < 4; ++k) idx[k] = wrapped_index(a, idx[k]);
+  // Beyond a clamped end: the quadratic extrapolation v₋₁ = 3v₀ − 3v₁ + v₂ (and its mirror).
+  if (idx[0] < 0) {
+    idx[0] = idx[1];
+    const double g = w[0];
+    w[0] = 0.0, w[1] += 3.0 * g, w[2] -= 3.0 * g, w[3] += g;
+  }
+  if (idx[3] < 0) {
+    idx[3] = idx[2];
+    const double g = w[3];
+    w[3] = 0.0, w[2] += 3.0 * g, w[1] -= 3.0 * g, w[0] += g;
+  }
+  for (int k = 0; k < 4; ++k) r.i[k] = idx[k], r.w[k] = w[k];
+  return r;
+}
+
+/// Interpolation of a row-major table of `dims` axes at the point x[0 … dims−1], with each
+/// axis's interpolation (multilinear when every axis is linear). T is float or double (or half,
+/// if it converts to float). dims ≤ 8. A NaN coordinate gives NaN.
 template <class T>
 double sample(const T* data, const Axis* axes, int dims, const double* x) {
-  Lerp l[8];
+  Taps tp[8];
   std::size_t stride[8];
   std::size_t s = 1;
+  int geometric = -1;
   for (int d = dims - 1; d >= 0; --d) {
-    l[d] = locate(axes[d], x[d]);
+    if (!(x[d] == x[d]) && axes[d].count > 1) return x[d];
+    tp[d] = taps(axes[d], x[d]);
     stride[d] = s;
     s *= static_cast<std::size_t>(axes[d].count);
+    if (axes[d].interpolation == Interpolation::geometric && tp[d].n == 2) geometric = d;
   }
-  double sum = 0.0;
-  for (int corner = 0; corner < (1 << dims); ++corner) {
-    double w = 1.0;
-    std::size_t offset = 0;
-    for (int d = 0; d < dims; ++d) {
-      const bool upper = (corner >> d) & 1;
-      const double wd = upper ? l[d].w : 1.0 - l[d].w;
-      if (wd == 0.0) { w = 0.0; break; }
-      w *= wd;
-      offset += static_cast<std::size_t>(upper ? l[d].i1 : l[d].i0) * stride[d];
+  // Tensor product over every axis but the geometric one (held at tap g).
+  auto product = [&](int g) {
+    int k[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    double sum = 0.0;
+    for (;;) {
+      double w = 1.0;
+      std::size_t offset = 0;
+      for (int d = 0; d < dims; ++d) {
+        const int kd = d == geometric ? g : k[d];
+        if (d != geometric) w *= tp[d].w[kd];
+        offset += static_cast<std::size_t>(tp[d].i[kd]) * stride[d];
+      }
+      if (w != 0.0) sum += w * static_cast<double>(data[offset]);
+      int d = dims - 1;
+      for (; d >= 0; --d) {
+        if (d == geometric) continue;
+        if (++k[d] < tp[d].n) break;
+        k[d] = 0;
+      }
+      if (d < 0) break;
     }
-    if (w != 0.0) sum += w * static_cast<double>(data[offset]);
-  }
-  return sum;
+    return sum;
+  };
+  if (geometric < 0) return product(0);
+  const double v0 = product(0), v1 = product(1), w = tp[geometric].w[1];
+  if (v0 > 0.0 && v1 > 0.0) return std::exp((1.0 - w) * std::log(v0) + w * std::log(v1));
+  return (1.0 - w) * v0 + w * v1;
 }
 
 }  // namespace sampler

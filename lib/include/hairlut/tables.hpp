@@ -36,8 +36,13 @@ struct Table {
     if (precision == Precision::float32) f32[i] = static_cast<float>(v);
     else f64[i] = v;
   }
-  /// Multilinear sample at x (one coordinate per axis) with the shipped sampler.
+  /// The stored values interpolated at x (one coordinate per axis) with the shipped sampler and
+  /// each axis's interpolation; never negative for a non-negative quantity (every quantity but
+  /// "shift"). For the quantity the table stands for (with its factor table), use sample_value.
   double sample(const std::vector<double>& x) const;
+  /// The table whose value multiplies this one's (attribute "factor", e.g. "np/energy_TT" for N_p
+  /// stored as the shape N_p / E_p), or "" when the values are the quantity itself.
+  std::string factor() const { return attributes.value("factor", std::string()); }
   /// Table metadata as JSON (everything but the values).
   nlohmann::ordered_json describe() const;
 };
@@ -50,6 +55,10 @@ struct TableSet {
   const Table* find(const std::string& path) const;
   /// Bytes of all table values.
   std::size_t bytes() const;
+  /// The quantity table t stands for at x: t.sample(x), times its factor table sampled at the
+  /// coordinates of x on the factor's axes (matched by name). Throws DomainError when the factor
+  /// table is missing or has an axis t lacks.
+  double sample_value(const Table& t, const std::vector<double>& x) const;
 };
 
 /// How values enter content_checksum: as stored in memory, or rounded as a file stores them.
