@@ -161,3 +161,96 @@ TEST_CASE("Axis validation names the field", "[grid]") {
   CHECK(message(axis(Spacing::log, Placement::edges, Wrap::periodic, 1.0, 2.0, 4)).find("uniform spacing to be periodic") != std::string::npos);
   CHECK(message(axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 1.0, 4)) == "(valid)");
 }
+
+// Catmull–Rom reproduces quadratics in the mapped coordinate, and the quadratic extrapolation
+// beyond clamped ends keeps that true in the first and last cells.
+TEST_CASE("Cubic interpolation is exact for quadratics of t, up to the clamped ends", "[sampler]") {
+  for (Spacing s : {Spacing::uniform, Spacing::cos, Spacing::log, Spacing::sqrt}) {
+    const double lo = s == Spacing::log ? 0.1 : 0.0, hi = s == Spacing::cos ? radians(89.0) : 4.0;
+    GridAxis a = axis(s, Placement::edges, Wrap::clamp, lo, hi, 7);
+    a.interpolation = Interpolation::cubic;
+    auto f = [&](double x) {
+      const double t = sampler::mapped(s, x);
+      return 2.0 - 3.0 * t + 0.7 * t * t;
+    };
+    std::vector<double> v;
+    for (double x : a.nodes()) v.push_back(f(x));
+    const sampler::Axis view = a.view();
+    for (int i = 0; i <= 200; ++i) {
+      const double x = sampler::unmapped(s, sampler::mapped(s, lo) + i / 200.0 * (sampler::mapped(s, hi) - sampler::mapped(s, lo)));
+      CHECK(sampler::sample(v.data(), &view, 1, &x) == Approx(f(x)).margin(1e-12));
+    }
+  }
+}
+
+TEST_CASE("Cubic interpolation across even and periodic azimuth ends uses the mirrored or wrapped node", "[sampler]") {
+  // cos(2φ) on an even [0, π] axis and a periodic [−π, π) axis: the CR error of a smooth periodic
+  // function is O(h^3); with 128 nodes per turn it stays below 1e-3 everywhere, including next to 0 and π,
+  // which a clamped extrapolation would not give for an even function's zero slope.
+  GridAxis even = axis(Spacing::uniform, Placement::edges, Wrap::even, 0.0, kPi, 65);
+  GridAxis per = axis(Spacing::uniform, Placement::edges, Wrap::periodic, -kPi, kPi, 128);
+  even.interpolation = per.interpolation = Interpolation::cubic;
+  for (const GridAxis* a : {&even, &per}) {
+    std::vector<double> v;
+    for (double x : a->nodes()) v.push_back(std::cos(2.0 * x));
+    const sampler::Axis view = a->view();
+    double worst = 0.0;
+    for (int i = -400; i <= 400; ++i) {
+      const double x = i * kPi / 397.0;
+      worst = std::max(worst, std::abs(sampler::sample(v.data(), &view, 1, &x) - std::cos(2.0 * x)));
+    }
+    CHECK(worst < 1e-3);
+    // Symmetric: the value at -x equals the value at x.
+    const double x1 = 0.0123, x2 = -0.0123;
+    CHECK(sampler::sample(v.data(), &view, 1, &x1) == Approx(sampler::sample(v.data(), &view, 1, &x2)).margin(1e-14));
+  }
+}
+
+TEST_CASE("Geometric interpolation is exact for exponentials and falls back to linear at zero", "[sampler]") {
+  GridAxis a = axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 10.0, 6);
+  a.interpolation = Interpolation::geometric;
+  std::vector<double> v;
+  for (double x : a.nodes()) v.push_back(3.0 * std::exp(-1.7 * x));
+  const sampler::Axis view = a.view();
+  for (double x : {0.1, 1.3, 4.99, 7.7, 9.9}) CHECK(sampler::sample(v.data(), &view, 1, &x) == Approx(3.0 * std::exp(-1.7 * x)).epsilon(1e-12));
+  v[5] = 0.0;  // linear in the last cell
+  const double x = 9.0;
+  CHECK(sampler::sample(v.data(), &view, 1, &x) == Approx(0.5 * v[4]).epsilon(1e-12));
+  // Combined with a linear axis, the geometric axis is combined last: exact for f(x) g(y) with f
+  // linear, g exponential.
+  GridAxis b = axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 1.0, 3);
+  std::vector<sampler::Axis> axes = {a.view(), b.view()};
+  std::vector<double> w;
+  for (double xa : a.nodes())
+    for (double xb : b.nodes()) w.push_back(std::exp(-1.7 * xa) * (1.0 + 2.0 * xb));
+  const double p[2] = {3.3, 0.4};
+  CHECK(sampler::sample(w.data(), axes.data(), 2, p) == Approx(std::exp(-1.7 * 3.3) * 1.8).epsilon(1e-12));
+}
+
+TEST_CASE("A NaN coordinate gives NaN, never a node's value; a TableView equals sample()", "[sampler]") {
+  GridAxis a = axis(Spacing::cos, Placement::edges, Wrap::clamp, 0.0, radians(89.0), 9);
+  GridAxis b = axis(Spacing::uniform, Placement::edges, Wrap::even, 0.0, kPi, 17);
+  b.interpolation = Interpolation::cubic;
+  std::vector<float> v(9 * 17);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<float>(1.0 + 0.01 * static_cast<double>(i % 13));
+  std::vector<sampler::Axis> axes = {a.view(), b.view()};
+  const double nan_point[2] = {std::nan(""), 0.5};
+  CHECK(std::isnan(sampler::sample(v.data(), axes.data(), 2, nan_point)));
+  const sampler::TableView<float> view(v.data(), axes.data(), 2);
+  for (int i = 0; i < 50; ++i) {
+    const double x[2] = {0.03 * i, -3.0 + 0.13 * i};
+    CHECK(view(x) == sampler::sample(v.data(), axes.data(), 2, x));
+  }
+}
+
+TEST_CASE("Interpolation kinds are validated", "[grid]") {
+  GridAxis e = channel_axis({"R", "G", "B"}, "channel");
+  e.interpolation = Interpolation::cubic;
+  CHECK_THROWS_AS(e.validate("x"), DomainError);
+  GridAxis a = axis(Spacing::uniform, Placement::edges, Wrap::clamp, 0.0, 1.0, 4), b = a;
+  a.interpolation = b.interpolation = Interpolation::geometric;
+  CHECK_THROWS_AS(validate_interpolation({a, b}, "tables.np"), DomainError);
+  // Round trip through JSON keeps the interpolation.
+  a.name = "y";
+  CHECK(GridAxis::from_json(a.to_json(), "y").interpolation == Interpolation::geometric);
+}

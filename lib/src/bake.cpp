@@ -263,19 +263,25 @@ void append_melanin_tables(const BakeConfig& c, Precision precision, TableSet& s
                           "absorption per unit radius from d'Eon 2011's RGB cross-sections", axes, precision);
   deon.attributes = {{"eumelanin_cross_section", {0.419, 0.697, 1.37}}, {"pheomelanin_cross_section", {0.187, 0.4, 1.05}},
                      {"method", "sigma_a = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05) (d'Eon 2011 sec. 6.1)"}};
-  Table spec = make_table("melanin", "sigma_a_spectral", "sigma_a", "1/radius",
-                          "RGB-equivalent absorption from the Donner-Jensen 2006 spectra, CIE 1931 2 deg and D65", axes, precision);
+  // The spectral model's colour leaves the sRGB gamut for dark hair (blue T_c ≤ 0), where no RGB
+  // absorption reproduces it and −ln T_c has no value: the table stores the transmittance itself,
+  // which stays smooth across the gamut boundary, and says how a renderer takes σa from it.
+  Table spec = make_table("melanin", "transmittance_spectral", "transmittance", "1",
+                          "linear sRGB transmittance over path_length radii from the Donner-Jensen 2006 spectra, CIE 1931 2 deg and D65",
+                          axes, precision);
   spec.attributes = {{"path_length", c.melanin_path_length},
                      {"spectral_scale", spectral.options().spectral_scale},
                      {"fitted_eumelanin_cross_section", {fit.eumelanin.r, fit.eumelanin.g, fit.eumelanin.b}},
                      {"fitted_pheomelanin_cross_section", {fit.pheomelanin.r, fit.pheomelanin.g, fit.pheomelanin.b}},
                      {"fit_rms_relative_error", fit.rms_relative_error},
-                     {"method", "sigma_a_c = -ln(T_c)/L, T_c = linear sRGB (IEC 61966-2-1, white-balanced to D65) of D65 light "
-                                "through exp(-sigma_a(lambda) L), 380-780 nm in 5 nm steps"}};
+                     {"method", "T_c = linear sRGB (IEC 61966-2-1, white-balanced to D65) of D65 light through exp(-sigma_a(lambda) L), "
+                                "380-780 nm in 5 nm steps"},
+                     {"out_of_gamut", "T_c <= 0 where the transmitted colour lies outside the sRGB gamut (dark hair's blue); "
+                                      "a renderer takes sigma_a_c = -ln(max(T_c, 1e-30)) / path_length"}};
   for (std::size_t i = 0; i < ce.size(); ++i)
     for (std::size_t j = 0; j < cp.size(); ++j) {
       const Rgb a = melanin_sigma_a_rgb(ce[i], cp[j]);
-      const Rgb b = spectral.sigma_a_rgb(ce[i], cp[j]);
+      const Rgb b = spectral.transmittance_unclamped(ce[i], cp[j], c.melanin_path_length);
       const std::size_t o = (i * cp.size() + j) * 3;
       deon.set(o, a.r), deon.set(o + 1, a.g), deon.set(o + 2, a.b);
       spec.set(o, b.r), spec.set(o + 1, b.g), spec.set(o + 2, b.b);
@@ -299,10 +305,47 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   NpSettings s{&c, c.lobe_count, GaussLegendreRule(c.quadrature.energy_order)};
   std::vector<GridAxis> np_axes;
   if (c.np_axes) np_axes = restricted_np_axes(c, &report.notes);
+  bool normalize_energy = c.np_normalize_energy;
+  std::optional<std::vector<GridAxis>> energy_axes = c.np_energy_axes;
   if (c.np_axes && c.np_target_error && !per_material) {
-    const ResolutionPlan plan = plan_np_resolution(np_axes, c.eta, c.path, c.lobe_count, *c.np_target_error);
+    // Two representations compete: the axes as configured, and the shape N_p / E_p with cubic
+    // interpolation on every axis, σa uniform, and dense energy tables; the smaller table wins.
+    std::optional<ResolutionPlan> configured, shape;
+    std::string refused;
+    try {
+      configured = plan_np_resolution(np_axes, c.eta, c.path, c.lobe_count, *c.np_target_error, std::size_t{1} << 31, normalize_energy);
+    } catch (const DomainError& e) {
+      refused = e.what();
+    }
+    std::vector<GridAxis> cubic = np_axes;
+    for (GridAxis& a : cubic) {
+      if (a.spacing == Spacing::explicit_values) continue;
+      if (a.name == "sigma_a") a.spacing = Spacing::uniform;
+      a.interpolation = Interpolation::cubic;
+    }
+    try {
+      shape = plan_np_resolution(cubic, c.eta, c.path, c.lobe_count, *c.np_target_error, std::size_t{1} << 31, true);
+    } catch (const DomainError& e) {
+      if (!configured) throw;
+      refused = e.what();
+    }
+    const bool use_shape = shape && (!configured || shape->entries < configured->entries);
+    const ResolutionPlan& plan = use_shape ? *shape : *configured;
+    if (use_shape && !normalize_energy) {
+      normalize_energy = true;
+      if (!energy_axes) {
+        GridAxis es = axis_named(np_axes, "sigma_a"), et = axis_named(np_axes, "theta_d");
+        es.spacing = Spacing::uniform, es.count = std::max(es.count, 128), es.interpolation = Interpolation::geometric;
+        et.count = std::max(et.count, 512), et.interpolation = Interpolation::cubic;
+        if (es.lo == es.hi) es.count = 1, es.interpolation = Interpolation::linear;
+        energy_axes = std::vector<GridAxis>{es, et};
+      }
+    }
     np_axes = plan.axes;
-    report.resolution = {{"target_error", *c.np_target_error}, {"predicted_error", plan.predicted_error}, {"entries_per_lobe", plan.entries}};
+    report.resolution = {{"target_error", *c.np_target_error}, {"predicted_error", plan.predicted_error}, {"entries_per_lobe", plan.entries},
+                         {"representation", use_shape ? "shape N_p / E_p, cubic" : "as configured"}};
+    if (configured) report.resolution["entries_as_configured"] = configured->entries;
+    if (shape) report.resolution["entries_shape_cubic"] = shape->entries;
     for (const GridAxis& a : np_axes) {
       report.resolution["counts"][a.name] = a.count;
       report.resolution["predicted_axis_error"][a.name] = plan.axis_error.at(a.name);
@@ -356,13 +399,31 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   if (generic_np) {
     const std::vector<double> betas = axis_named(np_axes, "beta").nodes(), sigmas = axis_named(np_axes, "sigma_a").nodes(),
                               thetas = axis_named(np_axes, "theta_d").nodes(), phis = axis_named(np_axes, "phi").nodes();
-    const std::vector<GridAxis> st_axes = {axis_named(np_axes, "sigma_a"), axis_named(np_axes, "theta_d")};
+    // The energy and residual tables live on their own (σa, θd) axes when the config gives them
+    // (they are small, so they may be denser than N_p's).
+    std::vector<GridAxis> st_axes = {axis_named(np_axes, "sigma_a"), axis_named(np_axes, "theta_d")};
+    if (energy_axes) st_axes = *energy_axes;
+    const std::vector<double> energy_sigmas = st_axes[0].nodes(), energy_thetas = st_axes[1].nodes();
     const std::size_t first = set.tables.size();
     for (int p = 0; p < s.lobes; ++p) {
-      Table t = make_table("np", lobe_name(p), "N_p", "1/rad", "azimuthal scattering function N_p of lobe " + lobe_name(p),
+      const std::string lobe = lobe_name(p);
+      Table t = make_table("np", lobe, "N_p", "1/rad",
+                           normalize_energy ? "shape N_p / E_p of lobe " + lobe + " (N_p = this x np/energy_" + lobe + ")"
+                                                 : "azimuthal scattering function N_p of lobe " + lobe,
                            np_axes, precision);
-      t.attributes = {{"lobe", lobe_name(p)}, {"p", p}};
+      t.attributes = {{"lobe", lobe}, {"p", p}};
+      if (normalize_energy) t.attributes["factor"] = "np/energy_" + lobe;
       set.tables.push_back(std::move(t));
+    }
+    // normalize "energy": every N_p value is divided by its lobe's energy at the same (σa, θd)
+    // node (the shape integrates to 1 over φ and changes slowly where the energy falls fast).
+    const std::size_t ns = sigmas.size(), nt = thetas.size();
+    std::vector<double> node_energy;
+    if (normalize_energy) {
+      node_energy.assign(static_cast<std::size_t>(s.lobes) * ns * nt, 0.0);
+      bake_energies(s, LobeSet{s.lobes, false}, sigmas, thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
+        for (int p = 0; p < s.lobes; ++p) node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it] = e[static_cast<std::size_t>(p)];
+      });
     }
     const std::size_t energy_first = set.tables.size();
     for (int p = 0; p < lobe_set.size(); ++p) {
@@ -383,16 +444,21 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       residual_index = set.tables.size();
       set.tables.push_back(std::move(t));
     }
-    const std::size_t nb = betas.size(), ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
+    const std::size_t nb = betas.size(), nphi = phis.size();
     unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules}, opt, "N_p",
                                 [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+                                  if (!node_energy.empty()) {
+                                    const double e = node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it];
+                                    v = e > 1e-300 ? v / e : 0.0;  // a lobe absorbed to nothing has no shape
+                                  }
                                   set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip, v);
                                 });
-    bake_energies(s, lobe_set, sigmas, thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
-      for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * nt + it, e[p]);
-      if (c.residual) set.tables[residual_index].set(is * nt + it, e.back() / kTwoPi);
+    const std::size_t ent = energy_thetas.size();
+    bake_energies(s, lobe_set, energy_sigmas, energy_thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
+      for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * ent + it, e[p]);
+      if (c.residual) set.tables[residual_index].set(is * ent + it, e.back() / kTwoPi);
     });
-    report.entries += (nb * nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size())) * ns * nt;
+    report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt + static_cast<std::size_t>(lobe_set.size()) * energy_sigmas.size() * ent;
   }
 
   // ---- Per-material RGB tables over (channel, θd, φ).

@@ -110,6 +110,8 @@ GridAxis make_axis(const json& j, const std::string& path, const std::string& na
     a.values.front() = std::max(a.values.front(), domain_lo);
     a.values.back() = std::min(a.values.back(), domain_hi);
   }
+  if (j.contains("interpolation"))
+    a.interpolation = parse_interpolation(j.at("interpolation").get<std::string>(), path + ".interpolation");
   checked([&] { a.validate(path); });
   return a;
 }
@@ -132,6 +134,8 @@ GridAxis make_phi_axis(const json& j, const std::string& path) {
     a.lo = -kPi;
     a.hi = kPi;
   }
+  if (j.contains("interpolation"))
+    a.interpolation = parse_interpolation(j.at("interpolation").get<std::string>(), path + ".interpolation");
   checked([&] { a.validate(path); });
   return a;
 }
@@ -363,6 +367,30 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     } else {
       c.np_axes = std::vector<GridAxis>{beta_axis, sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
     }
+    checked([&] { validate_interpolation(*c.np_axes, "tables.np"); });
+    const json& np = tables.at("np");
+    if (np.value("normalize", std::string("none")) == "energy") {
+      if (c.marschner) fail("tables.np.normalize", "applies to model deon2011 only");
+      if (per_material) fail("tables.np.normalize", "applies to generic N_p tables (not to a per-material scene)");
+      c.np_normalize_energy = true;
+    }
+    if (np.contains("energy_axes")) {
+      if (c.marschner || per_material) fail("tables.np.energy_axes", "applies to generic deon2011 N_p tables only");
+      const json& ea = np.at("energy_axes");
+      const std::string eq = "tables.np.energy_axes.";
+      GridAxis es = sigma_axis, et = theta_axis;
+      if (ea.contains("sigma_a"))
+        es = make_axis(ea.at("sigma_a"), eq + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
+      if (ea.contains("theta_d"))
+        et = make_axis(ea.at("theta_d"), eq + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                       "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+      if (es.lo > sigma_axis.lo || es.hi < sigma_axis.hi)
+        fail(eq + "sigma_a", "must cover the N_p axis's range (the energies multiply every N_p value)");
+      if (et.lo > theta_axis.lo || et.hi < theta_axis.hi)
+        fail(eq + "theta_d", "must cover the N_p axis's range (the energies multiply every N_p value)");
+      c.np_energy_axes = std::vector<GridAxis>{es, et};
+      checked([&] { validate_interpolation(*c.np_energy_axes, "tables.np.energy_axes"); });
+    }
   }
   if (tables.contains("mp")) {
     const json& ax = tables.at("mp").at("axes");
@@ -381,6 +409,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
         beta_axis,
         make_axis(ax.at("theta_i"), p + "theta_i", "theta_i", true, -kHalfPi, kHalfPi, "rad", "incident inclination theta_i"),
         make_axis(ax.at("theta_r"), p + "theta_r", "theta_r", true, -kHalfPi, kHalfPi, "rad", "exit inclination theta_r")};
+    checked([&] { validate_interpolation(*c.mp_axes, "tables.mp"); });
   }
   if (tables.contains("melanin")) {
     const json& m = tables.at("melanin");
@@ -494,6 +523,8 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   if (c.np_axes) {
     t["np"] = {{"axes", axes_json(*c.np_axes)}};
     if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
+    if (c.np_normalize_energy) t["np"]["normalize"] = "energy";
+    if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);
   }
   if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
   if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};

@@ -192,12 +192,12 @@ Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std
   return dcpl;
 }
 
-void write_scale(const File& f, hid_t group, const GridAxis& a, int deflate) {
+void write_scale(const File& f, hid_t group, const GridAxis& a, const std::string& name, int deflate) {
   const std::vector<double> nodes = a.nodes();
   const std::vector<hsize_t> dims = {static_cast<hsize_t>(nodes.size())};
   Handle space(H5Screate_simple(1, dims.data(), nullptr), H5Sclose);
   Handle dcpl = dataset_create_plist(f, dims, sizeof(double), deflate);
-  Handle ds(quiet([&] { return H5Dcreate2(group, a.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT); }),
+  Handle ds(quiet([&] { return H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT); }),
             H5Dclose);
   f.check(ds.get(), "cannot create axis " + a.name);
   f.check_status(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, nodes.data()), "cannot write axis " + a.name);
@@ -216,6 +216,24 @@ void write_scale(const File& f, hid_t group, const GridAxis& a, int deflate) {
 }
 
 bool same_axis(const GridAxis& a, const GridAxis& b) { return a.to_json() == b.to_json(); }
+
+// The dataset name of an axis's dimension scale in its group: the axis's name, or name_2, name_3,
+// ... for further, different axes of the same name in the group (the energy tables of a
+// normalized N_p may use denser sigma_a and theta_d than N_p's), numbered in table order so that
+// the writer and the loader agree.
+class ScaleNames {
+ public:
+  std::string of(const std::string& group, const GridAxis& a) {
+    std::vector<GridAxis>& variants = seen_[group][a.name];
+    std::size_t i = 0;
+    while (i < variants.size() && !same_axis(variants[i], a)) ++i;
+    if (i == variants.size()) variants.push_back(a);
+    return i == 0 ? a.name : a.name + "_" + std::to_string(i + 1);
+  }
+
+ private:
+  std::map<std::string, std::map<std::string, std::vector<GridAxis>>> seen_;
+};
 
 // The superblock version byte that follows the signature at offset 0; hairlut writes ≥ 2.
 void check_signature_bytes(const File& f, const unsigned char* head, std::size_t size) {
@@ -255,16 +273,13 @@ void write_hdf5(const TableSet& set, const std::filesystem::path& path, const Hd
   write_fixed_string_attr(f, root.get(), "hairlut_checksum", content_checksum(set));
 
   // Dimension scales per group, then the tables.
+  ScaleNames names;
   std::map<std::string, std::map<std::string, GridAxis>> scales;
   for (const Table& t : set.tables)
-    for (const GridAxis& a : t.axes) {
-      auto [it, inserted] = scales[t.group].emplace(a.name, a);
-      if (!inserted && !same_axis(it->second, a))
-        f.fail("tables in group " + t.group + " use two different axes named " + a.name);
-    }
+    for (const GridAxis& a : t.axes) scales[t.group].emplace(names.of(t.group, a), a);
   for (const auto& [group, axes] : scales) {
     Handle g = open_or_create_group(f, file.get(), group);
-    for (const auto& [name, axis] : axes) write_scale(f, g.get(), axis, options.deflate);
+    for (const auto& [name, axis] : axes) write_scale(f, g.get(), axis, name, options.deflate);
   }
   for (const Table& t : set.tables) {
     Handle g = open_or_create_group(f, file.get(), t.group);
@@ -284,7 +299,7 @@ void write_hdf5(const TableSet& set, const std::filesystem::path& path, const Hd
     f.check_status(H5Dwrite(ds.get(), dbl ? H5T_NATIVE_DOUBLE : H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
                    "cannot write dataset " + t.path());
     for (std::size_t k = 0; k < t.axes.size(); ++k) {
-      Handle scale(H5Dopen2(g.get(), t.axes[k].name.c_str(), H5P_DEFAULT), H5Dclose);
+      Handle scale(H5Dopen2(g.get(), names.of(t.group, t.axes[k]).c_str(), H5P_DEFAULT), H5Dclose);
       f.check_status(H5DSattach_scale(ds.get(), scale.get(), static_cast<unsigned>(k)), "cannot attach axis " + t.axes[k].name);
     }
     write_string_attr(f, ds.get(), "quantity", t.quantity);
@@ -338,6 +353,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
   }
   if (!set.metadata.is_object() || !index.is_array()) f.fail("malformed hairlut metadata on the root group");
   std::set<std::string> seen;
+  ScaleNames scale_names;
   for (const json& entry : index) {
     if (!entry.is_string()) f.fail("malformed table index");
     const std::string tpath = entry.get<std::string>();
@@ -406,7 +422,8 @@ TableSet read_open_file(const File& f, hid_t file_id) {
     f.check(group.get(), tpath + ": cannot open group " + t.group);
     for (std::size_t k = 0; k < t.axes.size(); ++k) {
       const GridAxis& a = t.axes[k];
-      Handle scale(quiet([&] { return H5Dopen2(group.get(), a.name.c_str(), H5P_DEFAULT); }), H5Dclose);
+      const std::string scale_name = scale_names.of(t.group, a);
+      Handle scale(quiet([&] { return H5Dopen2(group.get(), scale_name.c_str(), H5P_DEFAULT); }), H5Dclose);
       if (!scale.valid()) f.fail(tpath + ": missing dimension scale " + t.group + "/" + a.name);
       // The attachment itself (DIMENSION_LIST) lives in the unchecksummed global heap, so it is
       // not read here; tests check it with h5py.

@@ -147,6 +147,13 @@ Rgb SpectralMelanin::transmittance_rgb(double ce, double cp, double length, int*
   return t;
 }
 
+Rgb SpectralMelanin::transmittance_unclamped(double ce, double cp, double length) const {
+  check_concentrations(ce, cp);
+  require_positive("length", length);
+  const Rgb rgb = unbalanced_rgb(ce, cp, length);
+  return {rgb.r / white_.r, rgb.g / white_.g, rgb.b / white_.b};
+}
+
 Rgb SpectralMelanin::sigma_a_rgb(double ce, double cp, int* clamped) const {
   const double L = options_.path_length;
   const Rgb t = transmittance_rgb(ce, cp, L, clamped);

@@ -28,8 +28,8 @@ double Table::sample(const std::vector<double>& x) const {
   const double value = precision == Precision::float32 ? sampler::sample(f32.data(), v.data(), dims, x.data())
                                                        : sampler::sample(f64.data(), v.data(), dims, x.data());
   // Cubic interpolation may undershoot below zero next to a steep fall; a non-negative quantity
-  // stays non-negative.
-  return quantity == "shift" ? value : std::max(value, 0.0);
+  // stays non-negative (shifts are signed, and spectral transmittance is negative out of gamut).
+  return quantity == "shift" || quantity == "transmittance" ? value : std::max(value, 0.0);
 }
 
 double TableSet::sample_value(const Table& t, const std::vector<double>& x) const {

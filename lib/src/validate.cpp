@@ -167,7 +167,7 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
       const double v = t.get(i);
       if (std::isnan(v)) ++tn;
       else if (std::isinf(v)) ++ti;
-      else if (v < 0.0 && t.quantity != "shift") ++tneg;  // shifts (dual scattering) are signed
+      else if (v < 0.0 && t.quantity != "shift" && t.quantity != "transmittance") ++tneg;  // shifts are signed; spectral transmittance is negative out of gamut
     }
     nan += tn, inf += ti, neg += tneg;
     per_table.push_back({{"path", t.path()}, {"values", t.size()}, {"nan", tn}, {"inf", ti}, {"negative", tneg}});
@@ -239,7 +239,9 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
 
 // ∫_{−π}^{π} N(φ) dφ of a table sampled along its φ axis, exactly for the sampler: between the φ
 // nodes it is linear in φ (uniform spacing) and constant beyond the outermost nodes, so the
-// trapezoid rule over the nodes and the ends of the interval is exact.
+// trapezoid rule over the nodes and the ends of the interval is exact; a cubic (Catmull–Rom) φ
+// axis over the whole circle (even or periodic, whose end neighbours are mirrored or wrapped)
+// integrates to the same trapezoid sum, since its corrections to each cell cancel in the sum.
 template <class Sample>
 double phi_integral(const GridAxis& a, Sample&& sample) {
   std::vector<double> phis = a.nodes();
@@ -257,9 +259,9 @@ double phi_integral(const GridAxis& a, Sample&& sample) {
   return even ? 2.0 * sum : sum;
 }
 
-// ∫ N_table(β, σa, θd, φ) dφ of a d'Eon table.
-double table_energy(const Table& t, double beta, double sigma, double theta_d) {
-  return phi_integral(t.axes[3], [&](double phi) { return t.sample({beta, sigma, theta_d, phi}); });
+// ∫ N_table(β, σa, θd, φ) dφ of a d'Eon table (read as a renderer reads it: with its factor).
+double table_energy(const TableSet& set, const Table& t, double beta, double sigma, double theta_d) {
+  return phi_integral(t.axes[3], [&](double phi) { return set.sample_value(t, {beta, sigma, theta_d, phi}); });
 }
 
 // ∫ N_table dφ of a Marschner table (σa, θd, [φh,] φ) at φh (ignored without that axis).
@@ -326,7 +328,7 @@ json furnace_section(const TableSet& set, const ModelInfo& info, const Validatio
         curves_e[p].values.resize(2001);
         for (std::size_t k = 0; k <= 2000; ++k) {
           const double thd = kHalfPi * static_cast<double>(k) / 2000.0;
-          curves_e[p].values[k] = p < tables.size() ? (tables[p] ? table_energy(*tables[p], beta, table_sigma, thd) : 0.0)
+          curves_e[p].values[k] = p < tables.size() ? (tables[p] ? table_energy(set, *tables[p], beta, table_sigma, thd) : 0.0)
                                                     : kTwoPi * res->sample({table_sigma, thd});
         }
       }
@@ -704,13 +706,17 @@ std::optional<Truth> truth_for(const Table& t, const ModelInfo& info, std::share
                        return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
                      });
                    }};
+    return std::nullopt;
+  }
+  if (t.quantity == "transmittance" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
     SpectralMelanin::Options so;
     so.path_length = t.attributes.value("path_length", 2.0);
     so.spectral_scale = t.attributes.value("spectral_scale", 0.0);
     auto model = std::make_shared<SpectralMelanin>(SpectralMelanin::builtin(so));
-    return Truth{{}, [model](const std::vector<double>&) {
-                   return std::function<double(const std::vector<double>&)>([model](const std::vector<double>& y) {
-                     const Rgb s = model->sigma_a_rgb(y[0], y[1]);
+    const double L = so.path_length;
+    return Truth{{}, [model, L](const std::vector<double>&) {
+                   return std::function<double(const std::vector<double>&)>([model, L](const std::vector<double>& y) {
+                     const Rgb s = model->transmittance_unclamped(y[0], y[1], L);
                      const double c[3] = {s.r, s.g, s.b};
                      return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
                    });
@@ -910,7 +916,7 @@ json absorption_section(const TableSet& set, const ModelInfo& info, const Valida
       for (double beta : representative(n->axes[0]))
         for (std::size_t i = 0; i < sig.size(); i += std::max<std::size_t>(1, sig.size() / 4))
           for (std::size_t j = 0; j < th.size(); j += std::max<std::size_t>(1, th.size() / 6)) {
-            const double d = std::abs(table_energy(*n, beta, sig[i], th[j]) - grid[i][j]) / std::max(emax, 1e-12);
+            const double d = std::abs(table_energy(set, *n, beta, sig[i], th[j]) - grid[i][j]) / std::max(emax, 1e-12);
             if (d > worst) worst = d, where = "np/" + l + " at beta = " + fmt(degrees(beta)) + " deg, sigma_a = " + fmt(sig[i]) + ", theta_d = " + fmt(degrees(th[j])) + " deg";
           }
     }
@@ -921,16 +927,19 @@ json absorption_section(const TableSet& set, const ModelInfo& info, const Valida
                            worst <= opt.thresholds.energy_consistency, worst, opt.thresholds.energy_consistency, "<=", where.empty() ? "-" : where));
   // Melanin swatches: the colour of light through one fiber diameter, exp(−2 σa), per concentration.
   json swatches = json::array();
-  for (const char* name : {"melanin/sigma_a_deon", "melanin/sigma_a_spectral"}) {
+  for (const char* name : {"melanin/sigma_a_deon", "melanin/transmittance_spectral"}) {
     const Table* m = set.find(name);
     if (!m || m->axes.size() != 3) continue;
     const auto ce = m->axes[0].nodes(), cp = m->axes[1].nodes();
+    // The colour through one diameter: exp(−2 σa), or the tabulated transmittance over its path
+    // (2 radii by default), clamped to [0, 1] out of gamut.
+    const bool transmittance = m->quantity == "transmittance";
+    auto colour = [&](std::size_t o) { return transmittance ? std::clamp(m->get(o), 0.0, 1.0) : std::exp(-2.0 * m->get(o)); };
     json rows = json::array();
     for (std::size_t i = 0; i < ce.size(); ++i)
       for (std::size_t j = 0; j < cp.size(); ++j) {
         const std::size_t o = (i * cp.size() + j) * 3;
-        rows.push_back({{"eumelanin", ce[i]}, {"pheomelanin", cp[j]},
-                        {"rgb", {std::exp(-2.0 * m->get(o)), std::exp(-2.0 * m->get(o + 1)), std::exp(-2.0 * m->get(o + 2))}}});
+        rows.push_back({{"eumelanin", ce[i]}, {"pheomelanin", cp[j]}, {"rgb", {colour(o), colour(o + 1), colour(o + 2)}}});
       }
     swatches.push_back({{"table", name}, {"swatches", rows}, {"attributes", m->attributes}});
   }

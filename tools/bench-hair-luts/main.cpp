@@ -23,6 +23,8 @@
 #include <hairlut/melanin.hpp>
 #include <hairlut/resolution.hpp>
 #include <hairlut/svg_plot.hpp>
+
+#include "representations.hpp"
 #include <hairlut/version.hpp>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -251,7 +253,7 @@ int main(int argc, char** argv) {
   CLI::App app{"bench-hair-luts: run time against error of hairlut's N_p methods, bake targets, resolution and scaling"};
   std::string out_dir = "bench", bake_tool, generic_config;
   std::size_t slices = 80;
-  bool quick = false, quiet = false, presets_only = false;
+  bool quick = false, quiet = false, presets_only = false, representations_only = false;
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   bake_tool = (self.parent_path().parent_path() / "bake-hair-luts" / "bake-hair-luts").string();
   generic_config = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/generic.json";
@@ -262,6 +264,8 @@ int main(int argc, char** argv) {
   app.add_flag("--quick", quick, "a smoke run: fewer slices, no generic-table bake, fewer repeats");
   app.add_flag("--quiet,-q", quiet, "no progress on stderr");
   app.add_flag("--presets-only", presets_only, "only time the export presets (writes presets.json, presets.csv, presets.md)");
+  app.add_flag("--representations-only", representations_only,
+               "only measure table representations: entries against sampled error and lookup ns (writes representations.*)");
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)");
   CLI11_PARSE(app, argc, argv);
   if (quick) slices = std::min<std::size_t>(slices, 16);
@@ -274,6 +278,16 @@ int main(int argc, char** argv) {
   std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
   report["machine"] = {{"cpu", cpu_model()}, {"cores", max_threads}, {"date", date}, {"hairlut_version", kVersion}};
   report["command"] = "bench-hair-luts --out " + out_dir + (quick ? " --quick" : "") + " --slices " + std::to_string(slices);
+  if (representations_only) {
+    std::filesystem::create_directories(out_dir);
+    hairlut::bench::write_representations(hairlut::bench::bench_representations(quick, quiet), report["machine"], out_dir);
+    if (!quiet) {
+      std::ostringstream md;
+      md << std::ifstream(out_dir + "/representations.md").rdbuf();
+      std::printf("%s\nwrote %s/representations.json, .csv, .md, .svg\n", md.str().c_str(), out_dir.c_str());
+    }
+    return 0;
+  }
   if (presets_only) {
     const json rows = bench_presets(bake_tool, quick, quiet);
     write_presets(rows, report["machine"], out_dir);
@@ -525,9 +539,13 @@ int main(int argc, char** argv) {
   // ---- 7. The export presets.
   report["presets"] = bench_presets(bake_tool, quick, quiet);
 
+  // ---- 8. Table representations: entries against sampled error and lookup cost.
+  report["representations"] = hairlut::bench::bench_representations(quick, quiet);
+
   // ---- Outputs.
   std::filesystem::create_directories(out_dir);
   write_presets(report["presets"], report["machine"], out_dir);
+  hairlut::bench::write_representations(report["representations"], report["machine"], out_dir);
   {
     std::ofstream(out_dir + "/bench.json") << report.dump(2) << "\n";
     std::ofstream csv(out_dir + "/bench.csv");

@@ -105,6 +105,10 @@ struct BakeConfig {
   /// phi_h (marschner2003: TRT over sigma_a, theta_d, phi_h, phi)
   std::optional<std::vector<GridAxis>> np_axes;
   std::optional<double> np_target_error;              ///< choose the N_p counts for this off-node error
+  /// tables.np.normalize "energy": N_p tables store N_p / E_p with np/energy_<lobe> as their factor.
+  bool np_normalize_energy = false;
+  /// tables.np.energy_axes: sigma_a, theta_d of the energy and residual tables (default: the N_p axes).
+  std::optional<std::vector<GridAxis>> np_energy_axes;
   std::optional<std::vector<GridAxis>> mp_axes;       ///< beta (β_R for marschner2003), theta_i, theta_r
   std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
   double melanin_path_length = 2.0;

@@ -74,6 +74,10 @@ class SpectralMelanin {
   /// T_c for concentrations c_e, c_p (finite, ≥ 0) over `length` radii (finite, > 0), clamped to
   /// [1e−30, 1]; adds the number of clamped channels (0–3) to *clamped when it is not null.
   Rgb transmittance_rgb(double eumelanin, double pheomelanin, double length, int* clamped = nullptr) const;
+  /// T_c as transmittance_rgb but without the clamp: white-balanced linear sRGB, smooth in the
+  /// concentrations, ≤ 0 where the transmitted colour lies outside the sRGB gamut (dark hair's
+  /// blue). What the spectral melanin table stores; σa_c = −ln(max(T_c, 1e−30))/L.
+  Rgb transmittance_unclamped(double eumelanin, double pheomelanin, double length) const;
   /// σa_c = −ln(T_c)/L with L = options().path_length: finite, in [0, ln(1e30)/L]. Same domain and
   /// clamp count as transmittance_rgb.
   Rgb sigma_a_rgb(double eumelanin, double pheomelanin, int* clamped = nullptr) const;

@@ -25,25 +25,44 @@ struct ResolutionPlan {
   std::size_t entries = 0;                           ///< entries per lobe
 };
 
-/// The interpolation error of one N_p axis at a given node count: linear interpolation in the
-/// axis's mapped coordinate at the cell midpoints, the other axes at a fixed set of probes, lobes
-/// R, TT, TRT, relative to each lobe's peak over the domain of the axes (exact N_p by the Fourier
-/// method at 1e−12).
+/// The interpolation error of one N_p axis at a given node count, as a renderer sees it: at
+/// probe points drawn uniformly over the domain (log-uniform on log axes), the axis's own
+/// interpolation (linear, cubic or geometric in its mapped coordinate) from the exact values at
+/// its nodes with the other coordinates exact, against direct evaluation (the Fourier method at
+/// 1e−12), relative to the peak over φ of the true slice at the same (β, σa, θd), floored at 1e−3
+/// of the white fibre's peak (docs/conventions.md). With normalize_energy the table holds
+/// N_p / E_p: the nodes' shapes are interpolated and multiplied by the exact energy at the point.
+/// Lobes R, TT, TRT and TRRT (as many as `lobes`).
 class AxisErrorProbe {
  public:
-  /// axes: beta, sigma_a, theta_d, phi (ranges, spacing, placement used; counts ignored).
-  AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes = 6);
-  /// Largest error relative to the lobe peak of axis k (0 … 3) with `count` nodes.
+  /// axes: beta, sigma_a, theta_d, phi (ranges, spacing, placement, interpolation used; counts
+  /// ignored); probes: (σa, θd) slabs, each with 4 β and 16 φ.
+  AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes = 24, bool normalize_energy = false);
+  /// Largest error relative to the local peak of axis k (0 … 3) with `count` nodes.
   double error(std::size_t k, int count) const;
 
  private:
+  static constexpr std::size_t kBetas = 4, kPhis = 16;
+  struct Slab {
+    double sigma = 0.0, theta = 0.0;
+    std::array<double, kBetas> betas{};
+    std::array<double, kPhis> phis{};
+    std::array<std::array<std::array<double, kPhis>, kBetas>, 4> truth{};
+    std::array<std::array<double, kBetas>, 4> scale{};
+    std::vector<double> energy;  ///< E_p at (σa, θd) (normalize_energy)
+  };
+  std::vector<double> exact_lists(const std::vector<double>& betas, const std::vector<double>& sigmas, const std::vector<double>& thetas,
+                                  const std::vector<double>& phis) const;
+  std::vector<double> energies(double sigma, double theta) const;
+
   std::vector<GridAxis> axes_;
   double eta_;
   AbsorptionPath path_;
   int lobes_;
-  std::vector<std::array<double, 4>> probes_;
-  std::vector<double> peak_;
+  bool normalize_;
+  std::vector<Slab> slabs_;
   std::shared_ptr<GaussLegendreCache> rules_;
+  std::shared_ptr<const GaussLegendreRule> energy_rule_;
 };
 
 /// Chooses node counts for the N_p axes (beta, sigma_a, theta_d, phi: ranges, spacing and placement
@@ -55,7 +74,7 @@ class AxisErrorProbe {
 /// it is within its share, and the count is interpolated in log–log between the last two.
 /// Throws DomainError when the table would exceed max_entries per lobe.
 ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
-                                  std::size_t max_entries = std::size_t{1} << 31);
+                                  std::size_t max_entries = std::size_t{1} << 31, bool normalize_energy = false);
 
 /// The largest |sampled − exact| / lobe peak of baked N_p tables at `samples` deterministic points
 /// between the nodes (cell centres of every axis), over lobes R, TT, TRT present in the set.

@@ -100,57 +100,80 @@ inline double node(const Axis& a, int i) {
   return unmapped(a.spacing, t0 + u * (t1 - t0));
 }
 
-/// The two nodes around x and the interpolation weight, with the axis's wrap rule.
-inline Lerp locate(const Axis& a, double x) {
-  Lerp r;
-  if (a.count <= 1 || !(x == x)) return r;  // a single node, or NaN: the first node
-  const double pi = 3.14159265358979323846;
-  if (a.wrap == Wrap::periodic) {
-    const double period = a.hi - a.lo;
-    double u = (x - a.lo) / period;
-    u -= std::floor(u);  // [0, 1)
-    double s = u * a.count - (a.placement == Placement::centers ? 0.5 : 0.0);
-    const double nearest = std::floor(s + 0.5);
-    if (std::fabs(s - nearest) < 1e-9) s = nearest;
-    if (s < 0.0) s += a.count;
-    if (s >= a.count) s -= a.count;
-    double fi = std::floor(s);
-    r.w = s - fi;
-    r.i0 = static_cast<int>(fi) % a.count;
-    r.i1 = (r.i0 + 1) % a.count;
-    return r;
+/// An axis prepared for repeated lookups: the mapped ends of its range and the scale from the
+/// mapped coordinate to the node index are computed once, not per lookup.
+struct PreparedAxis {
+  Axis axis;
+  double t0 = 0.0;      ///< t(lo) (periodic: lo)
+  double scale = 0.0;   ///< node-index units per unit of t (periodic: count / period)
+  double offset = 0.0;  ///< −½ for centre-placed nodes, 0 for edge-placed ones
+
+  PreparedAxis() = default;
+  explicit PreparedAxis(const Axis& a) : axis(a) {
+    if (a.spacing == Spacing::explicit_values || a.count <= 1) return;
+    offset = a.placement == Placement::centers ? -0.5 : 0.0;
+    if (a.wrap == Wrap::periodic) {
+      t0 = a.lo;
+      scale = a.count / (a.hi - a.lo);
+      return;
+    }
+    t0 = mapped(a.spacing, a.lo);
+    scale = (a.placement == Placement::centers ? a.count : a.count - 1) / (mapped(a.spacing, a.hi) - t0);
   }
-  if (a.wrap == Wrap::even) x = std::fabs(std::remainder(x, 2.0 * pi));
-  if (a.wrap == Wrap::reflect && a.hi > a.lo) x = a.lo + std::fabs(std::remainder(x - a.lo, 2.0 * (a.hi - a.lo)));
-  x = std::max(a.lo, std::min(a.hi, x));
-  double s;
-  if (a.spacing == Spacing::explicit_values) {
-    const double* v = a.values;
-    if (x <= v[0]) return r;
-    if (x >= v[a.count - 1]) {
-      r.i0 = r.i1 = a.count - 1;
+
+  /// The two nodes around x and the interpolation weight, with the axis's wrap rule.
+  Lerp locate(double x) const {
+    Lerp r;
+    const Axis& a = axis;
+    if (a.count <= 1 || !(x == x)) return r;  // a single node, or NaN (sample() returns NaN first)
+    const int n = a.count;
+    if (a.wrap == Wrap::periodic) {
+      double u = (x - t0) * scale / n;
+      u -= std::floor(u);  // [0, 1)
+      double s = u * n + offset;
+      const double nearest = std::floor(s + 0.5);
+      if (std::fabs(s - nearest) < 1e-9) s = nearest;
+      if (s < 0.0) s += n;
+      if (s >= n) s -= n;
+      const double fi = std::floor(s);
+      r.w = s - fi;
+      r.i0 = static_cast<int>(fi) % n;
+      r.i1 = (r.i0 + 1) % n;
       return r;
     }
-    const int hi = static_cast<int>(std::upper_bound(v, v + a.count, x) - v);
-    r.i0 = hi - 1;
-    r.i1 = hi;
-    r.w = (x - v[r.i0]) / (v[r.i1] - v[r.i0]);
+    const double pi = 3.14159265358979323846;
+    if (a.wrap == Wrap::even) x = std::fabs(std::remainder(x, 2.0 * pi));
+    if (a.wrap == Wrap::reflect && a.hi > a.lo) x = a.lo + std::fabs(std::remainder(x - a.lo, 2.0 * (a.hi - a.lo)));
+    x = std::max(a.lo, std::min(a.hi, x));
+    if (a.spacing == Spacing::explicit_values) {
+      const double* v = a.values;
+      if (x <= v[0]) return r;
+      if (x >= v[n - 1]) {
+        r.i0 = r.i1 = n - 1;
+        return r;
+      }
+      const int hi = static_cast<int>(std::upper_bound(v, v + n, x) - v);
+      r.i0 = hi - 1;
+      r.i1 = hi;
+      r.w = (x - v[r.i0]) / (v[r.i1] - v[r.i0]);
+      return r;
+    }
+    double s = (mapped(a.spacing, x) - t0) * scale + offset;
+    // Snap to a node when within rounding of it, so that sampling at a node returns its value.
+    const double nearest = std::floor(s + 0.5);
+    if (std::fabs(s - nearest) < 1e-9) s = nearest;
+    s = std::max(0.0, std::min(static_cast<double>(n - 1), s));
+    int i0 = static_cast<int>(s);
+    if (i0 >= n - 1) i0 = n - 2;
+    r.i0 = i0;
+    r.i1 = i0 + 1;
+    r.w = s - i0;
     return r;
   }
-  const double t0 = mapped(a.spacing, a.lo), t1 = mapped(a.spacing, a.hi);
-  const double u = (mapped(a.spacing, x) - t0) / (t1 - t0);
-  s = a.placement == Placement::centers ? u * a.count - 0.5 : u * (a.count - 1);
-  // Snap to a node when within rounding of it, so that sampling at a node returns its value.
-  const double nearest = std::floor(s + 0.5);
-  if (std::fabs(s - nearest) < 1e-9) s = nearest;
-  s = std::max(0.0, std::min(static_cast<double>(a.count - 1), s));
-  int i0 = static_cast<int>(std::floor(s));
-  if (i0 >= a.count - 1) i0 = a.count - 2;
-  r.i0 = i0;
-  r.i1 = i0 + 1;
-  r.w = s - i0;
-  return r;
-}
+};
+
+/// The two nodes around x and the interpolation weight, with the axis's wrap rule.
+inline Lerp locate(const Axis& a, double x) { return PreparedAxis(a).locate(x); }
 
 /// The nodes and weights that interpolate along one axis at x: one (at a clamped end or a
 /// single-node axis), two (linear, geometric) or four (cubic) taps.
@@ -187,9 +210,10 @@ inline void catmull_rom_weights(double t, double* w) {
 }
 
 /// The taps of axis a at x, with its interpolation and wrap rules.
-inline Taps taps(const Axis& a, double x) {
+inline Taps taps(const PreparedAxis& p, double x) {
   Taps r;
-  const Lerp l = locate(a, x);
+  const Axis& a = p.axis;
+  const Lerp l = p.locate(x);
   r.i[0] = l.i0;
   if (l.w == 0.0 || l.i0 == l.i1) return r;
   if (a.interpolation != Interpolation::cubic || a.count < 3) {
@@ -220,49 +244,74 @@ inline Taps taps(const Axis& a, double x) {
   return r;
 }
 
-/// Interpolation of a row-major table of `dims` axes at the point x[0 … dims−1], with each
-/// axis's interpolation (multilinear when every axis is linear). T is float or double (or half,
-/// if it converts to float). dims ≤ 8. A NaN coordinate gives NaN.
+/// A row-major table of up to 8 axes prepared for lookups: the axis mappings and strides are
+/// computed once. view(x) interpolates at the point x[0 … dims−1] with each axis's
+/// interpolation (multilinear when every axis is linear). T is float or double (or half, if it
+/// converts to float). A NaN coordinate gives NaN. The view points into `data` (not a copy).
 template <class T>
-double sample(const T* data, const Axis* axes, int dims, const double* x) {
-  Taps tp[8];
-  std::size_t stride[8];
-  std::size_t s = 1;
-  int geometric = -1;
-  for (int d = dims - 1; d >= 0; --d) {
-    if (!(x[d] == x[d]) && axes[d].count > 1) return x[d];
-    tp[d] = taps(axes[d], x[d]);
-    stride[d] = s;
-    s *= static_cast<std::size_t>(axes[d].count);
-    if (axes[d].interpolation == Interpolation::geometric && tp[d].n == 2) geometric = d;
+class TableView {
+ public:
+  TableView() = default;
+  TableView(const T* data, const Axis* axes, int dims) : data_(data), dims_(dims) {
+    std::size_t s = 1;
+    for (int d = dims - 1; d >= 0; --d) {
+      axes_[d] = PreparedAxis(axes[d]);
+      stride_[d] = s;
+      s *= static_cast<std::size_t>(axes[d].count);
+    }
   }
-  // Tensor product over every axis but the geometric one (held at tap g).
-  auto product = [&](int g) {
-    int k[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  int dims() const { return dims_; }
+  const PreparedAxis& axis(int d) const { return axes_[d]; }
+
+  double operator()(const double* x) const {
+    Taps tp[8];
+    int geometric = -1;
+    for (int d = 0; d < dims_; ++d) {
+      if (!(x[d] == x[d]) && axes_[d].axis.count > 1) return x[d];
+      tp[d] = taps(axes_[d], x[d]);
+      if (axes_[d].axis.interpolation == Interpolation::geometric && tp[d].n == 2) geometric = d;
+    }
+    if (geometric < 0) return product(tp, -1, 0);
+    const double v0 = product(tp, geometric, 0), v1 = product(tp, geometric, 1), w = tp[geometric].w[1];
+    if (v0 > 0.0 && v1 > 0.0) return std::exp((1.0 - w) * std::log(v0) + w * std::log(v1));
+    return (1.0 - w) * v0 + w * v1;
+  }
+
+ private:
+  // Tensor product of the taps over every axis but the geometric one g (held at its tap k).
+  double product(const Taps* tp, int g, int k) const {
+    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     double sum = 0.0;
     for (;;) {
       double w = 1.0;
       std::size_t offset = 0;
-      for (int d = 0; d < dims; ++d) {
-        const int kd = d == geometric ? g : k[d];
-        if (d != geometric) w *= tp[d].w[kd];
-        offset += static_cast<std::size_t>(tp[d].i[kd]) * stride[d];
+      for (int d = 0; d < dims_; ++d) {
+        const int kd = d == g ? k : idx[d];
+        if (d != g) w *= tp[d].w[kd];
+        offset += static_cast<std::size_t>(tp[d].i[kd]) * stride_[d];
       }
-      if (w != 0.0) sum += w * static_cast<double>(data[offset]);
-      int d = dims - 1;
+      if (w != 0.0) sum += w * static_cast<double>(data_[offset]);
+      int d = dims_ - 1;
       for (; d >= 0; --d) {
-        if (d == geometric) continue;
-        if (++k[d] < tp[d].n) break;
-        k[d] = 0;
+        if (d == g) continue;
+        if (++idx[d] < tp[d].n) break;
+        idx[d] = 0;
       }
       if (d < 0) break;
     }
     return sum;
-  };
-  if (geometric < 0) return product(0);
-  const double v0 = product(0), v1 = product(1), w = tp[geometric].w[1];
-  if (v0 > 0.0 && v1 > 0.0) return std::exp((1.0 - w) * std::log(v0) + w * std::log(v1));
-  return (1.0 - w) * v0 + w * v1;
+  }
+
+  const T* data_ = nullptr;
+  int dims_ = 0;
+  PreparedAxis axes_[8];
+  std::size_t stride_[8] = {};
+};
+
+/// view(x) of a TableView built for one lookup (prefer a TableView for repeated lookups).
+template <class T>
+double sample(const T* data, const Axis* axes, int dims, const double* x) {
+  return TableView<T>(data, axes, dims)(x);
 }
 
 }  // namespace sampler

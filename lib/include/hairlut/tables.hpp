@@ -38,7 +38,7 @@ struct Table {
   }
   /// The stored values interpolated at x (one coordinate per axis) with the shipped sampler and
   /// each axis's interpolation; never negative for a non-negative quantity (every quantity but
-  /// "shift"). For the quantity the table stands for (with its factor table), use sample_value.
+  /// "shift" and "transmittance"). For the quantity the table stands for (with its factor table), use sample_value.
   double sample(const std::vector<double>& x) const;
   /// The table whose value multiplies this one's (attribute "factor", e.g. "np/energy_TT" for N_p
   /// stored as the shape N_p / E_p), or "" when the values are the quantity itself.

@@ -1,0 +1,372 @@
+// bench-hair-luts, section "representations": table size against the error a renderer sees and
+// the cost of a lookup, per table representation, for the generic N_p domain and at the budgets
+// of the engine presets.
+//
+// Error: at random points drawn uniformly over every axis's declared range (log-uniform on log
+// axes), the table read exactly as a renderer reads it (TableSet::sample_value: each axis's
+// interpolation, the energy factor of a normalized table) against direct evaluation (the Fourier
+// method at 1e-12, independent of the table's nodes), relative to the peak over φ of the true
+// slice at the same (β, σa, θd), floored at 1e-3 of the white fibre's (σa = 0) peak at the same
+// (β, θd) (docs/conventions.md, "Error as a renderer sees it"). M_p: relative to the peak over θr
+// at the same (β, θi).
+// Cost: ns per lookup through sampler::TableView (axis mappings prepared once), one thread, on
+// random points, tables in cache where they fit.
+#include "representations.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <hairlut/angles.hpp>
+#include <hairlut/bake.hpp>
+#include <hairlut/config.hpp>
+#include <hairlut/longitudinal_mp.hpp>
+#include <hairlut/sampler.hpp>
+#include <hairlut/svg_plot.hpp>
+#include <map>
+#include <random>
+#include <sstream>
+
+namespace hairlut::bench {
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+struct ErrorStats {
+  double worst = 0.0, p99 = 0.0;
+  std::vector<double> where;  // coordinates of the worst point
+};
+
+ErrorStats stats(std::vector<double> e, std::vector<std::vector<double>> at) {
+  ErrorStats s;
+  if (e.empty()) return s;
+  const auto imax = static_cast<std::size_t>(std::max_element(e.begin(), e.end()) - e.begin());
+  s.worst = e[imax];
+  s.where = at[imax];
+  std::sort(e.begin(), e.end());
+  s.p99 = e[static_cast<std::size_t>(0.99 * static_cast<double>(e.size() - 1))];
+  return s;
+}
+
+// A uniformly random coordinate on an axis's declared range (log-uniform on log axes).
+double draw(const GridAxis& a, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  if (a.count == 1) return a.lo;
+  if (a.spacing == Spacing::log) return std::exp(std::log(a.lo) + u(rng) * std::log(a.hi / a.lo));
+  return a.lo + u(rng) * (a.hi - a.lo);
+}
+
+// Sampled error of every generic N_p table of `set` (axes beta, sigma_a, theta_d, phi).
+std::map<std::string, ErrorStats> np_errors(const TableSet& set, double eta, int slabs, std::uint64_t seed) {
+  const auto& lobes = set.metadata.at("lobes");
+  const int L = static_cast<int>(lobes.size());
+  const Table* first = set.find("np/R");
+  const auto& ax = first->axes;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  constexpr int kBetas = 4, kPhis = 16, kDense = 721;
+  std::vector<std::vector<double>> err(static_cast<std::size_t>(L));
+  std::vector<std::vector<std::vector<double>>> at(static_cast<std::size_t>(L));
+  const auto rules = std::make_shared<GaussLegendreCache>();
+  for (int s = 0; s < slabs; ++s) {
+    const double sigma = draw(ax[1], rng), theta = draw(ax[2], rng);
+    std::vector<double> betas, phis;
+    for (int b = 0; b < kBetas; ++b) betas.push_back(draw(ax[0], rng));
+    for (int j = 0; j < kDense; ++j) phis.push_back(ax[3].lo + (ax[3].hi - ax[3].lo) * j / (kDense - 1));
+    for (int j = 0; j < kPhis; ++j) phis.push_back(draw(ax[3], rng));
+    NpGridRequest r;
+    r.eta = eta;
+    r.quadrature.method = NpQuadratureConfig::Method::fourier;
+    r.quadrature.tolerance = 1e-12;
+    r.lobes = L;
+    r.sigmas = {sigma, 0.0};
+    r.thetas = {theta};
+    r.phis = phis;
+    r.betas_of = [&](int) { return betas; };
+    r.rules = rules;
+    const std::size_t np = phis.size();
+    std::vector<double> exact(static_cast<std::size_t>(L) * 2 * kBetas * np);
+    auto at_ = [&](int p, int k, int b, std::size_t j) -> double& {
+      return exact[((static_cast<std::size_t>(p) * 2 + static_cast<std::size_t>(k)) * kBetas + static_cast<std::size_t>(b)) * np + j];
+    };
+    BakeOptions o;
+    bake_np_grid(r, o, "", [&](int p, std::size_t k, std::size_t, std::size_t b, std::size_t j, double v) {
+      at_(p, static_cast<int>(k), static_cast<int>(b), j) = v;
+    });
+    for (int p = 0; p < L; ++p) {
+      const Table* t = set.find("np/" + lobes[static_cast<std::size_t>(p)].get<std::string>());
+      for (int b = 0; b < kBetas; ++b) {
+        double peak = 0.0, white = 0.0;
+        for (std::size_t j = 0; j < kDense; ++j) peak = std::max(peak, at_(p, 0, b, j)), white = std::max(white, at_(p, 1, b, j));
+        const double den = std::max(peak, 1e-3 * white);
+        for (std::size_t j = kDense; j < np; ++j) {
+          const std::vector<double> x = {betas[static_cast<std::size_t>(b)], sigma, theta, phis[j]};
+          err[static_cast<std::size_t>(p)].push_back(std::abs(set.sample_value(*t, x) - at_(p, 0, b, j)) / den);
+          at[static_cast<std::size_t>(p)].push_back(x);
+        }
+      }
+    }
+  }
+  std::map<std::string, ErrorStats> out;
+  for (int p = 0; p < L; ++p)
+    out[lobes[static_cast<std::size_t>(p)].get<std::string>()] = stats(err[static_cast<std::size_t>(p)], at[static_cast<std::size_t>(p)]);
+  return out;
+}
+
+// Sampled error of an M_p table over (beta, theta_i, theta_r), relative to the peak over θr.
+ErrorStats mp_errors(const Table& t, int points, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const double alpha = t.attributes.value("alpha", 0.0);
+  std::vector<double> err;
+  std::vector<std::vector<double>> at;
+  constexpr int kPer = 8, kDense = 1441;
+  for (int i = 0; i < points / kPer; ++i) {
+    const double beta = draw(t.axes[0], rng), ti = draw(t.axes[1], rng);
+    double peak = 0.0;
+    for (int j = 0; j < kDense; ++j)
+      peak = std::max(peak, longitudinal_deon_tilted(beta * beta, alpha, ti, -kHalfPi + 2.0 * kHalfPi * j / (kDense - 1)));
+    for (int k = 0; k < kPer; ++k) {
+      const double tr = draw(t.axes[2], rng);
+      err.push_back(std::abs(t.sample({beta, ti, tr}) - longitudinal_deon_tilted(beta * beta, alpha, ti, tr)) / peak);
+      at.push_back({beta, ti, tr});
+    }
+  }
+  return stats(err, at);
+}
+
+// ns per lookup of the quantity a renderer reads (with the factor table, if any).
+double lookup_ns(const TableSet& set, const Table& t, int lookups, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const int dims = static_cast<int>(t.axes.size());
+  std::vector<double> xs(static_cast<std::size_t>(lookups) * static_cast<std::size_t>(dims));
+  for (int i = 0; i < lookups; ++i)
+    for (int d = 0; d < dims; ++d) xs[static_cast<std::size_t>(i * dims + d)] = draw(t.axes[static_cast<std::size_t>(d)], rng);
+  std::vector<sampler::Axis> axes;
+  for (const GridAxis& a : t.axes) axes.push_back(a.view());
+  const sampler::TableView<float> view(t.f32.data(), axes.data(), dims);
+  const Table* f = t.factor().empty() ? nullptr : set.find(t.factor());
+  std::vector<sampler::Axis> faxes;
+  std::vector<int> fmap;
+  if (f)
+    for (const GridAxis& a : f->axes) {
+      faxes.push_back(a.view());
+      for (int d = 0; d < dims; ++d)
+        if (t.axes[static_cast<std::size_t>(d)].name == a.name) fmap.push_back(d);
+    }
+  const sampler::TableView<float> fview(f ? f->f32.data() : nullptr, faxes.data(), static_cast<int>(faxes.size()));
+  double sink = 0.0;
+  auto run = [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < lookups; ++i) {
+      const double* x = &xs[static_cast<std::size_t>(i * dims)];
+      double v = view(x);
+      if (f) {
+        double y[8];
+        for (std::size_t k = 0; k < fmap.size(); ++k) y[k] = x[fmap[k]];
+        v *= fview(y);
+      }
+      sink += v;
+    }
+    return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count() / lookups;
+  };
+  run();  // warm the caches
+  double best = 1e300;
+  for (int r = 0; r < 3; ++r) best = std::min(best, run());
+  if (sink == -1.0) std::printf(" ");  // keep the loop
+  return best;
+}
+
+json axis(int count, const std::string& range_key, std::vector<double> range, const std::string& spacing, const std::string& interp) {
+  json a = {{"count", count}, {range_key, range}, {"spacing", spacing}};
+  if (!interp.empty()) a["interpolation"] = interp;
+  return a;
+}
+
+// One generic N_p representation to measure.
+struct NpCase {
+  std::string representation, label;
+  int beta, sigma, theta, phi;
+};
+
+json np_config(const NpCase& c, std::vector<double> beta_deg, double sigma_max, bool quick) {
+  json np;
+  json ax;
+  if (c.representation == "multilinear") {
+    ax["beta"] = axis(c.beta, "range_deg", beta_deg, "log", "");
+    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "sqrt", "");
+    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "cos", "");
+    ax["phi"] = {{"count", c.phi}};
+  } else if (c.representation == "uniform-multilinear") {
+    ax["beta"] = axis(c.beta, "range_deg", beta_deg, "uniform", "");
+    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "uniform", "");
+    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "uniform", "");
+    ax["phi"] = {{"count", c.phi}};
+  } else if (c.representation == "geometric-sigma") {
+    ax["beta"] = axis(c.beta, "range_deg", beta_deg, "log", "");
+    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "uniform", "geometric");
+    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "cos", "");
+    ax["phi"] = {{"count", c.phi}};
+  } else {  // shape-cubic
+    ax["beta"] = axis(c.beta, "range_deg", beta_deg, "log", "cubic");
+    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "uniform", c.sigma > 2 ? "cubic" : "");
+    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "cos", "cubic");
+    ax["phi"] = {{"count", c.phi}, {"interpolation", "cubic"}};
+    np["normalize"] = "energy";
+    np["energy_axes"] = {{"sigma_a", axis(c.sigma > 1 ? (quick ? 64 : 128) : 1, "range", {0, sigma_max}, "uniform", c.sigma > 1 ? "geometric" : "")},
+                         {"theta_d", axis(quick ? 256 : 512, "range_deg", {0, 89}, "cos", "cubic")}};
+  }
+  if (c.sigma == 1) ax["sigma_a"] = {{"values", {0.0}}};
+  np["axes"] = ax;
+  return np;
+}
+
+TableSet bake_json(const json& tables, const std::string& name) {
+  json doc = {{"name", name},
+              {"model", "deon2011"},
+              {"fiber", {{"eta", 1.55}}},
+              {"lobes", {{"explicit", {"R", "TT", "TRT", "TRRT"}}, {"residual", false}, {"tilt_deg", {{"R", -4}, {"TT", 2}, {"TRT", 6}, {"TRRT", 10}}}}},
+              {"tables", tables},
+              {"output", {{"directory", "."}, {"basename", name}, {"formats", {"hdf5"}}}}};
+  const BakeConfig c = parse_config(doc, name, ".");
+  return bake(c);
+}
+
+}  // namespace
+
+json bench_representations(bool quick, bool quiet) {
+  json rows = json::array();
+  const int slabs = quick ? 40 : 300, lookups = quick ? 100000 : 1000000;
+  auto say = [&](const std::string& s) {
+    if (!quiet) std::fprintf(stderr, "representations: %s\n", s.c_str());
+  };
+  // The generic domain (β 2°–30°, σa 0–10, θd 0–89°, all φ; R, TT, TRT, TRRT).
+  std::vector<NpCase> generic = {
+      {"multilinear", "legacy (target_error 1e-3 counts)", 19, 61, 126, 256},
+      {"multilinear", "legacy", 16, 32, 64, 128},
+      {"geometric-sigma", "geometric sigma_a", 16, 32, 64, 128},
+      {"shape-cubic", "shape + cubic", 8, 8, 32, 64},
+      {"shape-cubic", "shape + cubic", 12, 12, 48, 96},
+      {"shape-cubic", "shape + cubic", 16, 16, 64, 128},
+      {"shape-cubic", "shape + cubic", 16, 24, 96, 160},
+  };
+  if (quick) generic = {generic[1], generic[2], generic[3]};
+  // Engine budgets: N_p of a white fibre (unit attenuation) over (β, θd, φ) at HDRP's 64³.
+  std::vector<NpCase> engine = {{"uniform-multilinear", "uniform multilinear 64^3", 64, 1, 64, 64},
+                                {"shape-cubic", "hairlut shape + cubic 64^3", 64, 1, 64, 64}};
+  auto run_np = [&](const NpCase& c, const std::string& domain, std::vector<double> beta_deg, double sigma_max) {
+    say(domain + ": " + c.label + " " + std::to_string(c.beta) + "x" + std::to_string(c.sigma) + "x" + std::to_string(c.theta) + "x" +
+        std::to_string(c.phi));
+    const TableSet set = bake_json({{"np", np_config(c, beta_deg, sigma_max, quick)}}, "repr");
+    const auto errors = np_errors(set, 1.55, slabs, 17);
+    std::size_t entries = 0, bytes = 0;
+    for (const Table& t : set.tables) entries += t.size();
+    bytes = set.bytes();
+    json row = {{"domain", domain},
+                {"representation", c.representation},
+                {"label", c.label},
+                {"counts", {{"beta", c.beta}, {"sigma_a", c.sigma}, {"theta_d", c.theta}, {"phi", c.phi}}},
+                {"entries_per_lobe", set.find("np/R")->size()},
+                {"entries_total", entries},
+                {"bytes", bytes},
+                {"points_per_lobe", slabs * 4 * 16}};
+    double worst = 0.0, p99 = 0.0;
+    for (const auto& [lobe, s] : errors) {
+      row["worst"][lobe] = s.worst;
+      row["p99"][lobe] = s.p99;
+      row["worst_at"][lobe] = s.where;
+      worst = std::max(worst, s.worst);
+      p99 = std::max(p99, s.p99);
+    }
+    row["worst_all"] = worst;
+    row["p99_all"] = p99;
+    row["lookup_ns"] = lookup_ns(set, *set.find("np/TRT"), lookups, 3);
+    rows.push_back(row);
+  };
+  for (const NpCase& c : generic) run_np(c, "generic", {2, 30}, 10.0);
+  for (const NpCase& c : engine) run_np(c, "engine-np-64^3", {2, 30}, 0.0);
+  // Engine budgets: M_p over (β, θi, θr) at HDRP's 64³.
+  for (const std::string rep : {"uniform-multilinear", "cubic"}) {
+    say("engine-mp-64^3: " + rep);
+    const bool cubic = rep == "cubic";
+    json mp = {{"axes",
+                {{"beta", axis(64, "range_deg", {2, 30}, cubic ? "log" : "uniform", cubic ? "cubic" : "")},
+                 {"theta_i", axis(64, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")},
+                 {"theta_r", axis(64, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")}}}};
+    const TableSet set = bake_json({{"mp", mp}}, "repr-mp");
+    json row = {{"domain", "engine-mp-64^3"}, {"representation", rep}, {"label", rep + " 64^3"}, {"entries_per_lobe", 64 * 64 * 64},
+                {"bytes", set.bytes()}};
+    double worst = 0.0, p99 = 0.0;
+    for (const std::string lobe : {"R", "TT", "TRT"}) {
+      const ErrorStats s = mp_errors(*set.find("mp/" + lobe), quick ? 2000 : 20000, 5);
+      row["worst"][lobe] = s.worst;
+      row["p99"][lobe] = s.p99;
+      row["worst_at"][lobe] = s.where;
+      worst = std::max(worst, s.worst);
+      p99 = std::max(p99, s.p99);
+    }
+    row["worst_all"] = worst;
+    row["p99_all"] = p99;
+    row["lookup_ns"] = lookup_ns(set, *set.find("mp/R"), lookups, 4);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void write_representations(const json& rows, const json& machine, const std::string& out_dir) {
+  json doc = {{"machine", machine},
+              {"error_measure",
+               "random points over every axis's declared range (log-uniform on log axes); table read as a renderer reads it "
+               "(each axis's interpolation, the energy factor of a normalized table); reference: direct evaluation (Fourier "
+               "method, 1e-12); N_p error relative to the peak over phi of the true slice at the same (beta, sigma_a, theta_d), "
+               "floored at 1e-3 of the white fibre's peak at the same (beta, theta_d); M_p relative to the peak over theta_r at "
+               "the same (beta, theta_i)"},
+              {"rows", rows}};
+  std::ofstream(out_dir + "/representations.json") << doc.dump(2) << "\n";
+  std::ofstream csv(out_dir + "/representations.csv");
+  csv << "domain,representation,label,entries_per_lobe,bytes,worst_R,worst_TT,worst_TRT,worst_TRRT,worst_all,p99_all,lookup_ns\n";
+  std::ostringstream md;
+  md << "| domain | representation | counts | entries per lobe | worst (R / TT / TRT / TRRT) | worst | p99 | lookup |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  auto g = [](const json& j, const char* k) { return j.contains(k) ? j.at(k).get<double>() : NAN; };
+  auto f = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2g", v);
+    return std::string(b);
+  };
+  for (const json& r : rows) {
+    const json w = r.value("worst", json::object());
+    csv << r["domain"].get<std::string>() << "," << r["representation"].get<std::string>() << ",\"" << r["label"].get<std::string>() << "\","
+        << r["entries_per_lobe"] << "," << r["bytes"] << "," << g(w, "R") << "," << g(w, "TT") << "," << g(w, "TRT") << "," << g(w, "TRRT")
+        << "," << r["worst_all"] << "," << r["p99_all"] << "," << r["lookup_ns"] << "\n";
+    std::string counts;
+    if (r.contains("counts"))
+      for (const auto& [k, v] : r["counts"].items()) counts += (counts.empty() ? "" : " x ") + std::to_string(v.get<int>());
+    md << "| " << r["domain"].get<std::string>() << " | " << r["label"].get<std::string>() << " | " << counts << " | "
+       << r["entries_per_lobe"] << " | " << f(g(w, "R")) << " / " << f(g(w, "TT")) << " / " << f(g(w, "TRT")) << " / " << f(g(w, "TRRT"))
+       << " | " << f(r["worst_all"].get<double>()) << " | " << f(r["p99_all"].get<double>()) << " | "
+       << f(r["lookup_ns"].get<double>()) << " ns |\n";
+  }
+  std::ofstream(out_dir + "/representations.md") << md.str();
+  // Pareto plot: entries per lobe against the worst sampled error, one series per representation.
+  svg::LinePlot plot;
+  plot.title = "Generic N_p: entries per lobe against worst sampled error";
+  plot.xlabel = "entries per lobe";
+  plot.ylabel = "worst error / local peak";
+  plot.log_x = plot.log_y = true;
+  std::map<std::string, svg::Series> series;
+  for (const json& r : rows) {
+    if (r["domain"] != "generic") continue;
+    svg::Series& s = series[r["representation"].get<std::string>()];
+    s.name = r["representation"].get<std::string>();
+    s.markers = true;
+    s.x.push_back(r["entries_per_lobe"].get<double>());
+    s.y.push_back(r["worst_all"].get<double>());
+  }
+  for (auto& [k, s] : series) plot.series.push_back(s);
+  plot.y_reference = 1e-3;
+  std::ofstream(out_dir + "/representations.svg") << svg::line_plot(plot) << "\n";
+}
+
+}  // namespace hairlut::bench
