@@ -1,6 +1,6 @@
 // hairlut-eval: print M_p, N_p, lobe energies and white-furnace energies for given parameters, so
 // that a value can be checked by hand. Thin: all physics lives in the hairlut library.
-#include <CLI/CLI.hpp>
+#include "common/cli.hpp"
 #include <cstdio>
 #include <hairlut/hairlut.hpp>
 #include <iostream>
@@ -26,6 +26,9 @@ Examples:
   hairlut-eval marschner --lobe TRT --sigma-a 0.2 --theta-d-deg 10 --phi-deg 15 --roots cubic
   hairlut-eval marschner --lobe TRT --eccentricity 0.9 --phi-h-deg 30 --phi-deg 25 --k-g 1 --w-c-deg 10
   hairlut-eval dual --beta-deg 14,7,28,28 --alpha-deg -4,2,8,8 --lobes 3 --residual --sigma-a 0.4 --theta-i-deg 0,30,60
+
+Exit status: 0 done, 1 an evaluation failed, 2 bad argument or command line (one line
+"hairlut-eval: error: ..." on stderr).
 )";
 
 // Expands a per-lobe list given once for all lobes or once per lobe (plus one for the residual).
@@ -148,7 +151,7 @@ int main(int argc, char** argv) {
   dual->add_option("--theta-i-deg", thetas, "incident inclinations in degrees")->delimiter(',');
   dual->add_option("--density-factor", density, "d_b of Zinke eq. 17")->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = hairlut::tools::parse_command_line(app, "hairlut-eval", argc, argv)) return *rc;
 
   // The full model of the furnace and dual subcommands: per-lobe β (β_m = β_n) and tilts.
   auto model_from_options = [&] {
@@ -287,8 +290,11 @@ int main(int argc, char** argv) {
     }
     print(out, as_json);
   } catch (const hairlut::DomainError& e) {
-    std::fprintf(stderr, "hairlut-eval: error: %s\n", e.what());
+    hairlut::tools::print_error("hairlut-eval", e.what());
     return 2;
+  } catch (const std::exception& e) {
+    hairlut::tools::print_error("hairlut-eval", e.what());
+    return 1;
   }
   return 0;
 }

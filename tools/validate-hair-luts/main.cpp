@@ -3,7 +3,7 @@
 // passes, 1 when a check fails, 2 for bad input. Thin: the checks live in hairlut/validate.hpp.
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
+#include "common/cli.hpp"
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -34,8 +34,8 @@ Writes report.html (open it in a browser), report.json and report.md into --out.
 (name=value): furnace_direct, furnace_table, longitudinal_deon, mp_table_energy,
 accuracy_max_rel, accuracy_p99_rel, energy_consistency, and for mean-energy and dual-scattering
 tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too.
-Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input,
-130 interrupted.)");
+Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input or command
+line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
   std::string file, config_path, out_dir = "hairlut-report";
   std::vector<std::string> thresholds;
   bool quiet = false;
@@ -45,11 +45,11 @@ Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input
   app.add_option("--config", config_path, "validate the tables of this config (its outputs if up to date, else baked in memory)");
   app.add_option("--out", out_dir, "report directory")->capture_default_str();
   app.add_option("--threshold", thresholds, "override a threshold, name=value (repeatable)");
-  app.add_option("--threads", threads, "OpenMP threads for direct evaluation (default: all cores)");
-  app.add_option("--max-points", max_points, "off-node points per table")->capture_default_str();
+  app.add_option("--threads", threads, "OpenMP threads for direct evaluation (default: all cores)")->check(CLI::Range(0, 4096));
+  app.add_option("--max-points", max_points, "off-node points per table")->check(CLI::Range(std::size_t{1}, std::size_t{100000000}))->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
   app.set_version_flag("--version", std::string("validate-hair-luts (hairlut) ") + hairlut::kVersion);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = hairlut::tools::parse_command_line(app, "validate-hair-luts", argc, argv)) return *rc;
   if (file.empty() == config_path.empty()) {
     std::fprintf(stderr, "validate-hair-luts: error: give either a table file or --config (see --help)\n");
     return 2;
