@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
 Writes report.html (open it in a browser), report.json and report.md into --out. Thresholds
 (name=value): furnace_direct, furnace_table, longitudinal_deon, mp_table_energy,
 accuracy_max_rel, accuracy_p99_rel, energy_consistency, and for mean-energy and dual-scattering
-tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too.
+tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too, and a
+file is judged by the thresholds of the config it was baked with (stored in it); --threshold wins.
 Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input or command
 line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
   std::string file, config_path, out_dir = "hairlut-report";
@@ -82,6 +83,12 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
     } else {
       source = file;
       set = hairlut::load_tables(file);
+      // The thresholds the tables were baked with travel in the config stored in the file.
+      if (set.metadata.contains("config") && set.metadata["config"].is_string()) {
+        const auto stored = nlohmann::json::parse(set.metadata["config"].get<std::string>(), nullptr, false);
+        if (stored.is_object() && stored.contains("validate") && stored["validate"].contains("thresholds"))
+          for (const auto& [k, v] : stored["validate"]["thresholds"].items()) options.thresholds.set(k, v.get<double>());
+      }
     }
     for (const std::string& t : thresholds) {
       const auto eq = t.find('=');
