@@ -2,7 +2,8 @@
 # a stranger would: checks the installed files, runs an installed tool, configures and builds the
 # consumer project SOURCE/examples/engine-consumer with find_package(hairlut CONFIG) against that
 # prefix only, runs it on TABLE, checks the package version rule and the sampler-only component,
-# and compiles the consumer once more with the flags of the installed pkg-config file.
+# compiles the consumer once more with the flags of the installed pkg-config file, and imports
+# the installed Python module with PYTHON when it was built.
 # VERSION is the project version; CXX the C++ compiler; CONFIG the build configuration.
 function(run what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -98,3 +99,17 @@ separate_arguments(flags UNIX_COMMAND "${flags}")
 run("compiling with pkg-config's flags" ${CXX} -std=c++20 -O1 ${SOURCE}/examples/engine-consumer/sample_table.cpp ${flags} -o ${WORK}/pc-sample-table)
 run("the pkg-config build" ${WORK}/pc-sample-table ${TABLE} TT 40 0.1 10 170)
 message(STATUS "${run_out}")
+
+# The Python module, when it was built: importable from the prefix.
+file(GLOB_RECURSE python_init ${prefix}/*/hairlut/__init__.py)
+if(python_init AND PYTHON)
+  list(GET python_init 0 init)
+  get_filename_component(package_dir ${init} DIRECTORY)
+  get_filename_component(site_dir ${package_dir} DIRECTORY)
+  set(ENV{PYTHONPATH} ${site_dir})
+  run("importing the installed Python module" ${PYTHON} -c "import hairlut; print(hairlut.__file__, hairlut.__version__)")
+  if(NOT run_out MATCHES "^${site_dir}/hairlut/__init__.py ${VERSION}")
+    message(FATAL_ERROR "the installed Python module: ${run_out}")
+  endif()
+  message(STATUS "Python module: ${run_out}")
+endif()
