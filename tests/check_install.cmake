@@ -101,13 +101,15 @@ run("the pkg-config build" ${WORK}/pc-sample-table ${TABLE} TT 40 0.1 10 170)
 message(STATUS "${run_out}")
 
 # The Python module, when it was built: importable from the prefix.
-file(GLOB_RECURSE python_init ${prefix}/*/hairlut/__init__.py)
+file(GLOB_RECURSE python_init ${prefix}/__init__.py)
+list(FILTER python_init INCLUDE REGEX "/hairlut/__init__.py$")
 if(python_init AND PYTHON)
   list(GET python_init 0 init)
   get_filename_component(package_dir ${init} DIRECTORY)
   get_filename_component(site_dir ${package_dir} DIRECTORY)
   set(ENV{PYTHONPATH} ${site_dir})
-  run("importing the installed Python module" ${PYTHON} -c "import hairlut; print(hairlut.__file__, hairlut.__version__)")
+  run("importing the installed Python module" ${PYTHON} -c "import hairlut as h
+print(h.__file__, h.__version__)")
   if(NOT run_out MATCHES "^${site_dir}/hairlut/__init__.py ${VERSION}")
     message(FATAL_ERROR "the installed Python module: ${run_out}")
   endif()
