@@ -5,8 +5,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <hairlut/azimuthal_np.hpp>
 #include <hairlut/bake.hpp>
 #include <hairlut/config.hpp>

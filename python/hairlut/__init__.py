@@ -50,6 +50,9 @@ def azimuthal_np(lobe, phi, theta_d, sigma_a, beta, eta=1.55, path="chord", meth
     so narrow a beta). "adaptive": the adaptive reference with `tolerance` relative to the value;
     with return_error=True its error estimate is returned too. "gauss-legendre": a fixed rule of
     `order` nodes in `variable` ("gamma" or "h"), not adaptive, so it misses narrow lobes.
+    Each point is evaluated on its own: the baker's method costs about as much per point as per
+    table row (measured: 0.6 ms at beta = 5 deg, 6 ms at 0.72 deg, seconds near 2e-4 rad); bake() is the fast
+    way to fill a grid.
     """
     shape, (f, td, sa, b) = _broadcast(phi, theta_d, sigma_a, beta)
     value, error = _core.azimuthal_np(_lobe(lobe), f, td, sa, b, float(eta), path, method, float(tolerance), int(order), variable)
