@@ -15,6 +15,7 @@ packages=(
   libomp-dev                               # OpenMP runtime headers (GCC uses libgomp)
   python3 python3-numpy python3-h5py python3-jsonschema   # independent checks in tests
   python3-xarray python3-h5netcdf          # a netCDF-style client of the HDF5 tables
+  python3-dev pybind11-dev                 # the Python module (hairlut package)
   json-schema-test-suite                   # the official JSON Schema tests (draft 7 files)
   clang libclang-rt-dev                    # libFuzzer with AddressSanitizer and UBSan (fuzz tests)
 )

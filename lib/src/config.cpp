@@ -549,6 +549,9 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
                  {"formats", formats},
                  {"hdf5", {{"precision", c.output.hdf5_double ? "float64" : "float32"}, {"compression", c.output.hdf5_deflate}}},
                  {"exr", {{"precision", c.output.exr_half ? "half" : "float"}, {"compression", c.output.exr_compression}}}};
+  // The validation thresholds travel with the tables (the stored config), so that a file is judged
+  // by the thresholds it was baked with.
+  if (c.validate_thresholds.is_object() && !c.validate_thresholds.empty()) n["validate"] = {{"thresholds", c.validate_thresholds}};
   c.normalized = n;
   c.hash = fnv1a64_hex(n.dump() + "\nhairlut " + kVersion);
   return c;

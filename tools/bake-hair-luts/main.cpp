@@ -3,7 +3,7 @@
 // line, progress display, signals and exit codes.
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
+#include "common/cli.hpp"
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
 
 The config format is schemas/hairlut-config.schema.json. An unchanged config with up-to-date
 outputs is not baked again (use --force). Exit codes: 0 done or up to date, 1 bake or I/O
-failure, 2 bad config or command line, 130 interrupted (no partial output is left).)");
+failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on stderr),
+130 interrupted (no partial output is left).)");
   std::string config_path, output_dir;
   bool force = false, quiet = false, check = false;
   int threads = 0;
@@ -68,7 +69,7 @@ failure, 2 bad config or command line, 130 interrupted (no partial output is lef
   app.add_flag("--quiet,-q", quiet, "no progress display and no summary");
   app.add_flag("--check", check, "validate the config and exit");
   app.set_version_flag("--version", std::string("bake-hair-luts (hairlut) ") + hairlut::kVersion);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = hairlut::tools::parse_command_line(app, "bake-hair-luts", argc, argv)) return *rc;
 
   hairlut::BakeConfig config;
   try {

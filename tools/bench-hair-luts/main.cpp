@@ -6,7 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
+#include "common/cli.hpp"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -258,7 +258,7 @@ int main(int argc, char** argv) {
   bake_tool = (self.parent_path().parent_path() / "bake-hair-luts" / "bake-hair-luts").string();
   generic_config = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/generic.json";
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
-  app.add_option("--slices", slices, "stress slices for the accuracy sweep")->capture_default_str();
+  app.add_option("--slices", slices, "stress slices for the accuracy sweep")->check(CLI::Range(std::size_t{1}, std::size_t{100000}))->capture_default_str();
   app.add_option("--bake-tool", bake_tool, "bake-hair-luts binary for the generic-table run")->capture_default_str();
   app.add_option("--generic-config", generic_config, "config of the generic table")->capture_default_str();
   app.add_flag("--quick", quick, "a smoke run: fewer slices, no generic-table bake, fewer repeats");
@@ -266,8 +266,9 @@ int main(int argc, char** argv) {
   app.add_flag("--presets-only", presets_only, "only time the export presets (writes presets.json, presets.csv, presets.md)");
   app.add_flag("--representations-only", representations_only,
                "only measure table representations: entries against sampled error and lookup ns (writes representations.*)");
-  app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)");
-  CLI11_PARSE(app, argc, argv);
+  app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)\n\n"
+             "Exit status: 0 done, 2 bad command line (one line \"bench-hair-luts: error: ...\" on stderr).");
+  if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
   if (quick) slices = std::min<std::size_t>(slices, 16);
   const int repeats = quick ? 1 : 3;
   const int max_threads = omp_get_max_threads();

@@ -4,7 +4,7 @@
 // compare.json and compare.md. Thin: the figures live in hairlut/compare.hpp.
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
+#include "common/cli.hpp"
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -42,7 +42,8 @@ longitudinal widths: Marschner's Table 1 lobes from --beta-r-deg and --alpha-r-d
 use those widths as longitudinal and azimuthal roughness and the tilts 2 alpha_p. --config takes
 eta, the absorption path and the marschner settings from a marschner2003 config. Writes
 compare.html (open it in a browser), compare.json and compare.md into --out. Exit status: 0 done,
-1 I/O failure, 2 bad input, 130 interrupted.)");
+1 I/O failure, 2 bad input or command line (one line "compare-hair-models: error: ..."),
+130 interrupted.)");
   double eta = 1.55, sigma_a = 0.5, beta_r_deg = 5.0, alpha_r_deg = -5.0, k_g = 0.5, w_c_deg = 15.0, eccentricity = 1.0, phi_h_deg = 0.0;
   double kd = 0.0, ks = 0.0, exponent = 0.0;
   std::vector<double> melanin, theta_d_deg = {0, 20, 40, 60};
@@ -71,7 +72,7 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
   app.set_version_flag("--version", std::string("compare-hair-models (hairlut) ") + hairlut::kVersion);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = hairlut::tools::parse_command_line(app, "compare-hair-models", argc, argv)) return *rc;
 
   hairlut::CompareSettings s;
   try {

@@ -1,8 +1,9 @@
 // hairlut-eval: print M_p, N_p, lobe energies and white-furnace energies for given parameters, so
 // that a value can be checked by hand. Thin: all physics lives in the hairlut library.
-#include <CLI/CLI.hpp>
+#include "common/cli.hpp"
 #include <cstdio>
 #include <hairlut/hairlut.hpp>
+#include <hairlut/np_point.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -19,6 +20,7 @@ Examples:
   hairlut-eval mp --beta-deg 5 --theta-i-deg 30 --theta-r-deg -30
   hairlut-eval mp --beta-deg 5 --theta-i-deg 30 --theta-r-deg -34 --alpha-deg -4 --form gaussian-2h
   hairlut-eval np --lobe TRT --eta 1.55 --sigma-a 0.5 --theta-d-deg 20 --phi-deg 30 --beta-deg 5
+  hairlut-eval np --lobe TT --beta-deg 0.72 --phi-deg 180 --sigma-a 0.5 --reference
   hairlut-eval np --lobe TT --beta-deg 1 --phi-deg 170 --order 35 --variable h --reference --smooth
   hairlut-eval energy --eta 1.55 --sigma-a 0 --theta-d-deg 80 --lobes 4 --residual
   hairlut-eval furnace --beta-deg 10 --lobes 3 --residual --theta-i-deg 0,45,80,89
@@ -26,6 +28,14 @@ Examples:
   hairlut-eval marschner --lobe TRT --sigma-a 0.2 --theta-d-deg 10 --phi-deg 15 --roots cubic
   hairlut-eval marschner --lobe TRT --eccentricity 0.9 --phi-h-deg 30 --phi-deg 25 --k-g 1 --w-c-deg 10
   hairlut-eval dual --beta-deg 14,7,28,28 --alpha-deg -4,2,8,8 --lobes 3 --residual --sigma-a 0.4 --theta-i-deg 0,30,60
+
+np prints by default the value a table stores: the baker's quadrature (the detector's Fourier
+series or direct spreading, chosen by cost) with --tolerance; --method gauss-legendre and
+--method adaptive give the fixed-order rule and the adaptive reference instead, and every value
+comes with the method that made it.
+
+Exit status: 0 done, 1 an evaluation failed, 2 bad argument or command line (one line
+"hairlut-eval: error: ..." on stderr).
 )";
 
 // Expands a per-lobe list given once for all lobes or once per lobe (plus one for the residual).
@@ -63,6 +73,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   bool as_json = false;
   app.add_flag("--json", as_json, "print JSON instead of key = value lines");
+  app.set_version_flag("--version", std::string("hairlut-eval (hairlut) ") + hairlut::kVersion);
 
   // Fiber parameters shared by np, energy and furnace.
   double eta = 1.55, sigma_a = 0.0;
@@ -92,14 +103,26 @@ int main(int argc, char** argv) {
   std::string lobe = "TRT";
   double theta_d = 20.0, phi = 30.0, np_beta = 5.0;
   int order = 64;
-  std::string variable = "gamma";
+  std::string variable = "gamma", method = "baker";
+  double tolerance = 1e-12;
   bool reference = false, smooth = false;
   np->add_option("--lobe", lobe, "R, TT, TRT, TRRT, ... or p<N>")->capture_default_str();
   np->add_option("--theta-d-deg", theta_d, "longitudinal difference angle in degrees, [-90, 90]")->capture_default_str();
   np->add_option("--phi-deg", phi, "relative azimuth in degrees")->capture_default_str();
   np->add_option("--beta-deg", np_beta, "azimuthal roughness (detector width) in degrees")->capture_default_str();
-  np->add_option("--order", order, "Gauss-Legendre order (d'Eon uses 35)")->capture_default_str();
-  np->add_option("--variable", variable, "integration variable: gamma (smooth) or h (as d'Eon)")->capture_default_str();
+  auto* method_opt = np->add_option("--method", method,
+                                     "baker: the baker's Fourier/spreading quadrature with --tolerance, the value a table stores "
+                                     "(default); gauss-legendre: a fixed-order rule of --order nodes in --variable, not adaptive, "
+                                     "so it misses narrow lobes; adaptive: the adaptive reference integrator with its error estimate")
+                        ->check(CLI::IsMember({"baker", "gauss-legendre", "adaptive"}))
+                        ->capture_default_str();
+  np->add_option("--tolerance", tolerance, "error relative to the lobe peak (baker) or to the value (adaptive); the configs' default")
+      ->check(CLI::Range(1e-15, 1e-2))
+      ->capture_default_str();
+  auto* order_opt = np->add_option("--order", order, "Gauss-Legendre order of --method gauss-legendre (d'Eon uses 35); implies it")
+                        ->capture_default_str();
+  auto* variable_opt = np->add_option("--variable", variable, "integration variable of --method gauss-legendre: gamma or h (as d'Eon); implies it")
+                           ->capture_default_str();
   np->add_flag("--reference", reference, "also print the adaptive reference value and its error estimate");
   np->add_flag("--smooth", smooth, "also print the smooth-fiber (beta -> 0) value by root solving");
 
@@ -148,7 +171,7 @@ int main(int argc, char** argv) {
   dual->add_option("--theta-i-deg", thetas, "incident inclinations in degrees")->delimiter(',');
   dual->add_option("--density-factor", density, "d_b of Zinke eq. 17")->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = hairlut::tools::parse_command_line(app, "hairlut-eval", argc, argv)) return *rc;
 
   // The full model of the furnace and dual subcommands: per-lobe β (β_m = β_n) and tilts.
   auto model_from_options = [&] {
@@ -186,13 +209,34 @@ int main(int argc, char** argv) {
     } else if (np->parsed()) {
       const int p = hairlut::parse_lobe(lobe, "--lobe");
       const hairlut::AttenuationSlice slice(eta, radians(theta_d), sigma_a, hairlut::parse_absorption_path(path, "--absorption-path"));
-      const hairlut::GaussLegendreRule rule(order);
-      const auto var = hairlut::parse_integration_variable(variable, "--variable");
+      hairlut::require_positive("--beta-deg", np_beta);
+      // --order or --variable alone ask for the fixed-order rule.
+      if (method_opt->count() == 0 && (order_opt->count() > 0 || variable_opt->count() > 0)) method = "gauss-legendre";
       out["lobe"] = hairlut::lobe_name(p);
       out["p"] = p;
-      out["N"] = hairlut::azimuthal_np(slice, p, radians(np_beta), radians(phi), rule, var);
-      out["order"] = order;
-      out["variable"] = variable;
+      if (method == "gauss-legendre") {
+        const hairlut::GaussLegendreRule rule(order);
+        const auto var = hairlut::parse_integration_variable(variable, "--variable");
+        out["N"] = hairlut::azimuthal_np(slice, p, radians(np_beta), radians(phi), rule, var);
+        out["method"] = "fixed-order Gauss-Legendre, " + std::to_string(order) + " nodes in " + variable +
+                        " (not adaptive: a lobe narrower than the node spacing is missed or aliased)";
+        out["order"] = order;
+        out["variable"] = variable;
+      } else if (method == "adaptive") {
+        const auto r = hairlut::azimuthal_np_reference(slice, p, radians(np_beta), radians(phi), tolerance);
+        out["N"] = r.value[0];
+        out["method"] = "adaptive reference (Gauss-Kronrod between the detector breakpoints)";
+        out["tolerance"] = tolerance;
+        out["N_error"] = r.error[0];
+        out["converged"] = r.converged;
+      } else {
+        const hairlut::PointNp b = hairlut::baker_np(eta, hairlut::parse_absorption_path(path, "--absorption-path"), radians(theta_d),
+                                                    sigma_a, p, radians(np_beta), radians(phi), tolerance);
+        out["N"] = b.value;
+        out["method"] = b.method;
+        out["tolerance"] = tolerance;
+        if (!b.note.empty()) out["note"] = b.note;
+      }
       if (reference) {
         const auto r = hairlut::azimuthal_np_reference(slice, p, radians(np_beta), radians(phi));
         out["N_reference"] = r.value[0];
@@ -287,8 +331,11 @@ int main(int argc, char** argv) {
     }
     print(out, as_json);
   } catch (const hairlut::DomainError& e) {
-    std::fprintf(stderr, "hairlut-eval: error: %s\n", e.what());
+    hairlut::tools::print_error("hairlut-eval", e.what());
     return 2;
+  } catch (const std::exception& e) {
+    hairlut::tools::print_error("hairlut-eval", e.what());
+    return 1;
   }
   return 0;
 }

@@ -3,7 +3,7 @@
 // passes, 1 when a check fails, 2 for bad input. Thin: the checks live in hairlut/validate.hpp.
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
+#include "common/cli.hpp"
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -33,9 +33,10 @@ int main(int argc, char** argv) {
 Writes report.html (open it in a browser), report.json and report.md into --out. Thresholds
 (name=value): furnace_direct, furnace_table, longitudinal_deon, mp_table_energy,
 accuracy_max_rel, accuracy_p99_rel, energy_consistency, and for mean-energy and dual-scattering
-tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too.
-Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input,
-130 interrupted.)");
+tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too, and a
+file is judged by the thresholds of the config it was baked with (stored in it); --threshold wins.
+Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input or command
+line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
   std::string file, config_path, out_dir = "hairlut-report";
   std::vector<std::string> thresholds;
   bool quiet = false;
@@ -45,11 +46,11 @@ Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input
   app.add_option("--config", config_path, "validate the tables of this config (its outputs if up to date, else baked in memory)");
   app.add_option("--out", out_dir, "report directory")->capture_default_str();
   app.add_option("--threshold", thresholds, "override a threshold, name=value (repeatable)");
-  app.add_option("--threads", threads, "OpenMP threads for direct evaluation (default: all cores)");
-  app.add_option("--max-points", max_points, "off-node points per table")->capture_default_str();
+  app.add_option("--threads", threads, "OpenMP threads for direct evaluation (default: all cores)")->check(CLI::Range(0, 4096));
+  app.add_option("--max-points", max_points, "off-node points per table")->check(CLI::Range(std::size_t{1}, std::size_t{100000000}))->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
   app.set_version_flag("--version", std::string("validate-hair-luts (hairlut) ") + hairlut::kVersion);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = hairlut::tools::parse_command_line(app, "validate-hair-luts", argc, argv)) return *rc;
   if (file.empty() == config_path.empty()) {
     std::fprintf(stderr, "validate-hair-luts: error: give either a table file or --config (see --help)\n");
     return 2;
@@ -82,6 +83,12 @@ Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input
     } else {
       source = file;
       set = hairlut::load_tables(file);
+      // The thresholds the tables were baked with travel in the config stored in the file.
+      if (set.metadata.contains("config") && set.metadata["config"].is_string()) {
+        const auto stored = nlohmann::json::parse(set.metadata["config"].get<std::string>(), nullptr, false);
+        if (stored.is_object() && stored.contains("validate") && stored["validate"].contains("thresholds"))
+          for (const auto& [k, v] : stored["validate"]["thresholds"].items()) options.thresholds.set(k, v.get<double>());
+      }
     }
     for (const std::string& t : thresholds) {
       const auto eq = t.find('=');

@@ -1,0 +1,50 @@
+# Install rules: the library and its headers, the CMake package (hairlut::hairlut, hairlut::sampler),
+# a pkg-config file, the tools, the schemas and shipped configs, the licence. The package is
+# relocatable: `cmake --install build/release --prefix P` works for any P.
+include(CMakePackageConfigHelpers)
+
+set(HAIRLUT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/hairlut CACHE STRING "Where hairlutConfig.cmake is installed (relative to the prefix)")
+mark_as_advanced(HAIRLUT_CMAKE_DIR)
+get_target_property(_hairlut_type hairlut TYPE)
+if(_hairlut_type STREQUAL "STATIC_LIBRARY")
+  set(HAIRLUT_STATIC ON)
+else()
+  set(HAIRLUT_STATIC OFF)
+  # Installed tools find the installed shared library.
+  set_target_properties(hairlut-eval bake-hair-luts validate-hair-luts bench-hair-luts compare-hair-models
+                        PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
+endif()
+
+install(TARGETS hairlut EXPORT hairlut-targets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS hairlut_sampler EXPORT hairlut-sampler-targets)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/include/hairlut DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.hpp")
+install(FILES ${PROJECT_BINARY_DIR}/lib/generated/hairlut/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hairlut)
+install(EXPORT hairlut-targets NAMESPACE hairlut:: DESTINATION ${HAIRLUT_CMAKE_DIR} FILE hairlut-targets.cmake)
+install(EXPORT hairlut-sampler-targets NAMESPACE hairlut:: DESTINATION ${HAIRLUT_CMAKE_DIR} FILE hairlut-sampler-targets.cmake)
+
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/hairlutConfig.cmake.in ${PROJECT_BINARY_DIR}/hairlutConfig.cmake
+                              INSTALL_DESTINATION ${HAIRLUT_CMAKE_DIR})
+# Before 1.0 a minor release may change the API: a request for 0.1 accepts 0.1.x only.
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/hairlutConfigVersion.cmake COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/hairlutConfig.cmake ${PROJECT_BINARY_DIR}/hairlutConfigVersion.cmake DESTINATION ${HAIRLUT_CMAKE_DIR})
+
+# pkg-config: relocatable (prefix from the .pc file's own place).
+if(HAIRLUT_STATIC)
+  set(HAIRLUT_PC_REQUIRES_PRIVATE "OpenEXR hdf5")
+  set(HAIRLUT_PC_LIBS_PRIVATE "-lhdf5_hl -fopenmp")
+else()
+  set(HAIRLUT_PC_REQUIRES_PRIVATE "")
+  set(HAIRLUT_PC_LIBS_PRIVATE "")
+endif()
+file(RELATIVE_PATH HAIRLUT_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
+string(REGEX REPLACE "/$" "" HAIRLUT_PC_TO_PREFIX "${HAIRLUT_PC_TO_PREFIX}")
+configure_file(${PROJECT_SOURCE_DIR}/hairlut.pc.in ${PROJECT_BINARY_DIR}/hairlut.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/hairlut.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/schemas/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/schemas FILES_MATCHING PATTERN "*.json")
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/configs FILES_MATCHING PATTERN "*.json")
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/table-format.md
+        DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -1,0 +1,283 @@
+// hairlut._core: the C++ side of the Python module. Functions take equal-length 1-D float64
+// arrays (hairlut/__init__.py broadcasts) and return numpy arrays; angles are radians, as in the
+// library. Long computations release the GIL.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <hairlut/azimuthal_np.hpp>
+#include <hairlut/bake.hpp>
+#include <hairlut/config.hpp>
+#include <hairlut/directional_albedo.hpp>
+#include <hairlut/dual_scattering.hpp>
+#include <hairlut/error.hpp>
+#include <hairlut/hair_model.hpp>
+#include <hairlut/lobe_energy.hpp>
+#include <hairlut/longitudinal_mp.hpp>
+#include <hairlut/np_point.hpp>
+#include <hairlut/quadrature.hpp>
+#include <hairlut/table_io.hpp>
+#include <hairlut/tables.hpp>
+#include <hairlut/version.hpp>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace {
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// The values of a 1-D array (checked to have `n` entries when n ≥ 0).
+std::vector<double> values(const Array& a, const char* name, py::ssize_t n = -1) {
+  if (a.ndim() != 1) throw py::value_error(std::string(name) + " must be one-dimensional");
+  if (n >= 0 && a.shape(0) != n) throw py::value_error(std::string(name) + " has a different length than the first argument");
+  return std::vector<double>(a.data(), a.data() + a.shape(0));
+}
+
+py::array_t<double> to_array(const std::vector<double>& v) {
+  py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), out.mutable_data());
+  return out;
+}
+
+hairlut::HairModel model_of(double eta, double sigma_a, const std::string& path, const std::vector<double>& betas,
+                            const std::vector<double>& alphas, int lobes, bool residual) {
+  hairlut::HairModel m;
+  m.eta = eta;
+  m.sigma_a = sigma_a;
+  m.path = hairlut::parse_absorption_path(path, "path");
+  const std::size_t n = static_cast<std::size_t>(std::max(lobes, 0)) + (residual ? 1 : 0);
+  auto per_lobe = [&](const std::vector<double>& v, const char* what) {
+    if (v.size() == 1) return std::vector<double>(n, v[0]);
+    if (v.size() == n) return v;
+    throw py::value_error(std::string(what) + " must give one value or one per lobe (" + std::to_string(n) + " including the residual)");
+  };
+  const auto b = per_lobe(betas, "beta"), a = per_lobe(alphas, "alpha");
+  for (std::size_t p = 0; p < n; ++p) {
+    const hairlut::LobeParams lp{b[p], b[p], a[p]};
+    if (residual && p + 1 == n) m.residual = lp;
+    else m.lobes.push_back(lp);
+  }
+  m.validate();
+  return m;
+}
+
+// A table set as plain Python objects: metadata as JSON text, tables with values and node
+// coordinates as numpy arrays (hairlut/__init__.py wraps them).
+py::dict to_python(const hairlut::TableSet& set) {
+  py::dict out;
+  out["metadata"] = set.metadata.dump();
+  py::list tables;
+  for (const hairlut::Table& t : set.tables) {
+    py::dict d;
+    d["path"] = t.path();
+    d["group"] = t.group;
+    d["name"] = t.name;
+    d["quantity"] = t.quantity;
+    d["units"] = t.units;
+    d["long_name"] = t.long_name;
+    d["description"] = t.describe().dump();
+    std::vector<py::ssize_t> shape;
+    py::list dims, coords;
+    for (const hairlut::GridAxis& a : t.axes) {
+      shape.push_back(a.count);
+      dims.append(a.name);
+      coords.append(to_array(a.nodes()));
+    }
+    d["dims"] = dims;
+    d["coords"] = coords;
+    if (t.precision == hairlut::Precision::float32) {
+      py::array_t<float> v(shape);
+      std::copy(t.f32.begin(), t.f32.end(), v.mutable_data());
+      d["values"] = v;
+    } else {
+      py::array_t<double> v(shape);
+      std::copy(t.f64.begin(), t.f64.end(), v.mutable_data());
+      d["values"] = v;
+    }
+    tables.append(d);
+  }
+  out["tables"] = tables;
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "hairlut's C++ library (use the hairlut package, which broadcasts arguments)";
+  m.attr("version") = hairlut::kVersion;
+
+  // Library errors become ValueError (bad arguments) or OSError (files).
+  py::register_exception<hairlut::ConfigError>(m, "ConfigError", PyExc_ValueError);
+  py::register_exception<hairlut::DomainError>(m, "DomainError", PyExc_ValueError);
+  py::register_exception<hairlut::IoError>(m, "IoError", PyExc_OSError);
+
+  m.def("parse_lobe", [](const std::string& name) { return hairlut::parse_lobe(name, "lobe"); });
+  m.def("lobe_name", &hairlut::lobe_name);
+
+  m.def("longitudinal_mp", [](const Array& beta, const Array& alpha, const Array& theta_i, const Array& theta_r) {
+    const auto b = values(beta, "beta");
+    const auto n = static_cast<py::ssize_t>(b.size());
+    const auto a = values(alpha, "alpha", n), ti = values(theta_i, "theta_i", n), tr = values(theta_r, "theta_r", n);
+    std::vector<double> out(b.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      hairlut::require_positive("beta", b[i]);
+      out[i] = hairlut::longitudinal_deon_tilted(b[i] * b[i], a[i], ti[i], tr[i]);
+    }
+    return to_array(out);
+  });
+
+  m.def("azimuthal_np",
+        [](int p, const Array& phi, const Array& theta_d, const Array& sigma_a, const Array& beta, double eta, const std::string& path,
+           const std::string& method, double tolerance, int order, const std::string& variable) {
+          const auto f = values(phi, "phi");
+          const auto n = static_cast<py::ssize_t>(f.size());
+          const auto td = values(theta_d, "theta_d", n), sa = values(sigma_a, "sigma_a", n), b = values(beta, "beta", n);
+          const auto ap = hairlut::parse_absorption_path(path, "path");
+          if (method != "baker" && method != "adaptive" && method != "gauss-legendre")
+            throw py::value_error("method must be baker, adaptive or gauss-legendre (got \"" + method + "\")");
+          std::vector<double> out(f.size()), err(f.size(), 0.0);
+          {
+            py::gil_scoped_release release;
+            std::optional<hairlut::GaussLegendreRule> rule;
+            const auto var = hairlut::parse_integration_variable(variable, "variable");
+            if (method == "gauss-legendre") rule.emplace(order);
+            for (std::size_t i = 0; i < out.size(); ++i) {
+              if (method == "baker") {
+                out[i] = hairlut::baker_np(eta, ap, td[i], sa[i], p, b[i], f[i], tolerance).value;
+              } else {
+                const hairlut::AttenuationSlice slice(eta, td[i], sa[i], ap);
+                hairlut::require_positive("beta", b[i]);
+                if (method == "adaptive") {
+                  const auto r = hairlut::azimuthal_np_reference(slice, p, b[i], f[i], tolerance);
+                  out[i] = r.value[0];
+                  err[i] = r.error[0];
+                } else {
+                  out[i] = hairlut::azimuthal_np(slice, p, b[i], f[i], *rule, var);
+                }
+              }
+            }
+          }
+          return py::make_tuple(to_array(out), to_array(err));
+        });
+
+  m.def("lobe_energies", [](const Array& theta_d, const Array& sigma_a, double eta, const std::string& path, int lobes, bool residual) {
+    const auto td = values(theta_d, "theta_d");
+    const auto sa = values(sigma_a, "sigma_a", static_cast<py::ssize_t>(td.size()));
+    const auto ap = hairlut::parse_absorption_path(path, "path");
+    const hairlut::LobeSet set{lobes, residual};
+    const auto cols = static_cast<py::ssize_t>(set.size());
+    py::array_t<double> out({static_cast<py::ssize_t>(td.size()), cols});
+    double* o = out.mutable_data();
+    py::gil_scoped_release release;
+    for (std::size_t i = 0; i < td.size(); ++i) {
+      const auto r = hairlut::lobe_energies_reference(hairlut::AttenuationSlice(eta, td[i], sa[i], ap), set);
+      for (py::ssize_t c = 0; c < cols; ++c) o[static_cast<py::ssize_t>(i) * cols + c] = r.value[static_cast<std::size_t>(c)];
+    }
+    return out;
+  });
+
+  m.def("furnace", [](const Array& theta_i, double eta, double sigma_a, const std::string& path, const std::vector<double>& betas,
+                      const std::vector<double>& alphas, int lobes, bool residual) {
+    const auto ti = values(theta_i, "theta_i");
+    const hairlut::HairModel model = model_of(eta, sigma_a, path, betas, alphas, lobes, residual);
+    const std::size_t L = model.lobes.size() + (model.residual ? 1 : 0);
+    std::vector<double> total(ti.size()), per(ti.size() * L);
+    std::vector<bool> converged(ti.size());
+    {
+      py::gil_scoped_release release;
+      for (std::size_t i = 0; i < ti.size(); ++i) {
+        const auto r = hairlut::directional_albedo(model, ti[i]);
+        total[i] = r.total;
+        for (std::size_t p = 0; p < L; ++p) per[i * L + p] = r.per_lobe[p];
+        converged[i] = r.converged;
+      }
+    }
+    py::array_t<double> per_lobe({static_cast<py::ssize_t>(ti.size()), static_cast<py::ssize_t>(L)});
+    std::copy(per.begin(), per.end(), per_lobe.mutable_data());
+    py::dict out;
+    out["E"] = to_array(total);
+    out["per_lobe"] = per_lobe;
+    out["converged"] = py::cast(converged);
+    return out;
+  });
+
+  m.def("dual_scattering", [](const Array& theta_i, double eta, double sigma_a, const std::string& path, const std::vector<double>& betas,
+                              const std::vector<double>& alphas, int lobes, bool residual, double density_factor) {
+    const auto ti = values(theta_i, "theta_i");
+    const hairlut::HairModel model = model_of(eta, sigma_a, path, betas, alphas, lobes, residual);
+    hairlut::DualScatteringOptions o;
+    o.density_factor = density_factor;
+    std::vector<hairlut::DualScatteringPoint> points(ti.size());
+    {
+      py::gil_scoped_release release;
+      for (std::size_t i = 0; i < ti.size(); ++i) points[i] = hairlut::dual_scattering(model, ti[i], o);
+    }
+    auto column = [&](auto get) {
+      std::vector<double> v;
+      for (const auto& p : points) v.push_back(get(p));
+      return to_array(v);
+    };
+    py::dict out;
+    out["E"] = column([](const auto& p) { return p.energy_total; });
+    out["a_f"] = column([](const auto& p) { return p.a_f; });
+    out["a_b"] = column([](const auto& p) { return p.a_b; });
+    out["alpha_f"] = column([](const auto& p) { return p.alpha_f; });
+    out["alpha_b"] = column([](const auto& p) { return p.alpha_b; });
+    out["beta_f2"] = column([](const auto& p) { return p.beta_f2; });
+    out["beta_b2"] = column([](const auto& p) { return p.beta_b2; });
+    out["A_b"] = column([](const auto& p) { return p.backscatter.A_b; });
+    out["delta_b"] = column([](const auto& p) { return p.backscatter.delta_b; });
+    out["sigma_b"] = column([](const auto& p) { return p.backscatter.sigma_b; });
+    std::vector<bool> converged;
+    for (const auto& p : points) converged.push_back(p.converged);
+    out["converged"] = py::cast(converged);
+    return out;
+  });
+
+  m.def(
+      "bake",
+      [](const std::string& config_json, const std::string& source, const std::string& base_dir, int threads, bool write,
+         const std::string& output_dir) {
+        // An empty config_json: read the file `source` (JSON errors then name line and column).
+        hairlut::BakeConfig config = config_json.empty() ? hairlut::load_config(source)
+                                                         : hairlut::parse_config(nlohmann::json::parse(config_json), source, base_dir);
+        if (!output_dir.empty()) config.output.directory = output_dir;
+        hairlut::TableSet set;
+        std::vector<std::string> files;
+        {
+          py::gil_scoped_release release;
+          hairlut::BakeOptions options;
+          options.threads = threads;
+          hairlut::BakeReport report;
+          set = hairlut::bake(config, options, &report);
+          if (write)
+            for (const auto& f : hairlut::write_outputs(set, config, report)) files.push_back(f.string());
+        }
+        py::dict out = to_python(set);
+        out["files"] = files;
+        out["config_hash"] = config.hash;
+        return out;
+      },
+      py::arg("config_json"), py::arg("source"), py::arg("base_dir"), py::arg("threads") = 0, py::arg("write") = false,
+      py::arg("output_dir") = "");
+
+  m.def("load_config_file", [](const std::string& file) {
+    const hairlut::BakeConfig c = hairlut::load_config(file);
+    return py::make_tuple(c.hash, c.normalized.dump());
+  });
+
+  m.def("load_tables", [](const std::string& file) {
+    hairlut::TableSet set;
+    {
+      py::gil_scoped_release release;
+      set = hairlut::load_tables(file);
+    }
+    return to_python(set);
+  });
+}

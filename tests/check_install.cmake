@@ -1,0 +1,117 @@
+# Installs the build tree BUILD into a fresh prefix under WORK, then uses the installed package as
+# a stranger would: checks the installed files, runs an installed tool, configures and builds the
+# consumer project SOURCE/examples/engine-consumer with find_package(hairlut CONFIG) against that
+# prefix only, runs it on TABLE, checks the package version rule and the sampler-only component,
+# compiles the consumer once more with the flags of the installed pkg-config file, and imports
+# the installed Python module with PYTHON when it was built.
+# VERSION is the project version; CXX the C++ compiler; CONFIG the build configuration.
+function(run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
+  endif()
+  set(run_out "${out}" PARENT_SCOPE)
+endfunction()
+
+set(prefix ${WORK}/prefix)
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+run("cmake --install" ${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix} --config ${CONFIG})
+
+# The installed files.
+file(GLOB libs ${prefix}/lib*/libhairlut.a ${prefix}/lib*/libhairlut.so)
+if(NOT libs)
+  message(FATAL_ERROR "no libhairlut installed under ${prefix}/lib*")
+endif()
+list(GET libs 0 lib)
+get_filename_component(libdir ${lib} DIRECTORY)
+foreach(f include/hairlut/sampler.hpp include/hairlut/tables.hpp include/hairlut/version.hpp
+          share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
+          share/hairlut/configs/default.json share/doc/hairlut/LICENSE
+          bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts)
+  if(NOT EXISTS ${prefix}/${f})
+    message(FATAL_ERROR "not installed: ${f}")
+  endif()
+endforeach()
+foreach(f cmake/hairlut/hairlutConfig.cmake cmake/hairlut/hairlutConfigVersion.cmake cmake/hairlut/hairlut-targets.cmake
+          cmake/hairlut/hairlut-sampler-targets.cmake pkgconfig/hairlut.pc)
+  if(NOT EXISTS ${libdir}/${f})
+    message(FATAL_ERROR "not installed: ${libdir}/${f}")
+  endif()
+endforeach()
+run("installed bake-hair-luts --version" ${prefix}/bin/bake-hair-luts --version)
+if(NOT run_out MATCHES "bake-hair-luts \\(hairlut\\) ${VERSION}")
+  message(FATAL_ERROR "installed bake-hair-luts --version printed: ${run_out}")
+endif()
+
+# The consumer, found through the prefix alone (no package registry, no build tree).
+set(consumer ${WORK}/consumer)
+run("configuring the consumer" ${CMAKE_COMMAND} -S ${SOURCE}/examples/engine-consumer -B ${consumer} -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+file(STRINGS ${consumer}/CMakeCache.txt hairlut_dir REGEX "^hairlut_DIR:")
+string(FIND "${hairlut_dir}" "${prefix}/" at)
+if(NOT at GREATER -1)
+  message(FATAL_ERROR "the consumer found hairlut outside the prefix: ${hairlut_dir}")
+endif()
+run("building the consumer" ${CMAKE_COMMAND} --build ${consumer} --verbose)
+# OpenMP is private: no consumer source file is compiled with -fopenmp.
+string(REGEX MATCHALL "[^\n]*-c [^\n]*sample_table.cpp[^\n]*" compile_lines "${run_out}")
+if(NOT compile_lines)
+  message(FATAL_ERROR "no compile line of sample_table.cpp in the verbose build output:\n${run_out}")
+endif()
+if(compile_lines MATCHES "-fopenmp")
+  message(FATAL_ERROR "the consumer is compiled with OpenMP flags:\n${compile_lines}")
+endif()
+run("sample-table" ${consumer}/sample-table ${TABLE} TRT 20 0.5 5 30)
+if(NOT run_out MATCHES "np/TRT\\(theta_d=20 deg, sigma_a=0.5, beta=5 deg, phi=30 deg\\) = [0-9.e+-]+ 1/rad")
+  message(FATAL_ERROR "unexpected sample-table output: ${run_out}")
+endif()
+message(STATUS "${run_out}")
+run("sampler-only" ${consumer}/sampler-only)
+message(STATUS "${run_out}")
+
+# Version rule and the dependency-free sampler component.
+file(WRITE ${WORK}/package-check/CMakeLists.txt "cmake_minimum_required(VERSION 3.22)
+project(package_check LANGUAGES NONE)
+find_package(hairlut 99.0 CONFIG QUIET)
+if(hairlut_FOUND)
+  message(FATAL_ERROR \"a request for hairlut 99.0 accepted version \${hairlut_VERSION}\")
+endif()
+find_package(hairlut ${VERSION} CONFIG REQUIRED COMPONENTS sampler)
+if(NOT TARGET hairlut::sampler OR TARGET hairlut::hairlut OR nlohmann_json_DIR)
+  message(FATAL_ERROR \"COMPONENTS sampler must give hairlut::sampler alone, without dependencies\")
+endif()
+get_target_property(features hairlut::sampler INTERFACE_COMPILE_FEATURES)
+get_target_property(links hairlut::sampler INTERFACE_LINK_LIBRARIES)
+if(NOT features STREQUAL \"cxx_std_17\" OR links)
+  message(FATAL_ERROR \"hairlut::sampler: features \${features}, links \${links}\")
+endif()
+")
+run("the package version and sampler component check" ${CMAKE_COMMAND} -S ${WORK}/package-check -B ${WORK}/package-check/build
+    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+
+# pkg-config: the same consumer with the installed hairlut.pc's flags.
+find_program(PKG_CONFIG pkg-config REQUIRED)
+set(ENV{PKG_CONFIG_PATH} ${libdir}/pkgconfig)
+run("pkg-config" ${PKG_CONFIG} --static --cflags --libs hairlut)
+string(STRIP "${run_out}" flags)
+separate_arguments(flags UNIX_COMMAND "${flags}")
+run("compiling with pkg-config's flags" ${CXX} -std=c++20 -O1 ${SOURCE}/examples/engine-consumer/sample_table.cpp ${flags} -o ${WORK}/pc-sample-table)
+run("the pkg-config build" ${WORK}/pc-sample-table ${TABLE} TT 40 0.1 10 170)
+message(STATUS "${run_out}")
+
+# The Python module, when it was built: importable from the prefix.
+file(GLOB_RECURSE python_init ${prefix}/__init__.py)
+list(FILTER python_init INCLUDE REGEX "/hairlut/__init__.py$")
+if(python_init AND PYTHON)
+  list(GET python_init 0 init)
+  get_filename_component(package_dir ${init} DIRECTORY)
+  get_filename_component(site_dir ${package_dir} DIRECTORY)
+  set(ENV{PYTHONPATH} ${site_dir})
+  run("importing the installed Python module" ${PYTHON} -c "import hairlut as h
+print(h.__file__, h.__version__)")
+  if(NOT run_out MATCHES "^${site_dir}/hairlut/__init__.py ${VERSION}")
+    message(FATAL_ERROR "the installed Python module: ${run_out}")
+  endif()
+  message(STATUS "Python module: ${run_out}")
+endif()
