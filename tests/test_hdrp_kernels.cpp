@@ -21,6 +21,7 @@
 #include <hairlut/engine_exr.hpp>
 #include <hairlut/quadrature.hpp>
 #include <hairlut/table_io.hpp>
+#include <hairlut/validate_engine.hpp>
 #include <numbers>
 #include <unistd.h>
 
@@ -415,5 +416,32 @@ TEST_CASE("HDRP attenuation texture: every texel is ComputeAttenuationForward/Ba
   CHECK(worst_table < 1e-7);
   WARN("attenuation: " << t.count << " texels, worst |texel - ref| / allowance " << t.worst);
   CHECK(t.bad == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("validate-hair-luts checks an HDRP texture against its definition and finds one altered texel", "[hdrp][presets][validate]") {
+  const fs::path dir = temp_dir("validate");
+  Baked b = bake_texture("longitudinal", dir);
+  CHECK(is_engine_texture(b.out.path));
+  const auto good = validate_engine_texture(b.out.path);
+  CHECK(good["summary"]["status"] == "pass");
+  CHECK(good["summary"]["failed"] == 0);
+  // One texel raised by 1% (far above the half rounding): the value check fails, the layout checks pass.
+  Table* m = nullptr;
+  for (Table& t : b.set.tables)
+    if (t.path() == "unity/longitudinal/M_TT") m = &t;
+  REQUIRE(m);
+  const std::size_t i = (static_cast<std::size_t>(20) * 64 + 31) * 64 + 30;
+  m->set(i, m->get(i) * 1.01);
+  const fs::path bad = dir / "altered.exr";
+  write_engine_texture(b.set, b.out.texture, bad);
+  const auto r = validate_engine_texture(bad);
+  CHECK(r["summary"]["status"] == "fail");
+  std::string failed;
+  for (const auto& c : r["checks"])
+    if (c["status"] == "fail") failed += c["id"].get<std::string>() + " ";
+  CHECK(failed == "engine_values ");
+  // Not an engine texture: the generic route.
+  CHECK_FALSE(is_engine_texture(dir / "hairlut.h5"));
   fs::remove_all(dir);
 }
