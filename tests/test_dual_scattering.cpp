@@ -257,7 +257,7 @@ TEST_CASE("Roughness and absorption mappings of the presets", "[dual_scattering]
   CHECK(lobes[2].beta_m == Approx(0.5));
   CHECK(lobes[3].beta_m == Approx(0.5));
   CHECK(lobes[0].alpha == Approx(-0.07));
-  CHECK(m.lobes_at(0.0)[0].beta_m == Approx(1.0 / (255.0 * 255.0)));  // HairShading clamps to 1/255
+  CHECK(m.lobes_at(0.0)[0].beta_m == Approx(1.0 / (255.0 * 255.0)));  // the preset clamps to 1/255
   // The Unreal axes: texel x at sin θ = (x + ½)/64, texel z at √c = (z + ½)/16.
   const auto ta = ue_specs[0].axes[2].nodes(), ca = ue_specs[0].axes[0].nodes();
   for (int x : {0, 17, 63}) CHECK(std::sin(ta[static_cast<std::size_t>(x)]) == Approx((x + 0.5) / 64).epsilon(1e-14));

@@ -88,7 +88,7 @@ TEST_CASE("Unreal preset: 64 x 64 x 16 dual-scattering and mean-energy textures 
     CHECK(img.description["preset"] == "unreal-hair-strands");
     CHECK(img.description["size"] == json::array({64, 64, 16}));
     check_texture(set, o.texture, img, 64, 64, 16);
-    // Unreal's GetAtlasCoord2d: slice z is tile (z mod 4, z / 4) of 64 x 64 texels, no flip.
+    // The preset's atlas: slice z is tile (z mod 4, z / 4) of 64 x 64 texels, no flip.
     CHECK(img.texel(o.texture, 64, 64, 5, 7, 6, 3) == 1.0f);
     const auto px = engine_pixel(o.texture, 64, 64, 5, 7, 6);
     CHECK(px[0] == 5 + 64 * 2);

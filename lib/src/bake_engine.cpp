@@ -71,9 +71,8 @@ const char* definition_of(const std::string& quantity_name) {
     return "sigma_b = (1 + d_b a_f^2) (a_b sqrt(2 beta_f^2 + beta_b^2) + a_b^3 sqrt(2 beta_f^2 + 3 beta_b^2)) / (a_b + a_b^3) "
            "(Zinke 2008 eq. 17: the a_b- and a_b^3-weighted mean of the spreads of the paths with one and three backward events)";
   if (quantity_name == "sigma_b_mixed")
-    return "as sigma_b with the denominator a_b + a_b^3 (2 beta_f + 3 beta_b) of public implementations (Unreal "
-           "HairStrandsDeepTransmittanceDualScattering.ush, Unity HairMultipleScattering.hlsl): adds an angle to a number, "
-           "kept for comparison only";
+    return "as sigma_b with the denominator a_b + a_b^3 (2 beta_f + 3 beta_b) of real-time implementations (e.g. Unity HDRP's "
+           "HairMultipleScattering.hlsl): adds an angle to a number, kept for comparison only";
   if (quantity_name == "E_total") return "sum of the lobes' mean energies: the directional albedo E(theta_i)";
   return "";
 }

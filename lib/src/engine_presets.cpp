@@ -28,7 +28,7 @@ std::string_view parameter_name(AbsorptionParameter p) {
   }
 }
 
-// Unreal's per-lobe factors of B = Roughness² and its shifts (HairBsdf.ush, HairShading):
+// The unreal-hair-strands model (docs/presets/unreal-hair-strands.md, to be confirmed by a licensee):
 // B = {r², r²/2, 2r²}, Alpha = {−2·0.035, 0.035, 4·0.035}; lobes beyond TRT and the residual take TRT's.
 constexpr double kUnrealScale[3] = {1.0, 0.5, 2.0};
 constexpr double kUnrealShift[3] = {-0.07, 0.035, 0.14};
@@ -68,7 +68,7 @@ std::vector<LobeParams> RoughnessMapping::lobes_at(double x) const {
       }
       case RoughnessParameter::unreal: {
         require_in_range("unreal roughness", x, 0.0, 1.0, "must lie in [0, 1]");
-        const double r = std::clamp(x, 1.0 / 255.0, 1.0);  // HairShading's ClampedRoughness
+        const double r = std::clamp(x, 1.0 / 255.0, 1.0);  // the preset's roughness clamp
         l.beta_m = l.beta_n = lobe_constant(kUnrealScale, p) * r * r;
         break;
       }
@@ -85,9 +85,9 @@ json RoughnessMapping::describe() const {
       j["formula"] = "beta_m,p = beta_n,p = scale_p * x (x in radians)";
       break;
     case RoughnessParameter::unreal:
-      j["formula"] = "r = clamp(x, 1/255, 1); beta_m,p = beta_n,p = {1, 1/2, 2} r^2 for R, TT, TRT (Unreal HairShading's B, "
+      j["formula"] = "r = clamp(x, 1/255, 1); beta_m,p = beta_n,p = {1, 1/2, 2} r^2 for R, TT, TRT (the unreal-hair-strands preset's B, "
                      "the width of a Gaussian in sin(theta_i) + sin(theta_r), i.e. in theta_i + theta_r as d'Eon's beta); "
-                     "tilt {-0.07, 0.035, 0.14} rad (HairShading's Alpha, angles measured as Unreal measures them, towards the "
+                     "tilt {-0.07, 0.035, 0.14} rad (angles measured towards the "
                      "strand tangent T); lobes beyond TRT and the residual take TRT's";
       break;
   }
@@ -129,7 +129,7 @@ double AbsorptionMapping::sigma_a(double x) const {
   switch (parameter) {
     case AbsorptionParameter::unreal_base_color:
       require_in_range("unreal base colour", x, 0.0, 1.0, "must lie in [0, 1]");
-      return -0.25 * std::log(std::max(x, 1e-4));  // HairBsdf.ush HairShadingRef: ua = -0.25 log(Color)
+      return -0.25 * std::log(std::max(x, 1e-4));  // the unreal-hair-strands preset's colour mapping
     default:
       require_non_negative("sigma_a", x);
       return x;
@@ -141,8 +141,8 @@ json AbsorptionMapping::describe() const {
   j["parameter"] = parameter_name(parameter);
   switch (parameter) {
     case AbsorptionParameter::unreal_base_color:
-      j["formula"] = "sigma_a = -ln(max(c, 1e-4)) / 4 per unit radius (Unreal HairShadingRef: ua = -0.25 log(Color); the legacy "
-                     "TT absorption pow(BaseColor, 0.5 cos(gamma_t) / cos(theta_d)) is the same attenuation)";
+      j["formula"] = "sigma_a = -ln(max(c, 1e-4)) / 4 per unit radius (the unreal-hair-strands preset's mapping: a chord of two radii "
+                     "at normal incidence transmits sqrt(c); to be confirmed against the engine)";
       break;
     default: j["formula"] = "sigma_a = x (per unit fiber radius)"; break;
   }
@@ -197,12 +197,13 @@ std::vector<EngineTableSpec> engine_preset_tables(const EngineConfig& c, bool re
   std::vector<EngineTableSpec> out;
   const std::size_t n = 3 + (residual ? 1 : 0);
   if (c.preset == kUnreal) {
-    // HairStrandsLUT.cpp/.usf: a 64 (X: sin theta) x 64 (Y: roughness) x 16 (Z: absorption) texture,
+    // The preset's layout (to be confirmed against the engine, docs/presets/unreal-hair-strands.md):
+    // a 64 (X: sin theta) x 64 (Y: roughness) x 16 (Z: absorption) texture,
     // each texel at its centre, (i + 1/2)/count; Z is u = sqrt(BaseColor) (BaseColor = u^2).
     EngineTableSpec s;
-    s.axes = {make_axis("base_color", "1", "Unreal hair BaseColor c (linear); texel z at sqrt(c) = (z + 1/2)/16", Spacing::sqrt, 0.0, 1.0, 16),
-              make_axis("roughness", "1", "Unreal hair Roughness; texel y at (y + 1/2)/64", Spacing::uniform, 0.0, 1.0, 64),
-              make_axis("theta_i", "rad", "incident inclination as Unreal measures it (sin = dot(L, T)); texel x at sin(theta_i) = (x + 1/2)/64",
+    s.axes = {make_axis("base_color", "1", "hair Base Color c (linear); texel z at sqrt(c) = (z + 1/2)/16", Spacing::sqrt, 0.0, 1.0, 16),
+              make_axis("roughness", "1", "hair Roughness; texel y at (y + 1/2)/64", Spacing::uniform, 0.0, 1.0, 64),
+              make_axis("theta_i", "rad", "incident inclination (sin = dot(L, T)); texel x at sin(theta_i) = (x + 1/2)/64",
                         Spacing::sin, 0.0, kHalfPi, 64)};
     s.roughness.parameter = RoughnessParameter::unreal;
     s.roughness.lobes = 3;
@@ -274,18 +275,17 @@ std::vector<EngineTexture> engine_preset_textures(const EngineConfig& c) {
   if (c.preset == kUnreal) {
     EngineTexture t;
     t.preset = c.preset;
-    t.tiles_per_row = 4;  // HairStrandsLUT.usf GetAtlasCoord2d: floor(sqrt(16)) tiles per row
+    t.tiles_per_row = 4;  // a 4 x 4 atlas, four tiles per row
     t.flip_y = false;
-    t.engine_format = "PF_FloatRGBA (RGBA16F), 64 x 64 x 16 (X sin theta, Y roughness, Z sqrt(BaseColor))";
+    t.engine_format = "RGBA16F, 64 x 64 x 16 (X sin theta, Y roughness, Z sqrt(BaseColor)); layout to be confirmed by a licensee";
     if (wanted("dual-scattering")) {
       t.name = "dual-scattering", t.file_suffix = "unreal-dual-scattering", t.group = "unreal/dual_scattering";
       t.channels[0] = table("unreal/dual_scattering/a_f", 1.0, true);
       t.channels[1] = table("unreal/dual_scattering/a_b", 1.0, true);
       t.channels[2] = constant(0.0);
       t.channels[3] = constant(1.0);
-      t.description = "HairLUTType_DualScattering (View.HairScatteringLUTTexture): SampleHairLUT reads .x = A_front (forward "
-                      "attenuation a_f) and .y = A_back (a_b) per colour channel; ComputeDualScatteringTerms builds A_b, "
-                      "delta_b, sigma_b from them";
+      t.description = "dual-scattering LUT: .x = forward average attenuation a_f, .y = backward a_b, per colour channel, from which "
+                      "the shader builds Zinke's A_b, delta_b, sigma_b (docs/presets/unreal-hair-strands.md lists what to confirm)";
       out.push_back(t);
     }
     if (wanted("mean-energy")) {
@@ -294,8 +294,8 @@ std::vector<EngineTexture> engine_preset_textures(const EngineConfig& c) {
       t.channels[1] = table("unreal/mean_energy/E_TT", 1.0, true);
       t.channels[2] = table("unreal/mean_energy/E_TRT", 1.0, true);
       t.channels[3] = constant(1.0);
-      t.description = "HairLUTType_MeanEnergy (HairEnergyLUTTexture): SampleHairEnergyLUT reads .xyz = A_R, A_TT, A_TRT, the "
-                      "directional albedo of each lobe (environment lighting scales the lobes with it)";
+      t.description = "mean-energy LUT: .xyz = E_R, E_TT, E_TRT, the directional albedo of each lobe (docs/presets/unreal-hair-strands.md "
+                      "lists what to confirm)";
       out.push_back(t);
     }
     return out;

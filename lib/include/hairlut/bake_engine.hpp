@@ -1,4 +1,4 @@
-// The baker's part for issue 7: tables.dual_scattering (mean energy and dual scattering over generic
+// The baker's part for tables.dual_scattering (mean energy and dual scattering over generic
 // axes) and tables.engine (the same quantities, and for HDRP its azimuthal and longitudinal tables,
 // over an engine's own axes), called by bake(). The engine textures themselves are written by
 // engine_exr.hpp from these tables.

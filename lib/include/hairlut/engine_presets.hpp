@@ -16,7 +16,7 @@ namespace hairlut {
 /// What a table's roughness axis means.
 enum class RoughnessParameter {
   beta,   ///< x = β in radians; β_m,p = β_n,p = s_p x (s_p per lobe, default 1)
-  unreal  ///< x = Unreal's hair Roughness in [0, 1] (Karis 2016's B per lobe)
+  unreal  ///< x = the Hair shading model's Roughness in [0, 1] (docs/presets/unreal-hair-strands.md)
 };
 
 /// One roughness parameter x → the lobe parameters of R, TT, TRT, ... and the residual.
