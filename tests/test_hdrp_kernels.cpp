@@ -19,6 +19,7 @@
 #include <hairlut/bake.hpp>
 #include <hairlut/config.hpp>
 #include <hairlut/engine_exr.hpp>
+#include <hairlut/hdrp_kernels.hpp>
 #include <hairlut/quadrature.hpp>
 #include <hairlut/table_io.hpp>
 #include <hairlut/validate_engine.hpp>
@@ -443,5 +444,70 @@ TEST_CASE("validate-hair-luts checks an HDRP texture against its definition and 
   CHECK(failed == "engine_values ");
   // Not an engine texture: the generic route.
   CHECK_FALSE(is_engine_texture(dir / "hairlut.h5"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("Variant unity-hdrp-hair-deon: HDRP's textures with exact functions conserve energy where HDRP's series does not",
+          "[hdrp][presets][variant]") {
+  const fs::path dir = temp_dir("deon");
+  BakeConfig c = load_config(fs::path(HAIRLUT_SOURCE_DIR) / "tables" / "configs" / "unity-hdrp-hair-deon.json");
+  c.output.directory = dir;
+  c.engine->textures = {"longitudinal", "attenuation"};
+  BakeReport report;
+  const TableSet set = bake(c, {}, &report);
+  write_outputs(set, c, report);
+  const auto outs = engine_outputs(c);
+  REQUIRE(outs.size() == 2);
+  CHECK(outs[0].path.filename() == "hairlut-unity-deon-attenuation.exr");
+  // Longitudinal: d'Eon's eq. 7 from the standard library's I0 at every texel where it does not
+  // overflow (1/v, a < 700), against the table.
+  const Table* mt = set.find("unity/longitudinal/M_TT");
+  REQUIRE(mt);
+  double worst = 0;
+  long n = 0;
+  const double alpha = 3 * pi / 180;
+  for (int z = 0; z < 64; ++z)
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const double v = variance(u_of(z), 1), si = -1 + 2 * u_of(x), so = -1 + 2 * u_of(y);
+        const double ci = std::sqrt(1 - si * si), co = std::sqrt(1 - so * so);
+        double s, cc;
+        turn(1, so, co, alpha, s, cc);
+        const double a = ci * cc / v;
+        if (1 / v > 700 || a > 700) continue;
+        const double ref = std::exp(-si * s / v) * std::cyl_bessel_i(0.0, a) / (2 * v * std::sinh(1 / v));
+        const double got = mt->get((static_cast<std::size_t>(z) * 64 + static_cast<std::size_t>(y)) * 64 + static_cast<std::size_t>(x));
+        if (ref > 1e-6) worst = std::max(worst, std::abs(got - ref) / ref), ++n;
+      }
+  WARN("variant M_TT against std::cyl_bessel_i at " << n << " texels: max relative difference " << worst);
+  CHECK(n > 10000);
+  CHECK(worst < 1e-6);  // float32 storage (6e-8) and the library's I0 (relative ~1e-15)
+  // Energy: ∫ M_p(θi, θo') cos θi dθi = 1 for d'Eon's M_p whatever θo'; HDRP's ten-term series and its
+  // large-argument form lose it where cos θi cos θo / v reaches about 10 (here β = 0.5, TT: v = 0.08).
+  const GaussLegendreRule g(64);
+  auto energy = [&](hdrp::Functions f, double beta, double so) {
+    double sum = 0;
+    for (int k = 0; k < 256; ++k)
+      sum += g.integrate([&](double u) { return hdrp::longitudinal_texel(u, so, beta, f)[1]; }, -1 + 2.0 * k / 256, -1 + 2.0 * (k + 1) / 256);
+    return sum;
+  };
+  const double e_exact = energy(hdrp::Functions::exact, 0.5, 0.2), e_hdrp = energy(hdrp::Functions::hdrp, 0.5, 0.2);
+  WARN("TT energy at beta 0.5, sin theta_o 0.2: exact functions " << e_exact << ", HDRP's " << e_hdrp);
+  CHECK(std::abs(e_exact - 1) < 1e-9);
+  CHECK(std::abs(e_hdrp - 1) > 1e-3);
+  // Attenuation of a nearly white fibre (d = 63.5/64: σa = 1.9e-6): with exact functions front + back
+  // is the luminance weight sum times ½∫ Σ_p A_p dh = 1 up to that absorption (|ΔE| < 1e-4).
+  const Table* f = set.find("unity/attenuation/front");
+  const Table* b = set.find("unity/attenuation/back");
+  REQUIRE(f);
+  REQUIRE(b);
+  double worst_furnace = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const std::size_t i = (static_cast<std::size_t>(63) * 64 + static_cast<std::size_t>(y)) * 64 + static_cast<std::size_t>(x);
+      worst_furnace = std::max(worst_furnace, std::abs(f->get(i) + b->get(i) - 1.0));
+    }
+  WARN("variant attenuation, white fibre: max |front + back - 1| " << worst_furnace);
+  CHECK(worst_furnace < 1e-4);
   fs::remove_all(dir);
 }

@@ -183,12 +183,16 @@ json hdrp_source() {
           {"documentation", "docs/presets/unity-hdrp-hair.md"}};
 }
 
-void bake_hdrp_attenuation(const BakeConfig& c, const EngineTableSpec& s, TableSet& set, BakeReport& report) {
+// What the exact variant changes, for the tables' attributes.
+const char* kExactNote = "unity-hdrp-hair-deon: HDRP's axes, mappings and integrals with exact functions: d'Eon's M_p with the exact I0 and "
+                         "csch and no guard epsilon, the exact Bravais index sqrt(eta^2 - sin^2 theta_d) / cos theta_d, exact dielectric Fresnel";
+
+void bake_hdrp_attenuation(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, TableSet& set, BakeReport& report) {
   const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
   std::vector<double> d = s.axes[0].nodes(), sin_t = s.axes[1].nodes(), sm = s.axes[2].nodes();
   for (double& t : sin_t) t = std::sin(t);
   std::vector<double> front, back;
-  hdrp::attenuation_table(sm, sin_t, d, front, back, kHdrpTolerance);
+  hdrp::attenuation_table(sm, sin_t, d, front, back, kHdrpTolerance, fn);
   const char* what[2] = {"front", "back"};
   for (int k = 0; k < 2; ++k) {
     json attributes = {
@@ -197,6 +201,7 @@ void bake_hdrp_attenuation(const BakeConfig& c, const EngineTableSpec& s, TableS
                            " with HDRP's reference hair model (EvaluateHairReference: R, TT, TRT, residual; eta 1.55, Schlick Fresnel, "
                            "Chiang variances, trimmed logistic of radial roughness 0.3, cuticle 3 deg), integrated exactly"},
         {"source", hdrp_source()}};
+    if (fn == hdrp::Functions::exact) attributes["variant"] = kExactNote;
     Table t = new_table(s.group, what[k], "attenuation", "1", std::string(what[k]) + " average attenuation as HDRP stores it", s.axes, precision,
                         attributes);
     const std::vector<double>& v = k ? back : front;
@@ -206,7 +211,8 @@ void bake_hdrp_attenuation(const BakeConfig& c, const EngineTableSpec& s, TableS
   report.entries += 2 * front.size();
 }
 
-void bake_hdrp_azimuthal(const BakeConfig& c, const EngineTableSpec& s, const BakeOptions& opt, TableSet& set, BakeReport& report) {
+void bake_hdrp_azimuthal(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, const BakeOptions& opt, TableSet& set,
+                         BakeReport& report) {
   const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
   const std::vector<double> b_nodes = s.axes[0].nodes(), cos_nodes = s.axes[1].nodes(), phis = s.axes[2].nodes();
   const std::size_t first = set.tables.size();
@@ -218,6 +224,8 @@ void bake_hdrp_azimuthal(const BakeConfig& c, const EngineTableSpec& s, const Ba
                                                    "eta' = 1.19 / cos(theta_d) + 0.36 cos(theta_d), s = sqrt(pi/8)(0.265 b + 1.194 b^2 + 5.372 b^22) "
                                                    "(ComputeAzimuthalScattering), integrated exactly"},
                                     {"source", hdrp_source()}}));
+  if (fn == hdrp::Functions::exact)
+    for (std::size_t k = first; k < set.tables.size(); ++k) set.tables[k].attributes["variant"] = kExactNote;
   const std::size_t nb = b_nodes.size(), nc = cos_nodes.size(), nphi = phis.size();
   detail::parallel_for(nc * 3, opt, s.group, 1, [&](std::size_t item) {
     const std::size_t y = item / 3;
@@ -225,12 +233,13 @@ void bake_hdrp_azimuthal(const BakeConfig& c, const EngineTableSpec& s, const Ba
     Table& t = set.tables[first + static_cast<std::size_t>(p)];
     for (std::size_t z = 0; z < nb; ++z)
       for (std::size_t x = 0; x < nphi; ++x)
-        t.set((z * nc + y) * nphi + x, hdrp::azimuthal_texel(p, phis[x], cos_nodes[y], b_nodes[z], kHdrpTolerance));
+        t.set((z * nc + y) * nphi + x, hdrp::azimuthal_texel(p, phis[x], cos_nodes[y], b_nodes[z], kHdrpTolerance, fn));
   });
   report.entries += 3 * nb * nc * nphi;
 }
 
-void bake_hdrp_longitudinal(const BakeConfig& c, const EngineTableSpec& s, const BakeOptions& opt, TableSet& set, BakeReport& report) {
+void bake_hdrp_longitudinal(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, const BakeOptions& opt, TableSet& set,
+                            BakeReport& report) {
   const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
   const std::vector<double> beta = s.axes[0].nodes(), to = s.axes[1].nodes(), ti = s.axes[2].nodes();
   const std::size_t first = set.tables.size();
@@ -242,10 +251,12 @@ void bake_hdrp_longitudinal(const BakeConfig& c, const EngineTableSpec& s, const
                                                    "series, v_p from LongitudinalVarianceFromBeta (v, v/4, 4v), theta_o turned by -2a, +a, +4a, "
                                                    "a = 3 deg (ComputeLongitudinalScattering)"},
                                     {"source", hdrp_source()}}));
+  if (fn == hdrp::Functions::exact)
+    for (std::size_t k = first; k < set.tables.size(); ++k) set.tables[k].attributes["variant"] = kExactNote;
   detail::parallel_for(beta.size(), opt, s.group, 1, [&](std::size_t z) {
     for (std::size_t y = 0; y < to.size(); ++y)
       for (std::size_t x = 0; x < ti.size(); ++x) {
-        const auto m = hdrp::longitudinal_texel(std::sin(ti[x]), std::sin(to[y]), beta[z]);
+        const auto m = hdrp::longitudinal_texel(std::sin(ti[x]), std::sin(to[y]), beta[z], fn);
         for (std::size_t p = 0; p < 3; ++p) set.tables[first + p].set((z * to.size() + y) * ti.size() + x, m[p]);
       }
   });
@@ -334,9 +345,10 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
     bake_ds_group(c, g, opt, set, report, groups);
   }
   if (c.engine) {
-    if (c.engine->preset == "unity-hdrp-hair" && c.eta != hdrp::kEta)
-      throw DomainError("fiber.eta: unity-hdrp-hair reproduces HDRP's kernels, which fix eta = 1.55 (got " + std::to_string(c.eta) + ")");
+    if (c.engine->preset.rfind("unity-hdrp-hair", 0) == 0 && c.eta != hdrp::kEta)
+      throw DomainError("fiber.eta: " + c.engine->preset + " reproduces HDRP's kernels, which fix eta = 1.55 (got " + std::to_string(c.eta) + ")");
     const std::vector<EngineTexture> textures = engine_preset_textures(*c.engine);
+    const hdrp::Functions fn = c.engine->preset == "unity-hdrp-hair-deon" ? hdrp::Functions::exact : hdrp::Functions::hdrp;
     auto needed = [&](const std::string& group) {
       return std::any_of(textures.begin(), textures.end(), [&](const EngineTexture& t) { return t.group == group; });
     };
@@ -356,11 +368,11 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
         g.density_factor = c.engine->density_factor;
         bake_ds_group(c, g, opt, set, report, groups);
       } else if (s.kind == "hdrp_attenuation" && needed(s.group)) {
-        bake_hdrp_attenuation(c, s, set, report);
+        bake_hdrp_attenuation(c, s, fn, set, report);
       } else if (s.kind == "hdrp_azimuthal" && needed(s.group)) {
-        bake_hdrp_azimuthal(c, s, opt, set, report);
+        bake_hdrp_azimuthal(c, s, fn, opt, set, report);
       } else if (s.kind == "hdrp_longitudinal" && needed(s.group)) {
-        bake_hdrp_longitudinal(c, s, opt, set, report);
+        bake_hdrp_longitudinal(c, s, fn, opt, set, report);
       }
     }
     json tex = json::array();

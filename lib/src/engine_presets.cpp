@@ -13,6 +13,7 @@ using json = nlohmann::ordered_json;
 
 constexpr const char* kUnreal = "unreal-hair-strands";
 constexpr const char* kUnity = "unity-hdrp-hair";
+constexpr const char* kUnityDeon = "unity-hdrp-hair-deon";  // HDRP's textures with exact functions (hdrp::Functions::exact)
 
 std::string_view parameter_name(RoughnessParameter p) {
   switch (p) {
@@ -183,14 +184,14 @@ json EngineTexture::describe() const {
 }
 
 const std::vector<std::string>& engine_preset_names() {
-  static const std::vector<std::string> names = {kUnreal, kUnity};
+  static const std::vector<std::string> names = {kUnreal, kUnity, kUnityDeon};
   return names;
 }
 
 std::vector<std::string> engine_preset_texture_names(const std::string& preset) {
   if (preset == kUnreal) return {"dual-scattering", "mean-energy"};
-  if (preset == kUnity) return {"attenuation", "azimuthal", "longitudinal"};
-  throw DomainError("tables.engine.preset must be \"unreal-hair-strands\" or \"unity-hdrp-hair\" (got \"" + preset + "\")");
+  if (preset == kUnity || preset == kUnityDeon) return {"attenuation", "azimuthal", "longitudinal"};
+  throw DomainError("tables.engine.preset must be \"unreal-hair-strands\", \"unity-hdrp-hair\" or \"unity-hdrp-hair-deon\" (got \"" + preset + "\")");
 }
 
 std::vector<EngineTableSpec> engine_preset_tables(const EngineConfig& c, bool residual) {
@@ -217,7 +218,7 @@ std::vector<EngineTableSpec> engine_preset_tables(const EngineConfig& c, bool re
     out.push_back(s);
     return out;
   }
-  if (c.preset == kUnity) {
+  if (c.preset == kUnity || c.preset == kUnityDeon) {
     // HairMultipleScatteringPreIntegration.compute: every kernel evaluates texel id at UVW = (id + 0.5) / 64
     // and HDRP samples the 3D textures with normalised coordinates, so every axis is texel-centred.
     // Attenuation (ComputeAttenuationForward/Backward): X perceptual smoothness, Y sin(theta) of the
@@ -265,7 +266,7 @@ std::vector<EngineTexture> engine_preset_textures(const EngineConfig& c) {
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
       throw DomainError("tables.engine.textures \"" + t + "\" is not a texture of " + c.preset + " (its textures: " + list + ")");
     }
-  if (c.preset == kUnity && (c.radial_smoothness != 0.7 || c.cuticle_angle_deg != 3.0 || c.attenuation_scale != 0.31830988618379067))
+  if ((c.preset == kUnity || c.preset == kUnityDeon) && (c.radial_smoothness != 0.7 || c.cuticle_angle_deg != 3.0 || c.attenuation_scale != 0.31830988618379067))
     throw DomainError("tables.engine.unity: unity-hdrp-hair reproduces HDRP's kernels, which fix radial smoothness 0.7, cuticle angle "
                       "3 deg and the attenuation's 1/pi; remove the block");
   auto wanted = [&](const std::string& n) { return c.textures.empty() || std::find(c.textures.begin(), c.textures.end(), n) != c.textures.end(); };
@@ -307,8 +308,9 @@ std::vector<EngineTexture> engine_preset_textures(const EngineConfig& c) {
   // texture origin is the bottom-left corner, so texel row 0 is the bottom row of its cell.
   t.tiles_per_row = 8;
   t.flip_y = true;
+  const std::string variant = c.preset == kUnityDeon ? "unity-deon-" : "unity-";
   if (wanted("attenuation")) {
-    t.name = "attenuation", t.file_suffix = "unity-attenuation", t.group = "unity/attenuation";
+    t.name = "attenuation", t.file_suffix = variant + "attenuation", t.group = "unity/attenuation";
     t.channel_count = 2;
     t.channels[0] = table("unity/attenuation/front", 1.0, false);
     t.channels[1] = table("unity/attenuation/back", 1.0, false);
@@ -323,7 +325,7 @@ std::vector<EngineTexture> engine_preset_textures(const EngineConfig& c) {
   t.channel_count = 4;
   t.engine_format = "R16G16B16A16_SFloat (RGBA half), 64 x 64 x 64";
   if (wanted("azimuthal")) {
-    t.name = "azimuthal", t.file_suffix = "unity-azimuthal", t.group = "unity/azimuthal";
+    t.name = "azimuthal", t.file_suffix = variant + "azimuthal", t.group = "unity/azimuthal";
     t.channels[0] = table("unity/azimuthal/N_R", 1.0, false);
     t.channels[1] = table("unity/azimuthal/N_TT", 1.0, false);
     t.channels[2] = table("unity/azimuthal/N_TRT", 1.0, false);
@@ -333,7 +335,7 @@ std::vector<EngineTexture> engine_preset_textures(const EngineConfig& c) {
     out.push_back(t);
   }
   if (wanted("longitudinal")) {
-    t.name = "longitudinal", t.file_suffix = "unity-longitudinal", t.group = "unity/longitudinal";
+    t.name = "longitudinal", t.file_suffix = variant + "longitudinal", t.group = "unity/longitudinal";
     t.channels[0] = table("unity/longitudinal/M_R", 1.0, false);
     t.channels[1] = table("unity/longitudinal/M_TT", 1.0, false);
     t.channels[2] = table("unity/longitudinal/M_TRT", 1.0, false);

@@ -6,6 +6,8 @@
 #include "hairlut/angles.hpp"
 #include "hairlut/engine_presets.hpp"
 #include "hairlut/error.hpp"
+#include "hairlut/fresnel.hpp"
+#include "hairlut/longitudinal_mp.hpp"
 #include "hairlut/quadrature.hpp"
 
 namespace hairlut::hdrp {
@@ -61,6 +63,15 @@ std::vector<double> sorted_unique(std::vector<double> v, double lo, double hi) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
   return v;
+}
+
+// cos θ of a direction of sine s: HDRP's guarded form, or the exact one.
+double cos_of(double s, Functions f) { return f == Functions::exact ? std::sqrt(std::max(0.0, 1.0 - s * s)) : guarded_cos(s); }
+
+// M_p at (sin θi, cos θi) and the tilted (sin θo', cos θo'): HDRP's formula, or d'Eon's exactly.
+double longitudinal_of(double ci, double co, double si, double so, double v, Functions f) {
+  if (f == Functions::exact) return longitudinal_deon(v, std::atan2(si, ci), std::atan2(so, co));
+  return longitudinal(ci, co, si, so, v);
 }
 
 }  // namespace
@@ -128,22 +139,24 @@ double trimmed_logistic(double x, double s) {
   return e / (s * sq(1.0 + e)) / (logistic_cdf(kPi, s) - logistic_cdf(-kPi, s));
 }
 
-std::array<double, 3> longitudinal_texel(double sin_i, double sin_o, double beta) {
-  const double cos_i = guarded_cos(sin_i), cos_o = guarded_cos(sin_o);
+std::array<double, 3> longitudinal_texel(double sin_i, double sin_o, double beta, Functions fn) {
+  const double cos_i = cos_of(sin_i, fn), cos_o = cos_of(sin_o, fn);
   const auto v = longitudinal_variances(beta);
   std::array<double, 3> m{};
   for (int p = 0; p < 3; ++p) {
     const auto [s, c] = tilt(p, sin_o, cos_o, radians(kCuticleDegrees));
-    m[static_cast<std::size_t>(p)] = longitudinal(cos_i, c, sin_i, s, v[static_cast<std::size_t>(p)]);
+    m[static_cast<std::size_t>(p)] = longitudinal_of(cos_i, c, sin_i, s, v[static_cast<std::size_t>(p)], fn);
   }
   return m;
 }
 
-double azimuthal_texel(int p, double phi, double cos_theta_d, double beta, double rel_tol) {
+double azimuthal_texel(int p, double phi, double cos_theta_d, double beta, double rel_tol, Functions fn) {
   if (p < 0 || p > 2) throw DomainError("hdrp azimuthal texel: lobe must be 0, 1 or 2");
   require_in_range("cos theta_d", cos_theta_d, 1e-300, 1.0, "must lie in (0, 1]");
   require_positive("azimuthal roughness", beta);
-  const double eta_prime = modified_eta_karis(cos_theta_d), s = logistic_scale(beta);
+  const double eta_prime = fn == Functions::exact ? std::sqrt(kEta * kEta - (1.0 - cos_theta_d * cos_theta_d)) / cos_theta_d
+                                                  : modified_eta_karis(cos_theta_d);
+  const double s = logistic_scale(beta);
   auto f = [&](double g) { return phase(p, g, eta_prime); };
   // Monotone branches of Φ: one, or three for TRT when the caustic cos²γc = (η'² − 1)/3 lies inside.
   std::vector<double> ends = {-kHalfPi, kHalfPi};
@@ -177,7 +190,7 @@ double absorption_from_diffuse(double diffuse, double b) {
 }
 
 void attenuation_table(std::span<const double> smoothness, std::span<const double> sin_theta, std::span<const double> diffuse,
-                       std::vector<double>& front, std::vector<double>& back, double rel_tol) {
+                       std::vector<double>& front, std::vector<double>& back, double rel_tol, Functions fn) {
   for (auto list : {smoothness, sin_theta, diffuse})
     for (double x : list) require_in_range("hdrp attenuation coordinate", x, 0.0, 1.0, "must lie in [0, 1]");
   const std::size_t X = smoothness.size(), Y = sin_theta.size(), Z = diffuse.size();
@@ -191,7 +204,7 @@ void attenuation_table(std::span<const double> smoothness, std::span<const doubl
   std::vector<std::array<double, 4>> L(X * Y);
   const double edge = std::sqrt(1.0 - kGuard);  // beyond it the guarded cos θi is 0
   for (std::size_t y = 0; y < Y; ++y) {
-    const double so = sin_theta[y], co = guarded_cos(so);
+    const double so = sin_theta[y], co = cos_of(so, fn);
     std::array<std::array<double, 2>, 4> t;
     for (int p = 0; p < 4; ++p) t[static_cast<std::size_t>(p)] = tilt(p, so, co, alpha);
     for (std::size_t x = 0; x < X; ++x) {
@@ -201,7 +214,7 @@ void attenuation_table(std::span<const double> smoothness, std::span<const doubl
       for (std::size_t p = 0; p < 4; ++p) {
         bp.push_back(-t[p][0]);  // the lobe's peak, θi = −θo'
         const double c = 12.0 * v[p] / std::max(t[p][1], 1e-300);  // LogBesselI changes formula at a = 12
-        if (v[p] < 0.1 && c < 1.0 && 1.0 - kGuard - c * c > 0.0) {
+        if (fn == Functions::hdrp && v[p] < 0.1 && c < 1.0 && 1.0 - kGuard - c * c > 0.0) {
           const double u = std::sqrt(1.0 - kGuard - c * c);
           bp.push_back(u), bp.push_back(-u);
         }
@@ -209,8 +222,8 @@ void attenuation_table(std::span<const double> smoothness, std::span<const doubl
       bp = sorted_unique(bp, -1.0, 1.0);
       const AdaptiveResult r = integrate_adaptive(
           [&](double u, std::span<double> out) {
-            const double ci = guarded_cos(u);
-            for (std::size_t p = 0; p < 4; ++p) out[p] = longitudinal(ci, t[p][1], u, t[p][0], v[p]);
+            const double ci = cos_of(u, fn);
+            for (std::size_t p = 0; p < 4; ++p) out[p] = longitudinal_of(ci, t[p][1], u, t[p][0], v[p], fn);
           },
           4, bp, opt);
       for (std::size_t p = 0; p < 4; ++p) L[y * X + x][p] = r.value[p];
@@ -220,7 +233,7 @@ void attenuation_table(std::span<const double> smoothness, std::span<const doubl
   // Azimuthal factors over γ = asin h: ½∫ A_p dh (p = 0..3) and ½∫ A_p w_back(Φ_p) dh (p = 0..2).
   std::vector<std::array<double, 7>> Q(Y * Z);
   for (std::size_t y = 0; y < Y; ++y) {
-    const double so = sin_theta[y], co = guarded_cos(so);
+    const double so = sin_theta[y], co = cos_of(so, fn);
     const double cos_t = std::sqrt(std::max(0.0, 1.0 - sq(so / kEta)));
     const double eta_p = std::sqrt(kEta * kEta - so * so) / co;
     for (std::size_t z = 0; z < Z; ++z) {
@@ -232,7 +245,8 @@ void attenuation_table(std::span<const double> smoothness, std::span<const doubl
             const double sgt = h / eta_p, cgt = std::sqrt(std::max(0.0, 1.0 - sgt * sgt));
             const double gt = std::clamp(std::asin(sgt), -1.0, 1.0), go = std::asin(h);
             const double T = std::exp(-sigma * (2.0 * cgt / cos_t));
-            const double F = fresnel_schlick(f0, co * std::sqrt(std::max(0.0, 1.0 - h * h)));
+            const double ct = co * std::sqrt(std::max(0.0, 1.0 - h * h));
+            const double F = fn == Functions::exact ? fresnel_reflectance(kEta, ct) : fresnel_schlick(f0, ct);
             double A[4];
             A[0] = F;
             A[1] = sq(1.0 - F) * T;

@@ -60,15 +60,22 @@ double azimuthal_direction(int p, double gamma_o, double gamma_t);
 /// The logistic density e^{−|x|/s} / (s (1 + e^{−|x|/s})²) divided by its mass on [−π, π] (TrimmedLogistic).
 double trimmed_logistic(double x, double s);
 
+/// Which point functions the textures use: HDRP's own (the engine-named preset), or the exact ones
+/// (the unity-hdrp-hair-deon variant: d'Eon's M_p with the exact I0 and csch and no guard epsilon,
+/// the exact Bravais index √(η² − sin²θd)/cos θd instead of Karis's fit, the exact dielectric
+/// Fresnel reflectance instead of Schlick's). Axes, mappings, tilts, the trimmed logistic and the
+/// integrals are the same in both.
+enum class Functions { hdrp, exact };
+
 /// One texel of the longitudinal texture (ComputeLongitudinalScattering): sin θi = u_x, sin θo = u_y
 /// (both in [−1, 1]), roughness β = u_z; writes M_R, M_TT, M_TRT.
-std::array<double, 3> longitudinal_texel(double sin_i, double sin_o, double beta);
+std::array<double, 3> longitudinal_texel(double sin_i, double sin_o, double beta, Functions functions = Functions::hdrp);
 
 /// One texel of the azimuthal texture (ComputeAzimuthalScattering): ½ ∫_{−1}^{1} TL(wrap(φ − Φ(p, asin h,
 /// asin(h/η'))), s) dh with η' = modified_eta_karis(cos θd), s = logistic_scale(β), the integral exact
 /// (adaptive Gauss–Kronrod in γ = asin h between the roots of φ − Φ ≡ 0 and ≡ π mod 2π and the
 /// caustic). Domain: p in {0, 1, 2}, cos θd in (0, 1], β > 0. rel_tol: relative accuracy asked.
-double azimuthal_texel(int p, double phi, double cos_theta_d, double beta, double rel_tol = 1e-10);
+double azimuthal_texel(int p, double phi, double cos_theta_d, double beta, double rel_tol = 1e-10, Functions functions = Functions::hdrp);
 
 /// The azimuthal weight of the attenuation kernel's back half: ∫_{−π}^{π} (π − |Δ|) TL_w(Δ − c, s) dΔ
 /// with TL_w the 2π-periodic trimmed logistic, in closed form (logistic CDF and its first moment).
@@ -82,7 +89,8 @@ double back_weight(double c, double s);
 /// smoothness and θ only, the azimuthal one on θ and colour only), each factor exact to rel_tol.
 /// Domain: every value in [0, 1]. Throws DomainError.
 void attenuation_table(std::span<const double> smoothness, std::span<const double> sin_theta, std::span<const double> diffuse,
-                       std::vector<double>& front, std::vector<double>& back, double rel_tol = 1e-10);
+                       std::vector<double>& front, std::vector<double>& back, double rel_tol = 1e-10,
+                       Functions functions = Functions::hdrp);
 
 /// Chiang 2016 eq. 9 as HDRP's AbsorptionFromReflectance at radial roughness b: (ln max(d, 1e−3) / D(b))²,
 /// then ReferenceBSDFData's floor max(σa, 1e−5).
