@@ -9,6 +9,7 @@
 #include "hairlut/azimuthal_fourier.hpp"
 #include "hairlut/dual_scattering_grid.hpp"
 #include "hairlut/engine_presets.hpp"
+#include "hairlut/hdrp_kernels.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/longitudinal_mp.hpp"
 #include "bake_internal.hpp"
@@ -70,9 +71,8 @@ const char* definition_of(const std::string& quantity_name) {
     return "sigma_b = (1 + d_b a_f^2) (a_b sqrt(2 beta_f^2 + beta_b^2) + a_b^3 sqrt(2 beta_f^2 + 3 beta_b^2)) / (a_b + a_b^3) "
            "(Zinke 2008 eq. 17: the a_b- and a_b^3-weighted mean of the spreads of the paths with one and three backward events)";
   if (quantity_name == "sigma_b_mixed")
-    return "as sigma_b with the denominator a_b + a_b^3 (2 beta_f + 3 beta_b) of public implementations (Unreal "
-           "HairStrandsDeepTransmittanceDualScattering.ush, Unity HairMultipleScattering.hlsl): adds an angle to a number, "
-           "kept for comparison only";
+    return "as sigma_b with the denominator a_b + a_b^3 (2 beta_f + 3 beta_b) of real-time implementations (e.g. Unity HDRP's "
+           "HairMultipleScattering.hlsl): adds an angle to a number, kept for comparison only";
   if (quantity_name == "E_total") return "sum of the lobes' mean energies: the directional albedo E(theta_i)";
   return "";
 }
@@ -171,55 +171,96 @@ void bake_ds_group(const BakeConfig& c, const DsGroup& g, const BakeOptions& opt
   groups[g.ds_group.empty() ? g.me_group : g.ds_group] = entry;
 }
 
-// ---- HDRP's azimuthal and longitudinal textures -------------------------------------------------
+// ---- HDRP's textures, as its pre-integration kernels define them (hdrp_kernels.hpp) --------------
 
-void bake_unity_azimuthal(const BakeConfig& c, const EngineTableSpec& s, const BakeOptions& opt, TableSet& set, BakeReport& report) {
+constexpr double kHdrpTolerance = 1e-10;  // relative accuracy of every integral of the HDRP kernels
+
+json hdrp_source() {
+  return {{"engine", "Unity HDRP (Unity-Technologies/Graphics)"},
+          {"kernel", "Packages/com.unity.render-pipelines.high-definition/Runtime/Material/Hair/MultipleScattering/"
+                     "HairMultipleScatteringPreIntegration.compute"},
+          {"commit", "e3089c7ac636a15826cef489539d9d7e5da11820"},
+          {"documentation", "docs/presets/unity-hdrp-hair.md"}};
+}
+
+// What the exact variant changes, for the tables' attributes.
+const char* kExactNote = "unity-hdrp-hair-deon: HDRP's axes, mappings and integrals with exact functions: d'Eon's M_p with the exact I0 and "
+                         "csch and no guard epsilon, the exact Bravais index sqrt(eta^2 - sin^2 theta_d) / cos theta_d, exact dielectric Fresnel";
+
+void bake_hdrp_attenuation(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, TableSet& set, BakeReport& report) {
+  const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
+  std::vector<double> d = s.axes[0].nodes(), sin_t = s.axes[1].nodes(), sm = s.axes[2].nodes();
+  for (double& t : sin_t) t = std::sin(t);
+  std::vector<double> front, back;
+  hdrp::attenuation_table(sm, sin_t, d, front, back, kHdrpTolerance, fn);
+  const char* what[2] = {"front", "back"};
+  for (int k = 0; k < 2; ++k) {
+    json attributes = {
+        {"definition", std::string("(1/pi) int_0^pi dphi int_{") + (k ? "back" : "front") +
+                           " half sphere} dw 1/2 int_{-1}^{1} dh S_HDRP(w, l(phi), h): ComputeAttenuation" + (k ? "Backward" : "Forward") +
+                           " with HDRP's reference hair model (EvaluateHairReference: R, TT, TRT, residual; eta 1.55, Schlick Fresnel, "
+                           "Chiang variances, trimmed logistic of radial roughness 0.3, cuticle 3 deg), integrated exactly"},
+        {"source", hdrp_source()}};
+    if (fn == hdrp::Functions::exact) attributes["variant"] = kExactNote;
+    Table t = new_table(s.group, what[k], "attenuation", "1", std::string(what[k]) + " average attenuation as HDRP stores it", s.axes, precision,
+                        attributes);
+    const std::vector<double>& v = k ? back : front;
+    for (std::size_t i = 0; i < v.size(); ++i) t.set(i, v[i]);
+    set.tables.push_back(std::move(t));
+  }
+  report.entries += 2 * front.size();
+}
+
+void bake_hdrp_azimuthal(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, const BakeOptions& opt, TableSet& set,
+                         BakeReport& report) {
   const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
   const std::vector<double> b_nodes = s.axes[0].nodes(), cos_nodes = s.axes[1].nodes(), phis = s.axes[2].nodes();
-  std::vector<double> betas;
-  for (double b : b_nodes) betas.push_back(chiang_azimuthal_beta(b));
   const std::size_t first = set.tables.size();
   for (int p = 0; p < 3; ++p)
-    set.tables.push_back(new_table(s.group, "N_" + lobe_name(p), "N_p", "1/rad",
-                                   "roughened azimuthal distribution of lobe " + lobe_name(p) + " with unit attenuation", s.axes, precision,
-                                   {{"lobe", lobe_name(p)}, {"p", p}, {"unit_attenuation", true},
-                                    {"definition", "N1_p(phi) = 1/2 int D_beta(phi - Phi(p, h)) dh, int N1_p dphi = 1 (no Fresnel, no absorption)"},
-                                    {"beta_of_radial_roughness", "beta = pi s / sqrt(3), s = sqrt(pi/8)(0.265 b + 1.194 b^2 + 5.372 b^22) "
-                                                                 "(Chiang 2016's logistic scale, matched in variance)"}}));
-  const std::size_t nb = betas.size(), nc = cos_nodes.size(), nphi = phis.size();
-  auto rules = std::make_shared<GaussLegendreCache>();
+    set.tables.push_back(new_table(s.group, "N_" + lobe_name(p), "N_p", "1/rad", "HDRP's azimuthal distribution of lobe " + lobe_name(p), s.axes,
+                                   precision,
+                                   {{"lobe", lobe_name(p)}, {"p", p},
+                                    {"definition", "1/2 int_{-1}^{1} TrimmedLogistic(wrap(phi - Phi(p, asin h, asin(h / eta'))), s, -pi, pi) dh, "
+                                                   "eta' = 1.19 / cos(theta_d) + 0.36 cos(theta_d), s = sqrt(pi/8)(0.265 b + 1.194 b^2 + 5.372 b^22) "
+                                                   "(ComputeAzimuthalScattering), integrated exactly"},
+                                    {"source", hdrp_source()}}));
+  if (fn == hdrp::Functions::exact)
+    for (std::size_t k = first; k < set.tables.size(); ++k) set.tables[k].attributes["variant"] = kExactNote;
+  const std::size_t nb = b_nodes.size(), nc = cos_nodes.size(), nphi = phis.size();
   detail::parallel_for(nc * 3, opt, s.group, 1, [&](std::size_t item) {
     const std::size_t y = item / 3;
     const int p = static_cast<int>(item % 3);
-    std::vector<double> out;
-    unit_attenuation_np(c.eta, p, std::acos(cos_nodes[y]), betas, phis, kAzimuthalTolerance, out, rules.get());
     Table& t = set.tables[first + static_cast<std::size_t>(p)];
     for (std::size_t z = 0; z < nb; ++z)
-      for (std::size_t x = 0; x < nphi; ++x) t.set((z * nc + y) * nphi + x, out[z * nphi + x]);
+      for (std::size_t x = 0; x < nphi; ++x)
+        t.set((z * nc + y) * nphi + x, hdrp::azimuthal_texel(p, phis[x], cos_nodes[y], b_nodes[z], kHdrpTolerance, fn));
   });
   report.entries += 3 * nb * nc * nphi;
 }
 
-void bake_unity_longitudinal(const BakeConfig& c, const EngineTableSpec& s, const BakeOptions& opt, TableSet& set, BakeReport& report) {
+void bake_hdrp_longitudinal(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, const BakeOptions& opt, TableSet& set,
+                            BakeReport& report) {
   const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
-  const std::vector<double> pr = s.axes[0].nodes(), tr = s.axes[1].nodes(), ti = s.axes[2].nodes();
+  const std::vector<double> beta = s.axes[0].nodes(), to = s.axes[1].nodes(), ti = s.axes[2].nodes();
   const std::size_t first = set.tables.size();
   for (int p = 0; p < 3; ++p)
-    set.tables.push_back(new_table(s.group, "M_" + lobe_name(p), "M_p", "1/rad",
-                                   "d'Eon's M_p of lobe " + lobe_name(p) + " with the preset's width and tilt", s.axes, precision,
-                                   {{"lobe", lobe_name(p)}, {"p", p}, {"alpha", s.roughness.tilt[static_cast<std::size_t>(p)]},
-                                    {"roughness_mapping", s.roughness.describe()}}));
-  detail::parallel_for(pr.size(), opt, s.group, 1, [&](std::size_t z) {
-    const std::vector<LobeParams> lobes = s.roughness.lobes_at(pr[z]);
-    for (int p = 0; p < 3; ++p) {
-      Table& t = set.tables[first + static_cast<std::size_t>(p)];
-      const LobeParams& l = lobes[static_cast<std::size_t>(p)];
-      for (std::size_t y = 0; y < tr.size(); ++y)
-        for (std::size_t x = 0; x < ti.size(); ++x)
-          t.set((z * tr.size() + y) * ti.size() + x, longitudinal_deon_tilted(l.beta_m * l.beta_m, l.alpha, ti[x], tr[y]));
-    }
+    set.tables.push_back(new_table(s.group, "M_" + lobe_name(p), "M_p", "1/rad", "HDRP's longitudinal scattering of lobe " + lobe_name(p), s.axes,
+                                   precision,
+                                   {{"lobe", lobe_name(p)}, {"p", p},
+                                    {"definition", "LongitudinalScattering(cos_i, cos_o', sin_i, sin_o', v_p): d'Eon's M with HDRP's 10-term I0 "
+                                                   "series, v_p from LongitudinalVarianceFromBeta (v, v/4, 4v), theta_o turned by -2a, +a, +4a, "
+                                                   "a = 3 deg (ComputeLongitudinalScattering)"},
+                                    {"source", hdrp_source()}}));
+  if (fn == hdrp::Functions::exact)
+    for (std::size_t k = first; k < set.tables.size(); ++k) set.tables[k].attributes["variant"] = kExactNote;
+  detail::parallel_for(beta.size(), opt, s.group, 1, [&](std::size_t z) {
+    for (std::size_t y = 0; y < to.size(); ++y)
+      for (std::size_t x = 0; x < ti.size(); ++x) {
+        const auto m = hdrp::longitudinal_texel(std::sin(ti[x]), std::sin(to[y]), beta[z], fn);
+        for (std::size_t p = 0; p < 3; ++p) set.tables[first + p].set((z * to.size() + y) * ti.size() + x, m[p]);
+      }
   });
-  report.entries += 3 * pr.size() * tr.size() * ti.size();
+  report.entries += 3 * beta.size() * to.size() * ti.size();
 }
 
 }  // namespace
@@ -304,7 +345,10 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
     bake_ds_group(c, g, opt, set, report, groups);
   }
   if (c.engine) {
+    if (c.engine->preset.rfind("unity-hdrp-hair", 0) == 0 && c.eta != hdrp::kEta)
+      throw DomainError("fiber.eta: " + c.engine->preset + " reproduces HDRP's kernels, which fix eta = 1.55 (got " + std::to_string(c.eta) + ")");
     const std::vector<EngineTexture> textures = engine_preset_textures(*c.engine);
+    const hdrp::Functions fn = c.engine->preset == "unity-hdrp-hair-deon" ? hdrp::Functions::exact : hdrp::Functions::hdrp;
     auto needed = [&](const std::string& group) {
       return std::any_of(textures.begin(), textures.end(), [&](const EngineTexture& t) { return t.group == group; });
     };
@@ -323,16 +367,19 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
         g.absorption = s.absorption;
         g.density_factor = c.engine->density_factor;
         bake_ds_group(c, g, opt, set, report, groups);
-      } else if (s.kind == "azimuthal" && needed(s.group)) {
-        bake_unity_azimuthal(c, s, opt, set, report);
-      } else if (s.kind == "longitudinal" && needed(s.group)) {
-        bake_unity_longitudinal(c, s, opt, set, report);
+      } else if (s.kind == "hdrp_attenuation" && needed(s.group)) {
+        bake_hdrp_attenuation(c, s, fn, set, report);
+      } else if (s.kind == "hdrp_azimuthal" && needed(s.group)) {
+        bake_hdrp_azimuthal(c, s, fn, opt, set, report);
+      } else if (s.kind == "hdrp_longitudinal" && needed(s.group)) {
+        bake_hdrp_longitudinal(c, s, fn, opt, set, report);
       }
     }
     json tex = json::array();
     for (const EngineTexture& t : textures) tex.push_back(t.describe());
     set.metadata["engine"] = {{"preset", c.engine->preset}, {"textures", tex}, {"documentation", "docs/presets/" + c.engine->preset + ".md"}};
   }
+  if (groups.empty()) return;  // HDRP's textures only: their tables carry their own definitions
   set.metadata["dual_scattering"] = {
       {"reference", "Zinke, Yuksel, Weber, Keyser 2008, Dual scattering approximation for fast multiple scattering in hair"},
       {"definitions", ds_definitions()},

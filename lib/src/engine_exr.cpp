@@ -60,9 +60,11 @@ void write_engine_texture(const TableSet& set, const EngineTexture& t, const std
   const int rows = (Z + t.tiles_per_row - 1) / t.tiles_per_row;
   const long width = static_cast<long>(X) * std::min(Z, t.tiles_per_row), height = static_cast<long>(Y) * rows;
   if (width > 65536 || height > 65536) fail("texture too large for one image");
+  const int nch = t.channel_count;
+  if (nch < 1 || nch > 4) fail("texture " + t.name + ": channel count must lie in [1, 4]");
   std::array<std::vector<half>, 4> px;
   for (auto& v : px) v.assign(static_cast<std::size_t>(width * height), half(0.0f));
-  for (int c = 0; c < 4; ++c) {
+  for (int c = 0; c < nch; ++c) {
     const EngineChannel& ch = t.channels[c];
     for (int z = 0; z < Z; ++z)
       for (int y = 0; y < Y; ++y)
@@ -96,11 +98,11 @@ void write_engine_texture(const TableSet& set, const EngineTexture& t, const std
   desc["config_hash"] = set.metadata.value("config_hash", std::string());
   Imf::Header h(static_cast<int>(width), static_cast<int>(height));
   h.compression() = Imf::ZIP_COMPRESSION;
-  for (const char* c : kChannels) h.channels().insert(c, Imf::Channel(Imf::HALF));
+  for (int c = 0; c < nch; ++c) h.channels().insert(kChannels[c], Imf::Channel(Imf::HALF));
   h.insert("hairlut.engine", Imf::StringAttribute(desc.dump()));
   h.insert("hairlut.engine.layout", Imf::StringAttribute(layout));
   std::string channels;
-  for (int c = 0; c < 4; ++c) {
+  for (int c = 0; c < nch; ++c) {
     const EngineChannel& ch = t.channels[c];
     channels += std::string(c ? " " : "") + kChannels[c] + "=";
     if (ch.table.empty()) channels += std::to_string(ch.constant).substr(0, 3);
@@ -114,7 +116,7 @@ void write_engine_texture(const TableSet& set, const EngineTexture& t, const std
   try {
     Imf::OutputFile out(name.c_str(), h);
     Imf::FrameBuffer fb;
-    for (int c = 0; c < 4; ++c)
+    for (int c = 0; c < nch; ++c)
       fb.insert(kChannels[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(px[static_cast<std::size_t>(c)].data()), sizeof(half),
                                          sizeof(half) * static_cast<std::size_t>(width)));
     out.setFrameBuffer(fb);
@@ -141,6 +143,8 @@ EngineImage read_engine_texture(const std::filesystem::path& file) {
     img.width = dw.max.x - dw.min.x + 1;
     img.height = dw.max.y - dw.min.y + 1;
     if (img.width <= 0 || img.height <= 0 || static_cast<long>(img.width) * img.height > (1L << 26)) throw IoError(name + ": bad image size");
+    for (int c = 0; c < 4; ++c)
+      if (in.header().channels().findChannel(kChannels[c])) img.channel_count = c + 1;
     Imf::FrameBuffer fb;
     for (int c = 0; c < 4; ++c) {
       auto& v = img.channels[static_cast<std::size_t>(c)];

@@ -12,6 +12,7 @@
 #include <hairlut/config.hpp>
 #include <hairlut/error.hpp>
 #include <hairlut/report.hpp>
+#include <hairlut/validate_engine.hpp>
 #include <hairlut/table_io.hpp>
 #include <hairlut/validate.hpp>
 #include <hairlut/version.hpp>
@@ -80,6 +81,12 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
         bo.cancel = &g_cancel;
         set = hairlut::bake(config, bo);
       }
+    } else if (hairlut::is_engine_texture(file)) {
+      // An engine texture (tables.engine): checked against its preset's definition.
+      const auto report = hairlut::validate_engine_texture(file, options);
+      hairlut::write_engine_report(report, out_dir);
+      if (!quiet) std::printf("%s\nwrote %s/report.html, report.json, report.md\n", hairlut::render_engine_report_markdown(report).c_str(), out_dir.c_str());
+      return report["summary"]["status"] == "pass" ? 0 : 1;
     } else {
       source = file;
       set = hairlut::load_tables(file);

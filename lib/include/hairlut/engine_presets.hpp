@@ -15,10 +15,8 @@ namespace hairlut {
 
 /// What a table's roughness axis means.
 enum class RoughnessParameter {
-  beta,                        ///< x = β in radians; β_m,p = β_n,p = s_p x (s_p per lobe, default 1)
-  unreal,                      ///< x = Unreal's hair Roughness in [0, 1] (HairBsdf.ush HairShading)
-  unity_smoothness,            ///< x = HDRP hair perceptual smoothness in [0, 1] (Hair.hlsl)
-  unity_perceptual_roughness   ///< x = HDRP hair perceptual roughness in [0, 1]
+  beta,   ///< x = β in radians; β_m,p = β_n,p = s_p x (s_p per lobe, default 1)
+  unreal  ///< x = the Hair shading model's Roughness in [0, 1] (docs/presets/unreal-hair-strands.md)
 };
 
 /// One roughness parameter x → the lobe parameters of R, TT, TRT, ... and the residual.
@@ -28,7 +26,6 @@ struct RoughnessMapping {
   bool residual = true;
   std::vector<double> scale;     ///< beta: s_p per explicit lobe, then the residual's (default all 1)
   std::vector<double> tilt;      ///< α_p per explicit lobe, then the residual's (radians, hairlut's θr shift)
-  double azimuthal_beta = 0.0;   ///< unity_*: β_n of every lobe (radians), from the radial roughness
 
   /// The P (+ 1) lobe parameters at x. Domain: beta: x > 0; the engine parameters: x in [0, 1]
   /// (clamped as the engines clamp them). Throws DomainError.
@@ -43,27 +40,18 @@ struct RoughnessMapping {
 
 /// What a table's absorption axis means.
 enum class AbsorptionParameter {
-  sigma_a,              ///< x = σa per unit fiber radius
-  unreal_base_color,    ///< x = Unreal hair BaseColor c (linear); σa = −ln(max(c, 1e−4))/4
-  unity_diffuse_color   ///< x = HDRP hair diffuse colour d; σa = (ln(max(d, 1e−3)) / D(b))², Chiang 2016 eq. 9
+  sigma_a,           ///< x = σa per unit fiber radius
+  unreal_base_color  ///< x = Unreal hair BaseColor c (linear); σa = −ln(max(c, 1e−4))/4
 };
 
 struct AbsorptionMapping {
   AbsorptionParameter parameter = AbsorptionParameter::sigma_a;
-  double azimuthal_roughness = 0.7;  ///< b of D(b) (unity_diffuse_color)
   /// σa per unit radius at x (≥ 0, finite). Throws DomainError for x outside the parameter's domain.
   double sigma_a(double x) const;
   nlohmann::ordered_json describe() const;
   static AbsorptionMapping from_json(const nlohmann::json& j);
 };
 
-/// Chiang et al. 2016 eq. 9 denominator: D(b) = 5.969 − 0.215b + 2.532b² − 10.73b³ + 5.574b⁴ + 0.245b⁵.
-double chiang_absorption_denominator(double b);
-
-/// The Gaussian detector width with the variance of Chiang 2016's logistic azimuthal lobe of
-/// roughness b: s = √(π/8)(0.265b + 1.194b² + 5.372b²²), β = π s / √3 (logistic variance π²s²/3).
-/// Domain: b in (0, 1]. Result > 0.
-double chiang_azimuthal_beta(double b);
 
 /// The sampled quantities of an engine texture channel.
 struct EngineChannel {
@@ -75,11 +63,12 @@ struct EngineChannel {
 
 /// One engine texture: a 3D texture of X × Y × Z texels written as a 2D atlas of Z tiles of X × Y.
 struct EngineTexture {
+  int channel_count = 4;    ///< channels written: R, G (2), R, G, B (3) or R, G, B, A (4), the engine's own count
   std::string preset;       ///< "unreal-hair-strands", "unity-hdrp-hair"
   std::string name;         ///< "dual-scattering", "mean-energy", "attenuation", ...
   std::string file_suffix;  ///< appended to the output basename: <basename>-<suffix>.exr
   std::string group;        ///< table group of its sources
-  EngineChannel channels[4];  ///< R, G, B, A
+  EngineChannel channels[4];  ///< R, G, B, A (those past channel_count are not written)
   int tiles_per_row = 1;    ///< tile of slice z at column z % tiles_per_row, row z / tiles_per_row
   bool flip_y = false;      ///< texel row y at image row Y − 1 − y within its tile (bottom-left origin)
   std::string engine_format;  ///< the engine's texture format, e.g. "PF_FloatRGBA (RGBA16F)"
@@ -93,16 +82,16 @@ struct EngineConfig {
   std::string preset;                  ///< "unreal-hair-strands" or "unity-hdrp-hair"
   std::vector<std::string> textures;   ///< a subset of the preset's textures (empty: all)
   double density_factor = 0.7;         ///< d_b of Zinke eq. 17 (also recorded for d_f)
-  // unity-hdrp-hair only
-  double radial_smoothness = 0.3;      ///< HDRP perceptualRadialSmoothness used for the attenuation bake
-  double cuticle_angle_deg = 3.0;      ///< HDRP cuticleAngle (degrees)
-  double attenuation_scale = 0.31830988618379067;  ///< HDRP stores (1/π) ā (its pre-integration kernels)
+  // unity-hdrp-hair: HDRP's kernels fix these; the preset refuses other values (hdrp_kernels.hpp)
+  double radial_smoothness = 0.7;      ///< ConfigureFiberSurface's perceptualRadialSmoothness
+  double cuticle_angle_deg = 3.0;      ///< α of the kernels (cuticleAngle −3° negated by Hair.hlsl)
+  double attenuation_scale = 0.31830988618379067;  ///< the kernels' final 1/π
 };
 
 /// One group of tables of a preset, over one set of axes (storage order: the texture's Z, Y, X).
 struct EngineTableSpec {
   std::string group;   ///< "unreal/dual_scattering", "unity/azimuthal", ...
-  std::string kind;    ///< "dual_scattering", "mean_energy", "azimuthal", "longitudinal"
+  std::string kind;    ///< "dual_scattering", "mean_energy", "hdrp_attenuation", "hdrp_azimuthal", "hdrp_longitudinal"
   std::vector<GridAxis> axes;
   RoughnessMapping roughness;    ///< dual_scattering, mean_energy, longitudinal
   AbsorptionMapping absorption;  ///< dual_scattering, mean_energy
