@@ -386,3 +386,39 @@ TEST_CASE("Bad table files give one-line errors", "[io]") {
   }
   CHECK(io_error(dir / "other.h5").find("missing attribute hairlut_metadata") != std::string::npos);
 }
+
+TEST_CASE("A normalized N_p table is read as shape times energy; a signed theta_d folds to its magnitude", "[bake][sampler]") {
+  json j = small_config();
+  j["quadrature"] = {{"method", "fourier"}, {"tolerance", 1e-12}};
+  j["tables"]["np"]["normalize"] = "energy";
+  j["tables"]["np"]["axes"]["phi"]["interpolation"] = "cubic";
+  j["tables"]["np"]["energy_axes"] = {{"sigma_a", {{"count", 9}, {"range", {0, 4}}, {"interpolation", "geometric"}}},
+                                      {"theta_d", {{"count", 17}, {"range_deg", {0, 85}}, {"spacing", "cos"}, {"interpolation", "cubic"}}}};
+  const fs::path dir = temp_dir("normalized");
+  const TableSet set = bake(config_in(dir, j));
+  const Table& trt = *set.find("np/TRT");
+  REQUIRE(trt.factor() == "np/energy_TRT");
+  const Table& e = *set.find("np/energy_TRT");
+  CHECK(e.axes[0].count == 9);
+  CHECK(e.axes[1].count == 17);
+  // At the nodes of N_p, shape x energy is the baked N_p: compare with direct evaluation there.
+  const auto betas = trt.axes[0].nodes(), sigmas = trt.axes[1].nodes(), thetas = trt.axes[2].nodes(), phis = trt.axes[3].nodes();
+  const AttenuationSlice slice(1.55, thetas[2], sigmas[1]);
+  const double exact = azimuthal_np_reference(slice, 2, betas[1], phis[3], 1e-12).value[0];
+  CHECK(set.sample_value(trt, {betas[1], sigmas[1], thetas[2], phis[3]}) == Approx(exact).epsilon(2e-6));
+  // The shape integrates to one over phi at every node (even phi axis: trapezoid over [0, pi], twice).
+  double integral = 0.0;
+  for (std::size_t k = 0; k < phis.size(); ++k) {
+    const double w = (k == 0 || k + 1 == phis.size() ? 0.5 : 1.0) * (phis[1] - phis[0]);
+    integral += w * trt.sample({betas[1], sigmas[1], thetas[2], phis[k]});
+  }
+  CHECK(2.0 * integral == Approx(1.0).epsilon(1e-5));
+  // theta_d is folded: N_p at -20 degrees is N_p at +20 degrees (it depends on cos theta_d only).
+  const double t = radians(20.0);
+  CHECK(set.sample_value(trt, {betas[1], 1.3, -t, 0.5}) == set.sample_value(trt, {betas[1], 1.3, t, 0.5}));
+  // The HDF5 file keeps the energy table's own sigma_a and theta_d scales apart from N_p's.
+  write_hdf5(set, dir / "n.h5");
+  const TableSet back = load_tables(dir / "n.h5");
+  CHECK(back.find("np/energy_TRT")->axes[1].count == 17);
+  CHECK(back.sample_value(*back.find("np/TRT"), {betas[1], 1.3, t, 0.5}) == set.sample_value(trt, {betas[1], 1.3, t, 0.5}));
+}

@@ -112,6 +112,9 @@ GridAxis make_axis(const json& j, const std::string& path, const std::string& na
   }
   if (j.contains("interpolation"))
     a.interpolation = parse_interpolation(j.at("interpolation").get<std::string>(), path + ".interpolation");
+  // N_p depends on θd through cos θd only: the axis folds a signed θd to |θd| (and a cubic
+  // interpolation mirrors its neighbours across θd = 0).
+  if (name == "theta_d") a.wrap = Wrap::even;
   checked([&] { a.validate(path); });
   return a;
 }
