@@ -39,6 +39,7 @@ const std::map<std::string, double ValidationThresholds::*>& ValidationThreshold
       {"accuracy_energy_max_rel", &ValidationThresholds::accuracy_energy_max_rel},
       {"accuracy_mp_max_rel", &ValidationThresholds::accuracy_mp_max_rel},
       {"accuracy_melanin_max_rel", &ValidationThresholds::accuracy_melanin_max_rel},
+      {"accuracy_ds_max_rel", &ValidationThresholds::accuracy_ds_max_rel},
       {"energy_consistency", &ValidationThresholds::energy_consistency},
       {"ds_furnace", &ValidationThresholds::ds_furnace},
       {"ds_consistency", &ValidationThresholds::ds_consistency},
@@ -606,6 +607,8 @@ std::uint64_t seed_of(const std::string& path) {  // FNV-1a: the same points for
   return h;
 }
 
+constexpr std::size_t kDualScatteringPoints = 256;
+
 json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
   json out = json::array();
   struct Worst {
@@ -621,17 +624,21 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
   std::map<std::string, std::string> denominators;
   const auto rule = std::make_shared<const GaussLegendreRule>(1024);
   const TruthModel model{info.eta, info.path, info.explicit_lobes, info.marschner};
+  const auto ds_memo = make_dual_scattering_memo();
   std::size_t done = 0;
   for (const Table& t : set.tables) {
     if (opt.progress) opt.progress("accuracy", done, set.tables.size());
     ++done;
     check_cancel(opt);
-    const std::string kind = accuracy_kind(t);
-    const auto truth = kind.empty() ? std::nullopt : table_truth(t, model, rule);
+    std::string kind = accuracy_kind(t);
+    auto truth = kind.empty() ? std::nullopt : table_truth(t, model, rule);
+    if (!truth && (truth = dual_scattering_truth(set, t, ds_memo))) kind = "ds";
     if (!truth) continue;
     SampledErrorOptions so;
-    so.points = std::max<std::size_t>(opt.max_points, 1);
-    so.seed = seed_of(t.path());
+    // Dual-scattering references are slow (adaptive θr integrals of half-range energies): at most
+    // kDualScatteringPoints points, the same for every table of the groups (one evaluation each).
+    so.points = std::max<std::size_t>(kind == "ds" ? std::min(opt.max_points, kDualScatteringPoints) : opt.max_points, 1);
+    so.seed = kind == "ds" ? seed_of("dual_scattering") : seed_of(t.path());
     so.threads = opt.threads;
     so.half_float = true;
     so.keep_points = true;
@@ -695,7 +702,8 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
   const std::tuple<const char*, const char*, const char*, double> kinds[] = {
       {"energy", "accuracy_energy_max_rel", "Energy tables: worst relative error at random points over the domain", th.accuracy_energy_max_rel},
       {"mp", "accuracy_mp_max_rel", "M_p tables: worst error at random points, relative to the peak over theta_r", th.accuracy_mp_max_rel},
-      {"melanin", "accuracy_melanin_max_rel", "Melanin sigma_a tables: worst relative error at random points", th.accuracy_melanin_max_rel}};
+      {"melanin", "accuracy_melanin_max_rel", "Melanin sigma_a tables: worst relative error at random points", th.accuracy_melanin_max_rel},
+      {"ds", "accuracy_ds_max_rel", "Dual-scattering and mean-energy tables: worst relative error at random points", th.accuracy_ds_max_rel}};
   for (const auto& [kind, id, title, threshold] : kinds)
     if (worst_max[kind].any)
       checks.push_back(check(id, title, worst_max[kind].value <= threshold, worst_max[kind].value, threshold, "<=", worst_max[kind].where + words(kind)));

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
 Writes report.html (open it in a browser), report.json and report.md into --out. Thresholds
 (name=value): furnace_direct, furnace_table, longitudinal_deon, mp_table_energy,
 accuracy_max_rel, accuracy_p99_rel (N_p), accuracy_energy_max_rel, accuracy_mp_max_rel,
-accuracy_melanin_max_rel, energy_consistency, and for mean-energy and dual-scattering
+accuracy_melanin_max_rel, accuracy_ds_max_rel, energy_consistency, and for mean-energy and dual-scattering
 tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too.
 Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input,
 130 interrupted.)");

@@ -54,3 +54,19 @@ struct TableTruth {
 std::optional<TableTruth> table_truth(const Table& t, const TruthModel& model, std::shared_ptr<const GaussLegendreRule> rule);
 
 }  // namespace hairlut
+
+namespace hairlut {
+
+/// dual_scattering() results shared by the tables of the dual-scattering and mean-energy groups
+/// (they are sampled at the same points: the same seed and axes give the same points). Thread-safe.
+struct DualScatteringMemo;
+std::shared_ptr<DualScatteringMemo> make_dual_scattering_memo();
+
+/// The reference of a dual-scattering or mean-energy table (tables.dual_scattering, tables.engine;
+/// described by the set's metadata "dual_scattering.groups"): dual_scattering() at the point, with
+/// the group's roughness and absorption mappings, no interpolation anywhere. Denominator: the
+/// exact value itself (relative error) floored at 1e-3 for attenuations and energies, 1e-3 rad for
+/// shifts and widths, 1e-6 rad² for variances. nullopt for other tables.
+std::optional<TableTruth> dual_scattering_truth(const TableSet& set, const Table& t, std::shared_ptr<DualScatteringMemo> memo = {});
+
+}  // namespace hairlut

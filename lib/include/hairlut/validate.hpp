@@ -29,6 +29,7 @@ struct ValidationThresholds {
   double accuracy_energy_max_rel = 1e-2;   ///< energy tables: max relative error (floors 1e-3 × white, 1e-6)
   double accuracy_mp_max_rel = 1e-2;       ///< M_p tables: max error / peak over θr at the same (β, θi)
   double accuracy_melanin_max_rel = 1e-2;  ///< melanin σa tables: max relative error (floor 0.01 per radius)
+  double accuracy_ds_max_rel = 1e-2;       ///< dual-scattering and mean-energy tables: max relative error (floors: table_truth.hpp)
   double energy_consistency = 1e-2;   ///< max |∫N_table dφ − energy table| / max energy
   double ds_furnace = 1e-4;           ///< max |Σ_p E_p − 1| of a mean-energy table at σa = 0 (uniform roughness, no tilt)
   double ds_consistency = 1e-4;       ///< max |a_f + a_b − Σ_p E_p| between dual-scattering and mean-energy tables
