@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "hairlut/angles.hpp"
+#include "hairlut/azimuthal_fourier.hpp"
 #include "hairlut/azimuthal_np.hpp"
+#include "hairlut/fiber_geometry.hpp"
 #include "hairlut/lobe_energy.hpp"
 #include "hairlut/longitudinal_mp.hpp"
 #include "hairlut/melanin.hpp"
@@ -101,6 +103,38 @@ std::optional<TableTruth> marschner_truth(const Table& t, const MarschnerConfig&
   return tr;
 }
 
+// N_p(β, φ) of lobe p at (θd, σa) by the Fourier series (azimuthal_fourier.hpp) to 1e−10 for every
+// β ≥ beta_min: the coefficients once, each β's weights once per β (the last one is kept), then
+// N terms per φ. For the peak search only (the points use the Gauss–Legendre reference).
+PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double sigma, int p, double beta_min, int beta_axis, double beta_fixed,
+                         int phi_axis) {
+  constexpr double kTolerance = 1e-10;
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
+  const int terms = fourier_terms(beta_min, kTolerance);
+  const GaussLegendreRule rule(fourier_nodes(terms, p, g, kTolerance));
+  struct State {
+    std::vector<double> c, w;
+    double beta = -1.0;
+  };
+  auto st = std::make_shared<State>();
+  fourier_coefficients(g, path, p, std::span<const double>(&sigma, 1), terms, rule, st->c);
+  return [=](const std::vector<double>& y) {
+    const double beta = beta_axis >= 0 ? y[static_cast<std::size_t>(beta_axis)] : beta_fixed;
+    if (beta != st->beta) {
+      st->w.assign(st->c.size(), 0.0);
+      for (std::size_t n = 0; n < st->c.size(); ++n) {
+        const double nb = static_cast<double>(n) * beta;
+        st->w[n] = st->c[n] * (n == 0 ? 1.0 : 2.0 * std::exp(-0.5 * nb * nb)) / kTwoPi;
+      }
+      st->beta = beta;
+    }
+    const double phi = y[static_cast<std::size_t>(phi_axis)];
+    double sum = 0.0;
+    for (std::size_t n = 0; n < st->w.size(); ++n) sum += st->w[n] * std::cos(static_cast<double>(n) * phi);
+    return sum;
+  };
+}
+
 }  // namespace
 
 std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, std::shared_ptr<const GaussLegendreRule> rule) {
@@ -135,6 +169,10 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.slab_axes = {1, 2};
     tr.make = build(false);
     tr.make_white = build(true);
+    const double beta_min = std::max(radians(0.25), t.axes[0].nodes().front());
+    tr.make_fast = [=](const std::vector<double>& x, bool white) {
+      return fourier_np(info.eta, info.path, x[2], white ? 0.0 : x[1], p, beta_min, 0, 0.0, 3);
+    };
     tr = peak_over_phi(tr);
     tr.peak_axis = 3;
     tr.peak_lo = 0.0;  // N_p of a circular fiber is even in phi
@@ -154,6 +192,10 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.slab_axes = {0, 1};
     tr.make = build(false);
     tr.make_white = build(true);
+    tr.make_fast = [=](const std::vector<double>& x, bool white) {
+      const auto c = static_cast<std::size_t>(std::clamp<long>(std::lround(x[0]), 0, static_cast<long>(sig.size()) - 1));
+      return fourier_np(info.eta, info.path, x[1], white ? 0.0 : sig[c], p, std::max(beta, radians(0.25)), -1, beta, 2);
+    };
     tr = peak_over_phi(tr);
     tr.peak_axis = 2;
     tr.peak_lo = 0.0;  // N_p of a circular fiber is even in phi

@@ -42,6 +42,9 @@ struct TableTruth {
   /// Denominator: the peak of |exact| along this axis over [peak_lo, peak_hi] at the point's other
   /// coordinates (φ of N_p, θr of M_p); −1: |exact| at the point itself.
   int peak_axis = -1;
+  /// Optional: a cheaper evaluation of the same function for the peak search (the Fourier series of
+  /// N_p at 1e−10), for a slab and the white fibre (true) or not; make/make_white otherwise.
+  std::function<PointFunction(const std::vector<double>&, bool white)> make_fast;
   double peak_lo = 0.0, peak_hi = 0.0;
   /// The denominator is at least white_floor × (the same denominator of the white fibre) and at
   /// least absolute_floor.
