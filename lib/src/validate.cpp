@@ -568,10 +568,11 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
 // Accuracy where a renderer samples: random points over every table's declared domain against
 // direct evaluation, relative to the local denominator of each kind (sampled_error.hpp).
 
-// The kind of a table for the per-kind checks: "np" (every N_p table: lobes, residual,
-// materials), "energy", "mp", "melanin", or "" (no check).
+// The kind of a table for the per-kind checks: "np" (the N_p tables of the lobes, also per
+// material), "energy" (energies, and the residual's N_p: its energy / 2π, uniform in φ and β),
+// "mp", "melanin", or "" (no check).
 std::string accuracy_kind(const Table& t) {
-  if (t.quantity == "N_p") return "np";
+  if (t.quantity == "N_p") return t.attributes.value("lobe", std::string()) == "residual" ? "energy" : "np";
   if (t.quantity == "energy") return "energy";
   if (t.quantity == "M_p") return "mp";
   if (t.quantity == "sigma_a") return "melanin";
@@ -700,7 +701,8 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
                            worst_p99["np"].value, th.accuracy_p99_rel, "<=", worst_p99["np"].where));
   }
   const std::tuple<const char*, const char*, const char*, double> kinds[] = {
-      {"energy", "accuracy_energy_max_rel", "Energy tables: worst relative error at random points over the domain", th.accuracy_energy_max_rel},
+      {"energy", "accuracy_energy_max_rel", "Energy tables and the residual's N_p: worst relative error at random points over the domain",
+       th.accuracy_energy_max_rel},
       {"mp", "accuracy_mp_max_rel", "M_p tables: worst error at random points, relative to the peak over theta_r", th.accuracy_mp_max_rel},
       {"melanin", "accuracy_melanin_max_rel", "Melanin sigma_a tables: worst relative error at random points", th.accuracy_melanin_max_rel},
       {"ds", "accuracy_ds_max_rel", "Dual-scattering and mean-energy tables: worst relative error at random points", th.accuracy_ds_max_rel}};

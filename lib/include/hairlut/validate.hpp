@@ -24,9 +24,9 @@ struct ValidationThresholds {
   double mp_table_energy = 5e-2;      ///< max |∫M_table cos θr − ∫M cos θr| of the M_p tables
   /// Accuracy where a renderer samples (sampled_error.hpp: random points over each table's
   /// declared domain, relative to the local denominator of the table's kind).
-  double accuracy_max_rel = 5e-2;     ///< N_p tables: max |sampled − direct| / peak over φ of the slice (white floor 1e-3)
+  double accuracy_max_rel = 5e-2;     ///< N_p tables of the lobes: max |sampled − direct| / peak over φ of the slice (white floor 1e-3)
   double accuracy_p99_rel = 1e-2;     ///< N_p tables: 99th percentile of the same
-  double accuracy_energy_max_rel = 1e-2;   ///< energy tables: max relative error (floors 1e-3 × white, 1e-6)
+  double accuracy_energy_max_rel = 1e-2;   ///< energy tables and the residual's N_p: max relative error (floors 1e-3 × white, 1e-6)
   double accuracy_mp_max_rel = 1e-2;       ///< M_p tables: max error / peak over θr at the same (β, θi)
   double accuracy_melanin_max_rel = 1e-2;  ///< melanin σa tables: max relative error (floor 0.01 per radius)
   double accuracy_ds_max_rel = 1e-2;       ///< dual-scattering and mean-energy tables: max relative error (floors: table_truth.hpp)
