@@ -78,7 +78,7 @@ TEST_CASE("The sampled error finds linear interpolation's error of x^2 (h^2/4 wo
   CHECK(std::abs(u - 0.5) < 0.05);
 }
 
-TEST_CASE("The sampled error of a bilinear table of x^2 + y^2 is (hx^2 + hy^2)/4; exp with geometric interpolation is exact",
+TEST_CASE("The sampled error of a bilinear table of x^2 + y^2 is (hx^2 + hy^2)/4, and exp with geometric interpolation is exact",
           "[sampled_error]") {
   TableSet set;
   set.tables.push_back(tabulate({axis("x", 0.0, 1.0, 5), axis("y", -1.0, 1.0, 9)},
