@@ -55,10 +55,12 @@ int cell_of(const GridAxis& a, double x);
 /// points per line along the peak axis (32 per slab without a peak axis). Each coordinate is
 /// uniform over the axis's declared range [lo, hi] (log-uniform on log axes, a random node on
 /// channel and other explicit axes with labels, uniform between the ends on other explicit axes),
-/// so each point is uniform over the domain. The peak along the peak axis: 129 points, then golden
-/// section around the largest (exact to the golden-section tolerance for a lobe resolved by the
-/// 129-point grid). Throws DomainError from the factor lookup, BakeCancelled is not thrown: check
-/// options.cancel.
+/// so each point is uniform over the domain. The peak along the peak axis (of truth.make_fast when
+/// given, e.g. N_p's Fourier series, else of the reference): 129 points, then golden section on the
+/// two cells around the largest (exact to ~1e−8 of the axis for a peak the 129-point grid
+/// resolves; a narrower peak between grid points is underestimated, which overstates the error).
+/// Throws DomainError (naming the table) when an evaluation throws; on options.cancel it returns
+/// early with the points measured so far.
 SampledError measure_sampled_error(const TableSet& set, const Table& t, const TableTruth& truth, const SampledErrorOptions& options = {});
 
 }  // namespace hairlut
