@@ -160,7 +160,7 @@ AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath p
   const auto rule = std::make_shared<const GaussLegendreRule>(1024);
   AchievedError a;
   for (const Table& t : set.tables) {
-    if (t.group != "np" || t.quantity != "N_p") continue;
+    if (t.group != "np" || t.quantity != "N_p" || t.attributes.value("lobe", std::string()) == "residual") continue;
     const auto truth = table_truth(t, model, rule);
     if (!truth) continue;
     SampledErrorOptions o;
@@ -172,7 +172,7 @@ AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath p
     a.per_table[t.path()] = {r.error.worst, r.error.p99};
     if (r.error.worst > a.worst || a.worst_table.empty()) a.worst = std::max(a.worst, r.error.worst), a.worst_table = t.path();
     a.p99 = std::max(a.p99, r.error.p99);
-    if (t.axes.size() == 4) a.denominator = r.denominator;
+    a.denominator = r.denominator;
   }
   return a;
 }

@@ -67,10 +67,11 @@ struct AchievedError {
   std::string denominator;     ///< the denominator of the lobes' errors, in words
 };
 
-/// The error of every N_p table of group "np" (every lobe including TRRT, and the residual) at
-/// `samples` random points per table over its declared domain, relative to the peak over φ of the
-/// same (β, σa, θd) slice floored at 1e−3 × the white fibre's (relative with floors for the
-/// residual): measure_sampled_error with table_truth. Deterministic for any thread count.
+/// The error of every lobe's N_p table of group "np" (R, TT, TRT, TRRT, ...; not the residual,
+/// which the validator judges with the energies) at `samples` random points per table over its
+/// declared domain, relative to the peak over φ of the same (β, σa, θd) slice floored at 1e−3 × the
+/// white fibre's: measure_sampled_error with table_truth, as validate-hair-luts's
+/// accuracy_max_rel / accuracy_p99_rel. Deterministic for any thread count.
 AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = 4096, int threads = 0);
 
 }  // namespace hairlut
