@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -62,11 +63,21 @@ std::string render_report_markdown(const json& r) {
     o << "| " << c["id"].get<std::string>() << " | " << c["status"].get<std::string>() << " | " << fmt(c["value"]) << " | "
       << c["comparison"].get<std::string>() << ' ' << fmt(c["threshold"]) << " | " << c["detail"].get<std::string>() << " |\n";
   if (r.contains("accuracy") && !r["accuracy"].empty()) {
-    o << "\n## Table accuracy off the nodes (relative to the lobe peak)\n\n";
-    o << "| table | max | p99 | max (half) | axis needing resolution |\n|---|---|---|---|---|\n";
+    o << "\n## Table accuracy where a renderer samples\n\nRandom points over each table's declared domain, the table interpolated as its "
+         "metadata declare, against direct evaluation. Error = |sampled - exact| / denominator, where the denominator is:\n\n";
+    std::vector<std::string> seen;
+    for (const json& t : r["accuracy"]) {
+      const std::string d = t.value("denominator", std::string());
+      if (!d.empty() && std::find(seen.begin(), seen.end(), d) == seen.end()) {
+        seen.push_back(d);
+        o << "- " << t.value("kind", std::string()) << ": " << d << "\n";
+      }
+    }
+    o << "\n| table | points | worst | p99 | mean | worst (half) | p99 (half) | worst point |\n|---|---|---|---|---|---|---|---|\n";
     for (const json& t : r["accuracy"])
-      o << "| " << t["path"].get<std::string>() << " | " << fmt(t["off_node"]["max_rel"]) << " | " << fmt(t["off_node"]["p99_rel"]) << " | "
-        << fmt(t["off_node_half"]["max_rel"]) << " | " << t["needs_resolution"].get<std::string>() << " |\n";
+      o << "| " << t["path"].get<std::string>() << " | " << t["off_node"]["points"] << " | " << fmt(t["off_node"]["max_rel"]) << " | "
+        << fmt(t["off_node"]["p99_rel"]) << " | " << fmt(t["off_node"].value("mean_rel", 0.0)) << " | " << fmt(t["off_node_half"]["max_rel"]) << " | "
+        << fmt(t["off_node_half"]["p99_rel"]) << " | " << (t.contains("worst") ? t["worst"]["where"].get<std::string>() : std::string()) << " |\n";
   }
   o << detail::render_dual_scattering_markdown(r);
   return o.str();
@@ -177,17 +188,31 @@ std::string render_report_html(const json& r) {
   }
   o << "</div>\n";
   // Accuracy.
-  o << "<h2>Table accuracy off the nodes</h2>\n<p>|sampled &minus; direct| at the cell centres (all axes between nodes) and, per axis, halfway "
-       "between the nodes of that axis with the others on nodes, relative to the table's peak; &ldquo;half&rdquo; is the same with the values "
-       "rounded to half floats. The axis with the largest per-axis error is the one that needs more resolution.</p>\n";
-  o << "<table><tr><th>table</th><th>points</th><th>max</th><th>p99</th><th>max (half)</th><th>p99 (half)</th><th>per axis (max)</th><th>needs "
-       "resolution</th></tr>\n";
+  o << "<h2>Table accuracy where a renderer samples</h2>\n<p>|sampled &minus; direct| at random points drawn uniformly over each table's "
+       "declared domain (log-uniform on log axes), the table interpolated with the reconstruction its metadata declare, divided by the "
+       "denominator of its kind; &ldquo;half&rdquo; is the same with the values rounded to half floats. Per axis: the worst error of the "
+       "points in the worst cell of that axis (cell index from 0).</p>\n<ul>\n";
+  {
+    std::vector<std::string> seen;
+    for (const json& a : r["accuracy"]) {
+      const std::string d = a.value("denominator", std::string());
+      if (!d.empty() && std::find(seen.begin(), seen.end(), d) == seen.end()) {
+        seen.push_back(d);
+        o << "<li>" << escape(a.value("kind", std::string())) << ": " << escape(d) << "</li>\n";
+      }
+    }
+  }
+  o << "</ul>\n<table><tr><th>table</th><th>points</th><th>worst</th><th>p99</th><th>mean</th><th>worst (half)</th><th>p99 (half)</th>"
+       "<th>per axis (worst cell)</th><th>worst point</th></tr>\n";
   for (const json& a : r["accuracy"]) {
     std::string per;
-    for (const json& pa : a["per_axis"]) per += escape(pa["axis"].get<std::string>()) + ": " + fmt(pa["max_rel"]) + "<br>";
+    for (const json& pa : a["per_axis"])
+      per += escape(pa["axis"].get<std::string>()) + ": " + fmt(pa["max_rel"]) +
+             (pa.contains("worst_cell") ? " (cell " + std::to_string(pa["worst_cell"].get<int>()) + ")" : std::string()) + "<br>";
     o << "<tr><td>" << escape(a["path"].get<std::string>()) << "</td><td>" << a["off_node"]["points"] << "</td><td>" << fmt(a["off_node"]["max_rel"])
-      << "</td><td>" << fmt(a["off_node"]["p99_rel"]) << "</td><td>" << fmt(a["off_node_half"]["max_rel"]) << "</td><td>"
-      << fmt(a["off_node_half"]["p99_rel"]) << "</td><td>" << per << "</td><td>" << escape(a["needs_resolution"].get<std::string>()) << "</td></tr>\n";
+      << "</td><td>" << fmt(a["off_node"]["p99_rel"]) << "</td><td>" << fmt(a["off_node"].value("mean_rel", 0.0)) << "</td><td>"
+      << fmt(a["off_node_half"]["max_rel"]) << "</td><td>" << fmt(a["off_node_half"]["p99_rel"]) << "</td><td>" << per << "</td><td>"
+      << (a.contains("worst") ? escape(a["worst"]["where"].get<std::string>()) : std::string()) << "</td></tr>\n";
   }
   o << "</table>\n";
   for (const json& a : r["accuracy"]) {

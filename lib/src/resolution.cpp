@@ -7,6 +7,8 @@
 #include "hairlut/bake.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/lobe_energy.hpp"
+#include "hairlut/sampled_error.hpp"
+#include "hairlut/table_truth.hpp"
 
 namespace hairlut {
 namespace {
@@ -229,36 +231,29 @@ ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta,
   return plan;
 }
 
-double measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples) {
-  const auto rules = std::make_shared<GaussLegendreCache>();
-  double worst = 0.0;
-  for (int p = 0; p < 3; ++p) {
-    static const char* names[] = {"np/R", "np/TT", "np/TRT"};
-    const Table* t = set.find(names[p]);
-    if (!t || t->axes.size() != 4) continue;
-    double peak = 0.0;
-    for (std::size_t i = 0; i < t->size(); ++i) peak = std::max(peak, t->get(i));
-    if (!(peak > 0.0)) continue;
-    // Cell centres of β and φ, for a deterministic set of (σa, θd) cells.
-    std::vector<double> bc, pc;
-    for (int i = 0; i + 1 < t->axes[0].count; ++i) bc.push_back(midpoint(t->axes[0], i));
-    for (int i = 0; i + 1 < t->axes[3].count; ++i) pc.push_back(midpoint(t->axes[3], i));
-    if (bc.empty()) bc = t->axes[0].nodes();
-    if (pc.empty()) pc = t->axes[3].nodes();
-    const std::size_t pairs = std::max<std::size_t>(1, samples / std::max<std::size_t>(1, bc.size() * pc.size()));
-    std::uint64_t state = 99 + static_cast<std::uint64_t>(p);
-    for (std::size_t q = 0; q < pairs; ++q) {
-      const GridAxis& sa = t->axes[1];
-      const GridAxis& ta = t->axes[2];
-      const double sigma = sa.count > 1 ? midpoint(sa, static_cast<int>(next_random(state) % static_cast<std::uint64_t>(sa.count - 1))) : sa.lo;
-      const double theta = ta.count > 1 ? midpoint(ta, static_cast<int>(next_random(state) % static_cast<std::uint64_t>(ta.count - 1))) : ta.lo;
-      const auto exact = exact_grid(eta, path, p, bc, {sigma}, {theta}, pc, rules);
-      for (std::size_t b = 0; b < bc.size(); ++b)
-        for (std::size_t j = 0; j < pc.size(); ++j)
-          worst = std::max(worst, std::abs(t->sample({bc[b], sigma, theta, pc[j]}) - exact[b * pc.size() + j]) / peak);
-    }
+AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples, int threads) {
+  TruthModel model;
+  model.eta = eta;
+  model.path = path;
+  if (set.metadata.contains("lobes") && set.metadata["lobes"].is_array()) model.explicit_lobes = static_cast<int>(set.metadata["lobes"].size());
+  const auto rule = std::make_shared<const GaussLegendreRule>(1024);
+  AchievedError a;
+  for (const Table& t : set.tables) {
+    if (t.group != "np" || t.quantity != "N_p" || t.attributes.value("lobe", std::string()) == "residual") continue;
+    const auto truth = table_truth(t, model, rule);
+    if (!truth) continue;
+    SampledErrorOptions o;
+    o.points = samples;
+    o.seed = 0x5eed0000ULL + static_cast<std::uint64_t>(t.attributes.value("p", 0));
+    o.threads = threads;
+    const SampledError r = measure_sampled_error(set, t, *truth, o);
+    a.points += r.error.points;
+    a.per_table[t.path()] = {r.error.worst, r.error.p99};
+    if (r.error.worst > a.worst || a.worst_table.empty()) a.worst = std::max(a.worst, r.error.worst), a.worst_table = t.path();
+    a.p99 = std::max(a.p99, r.error.p99);
+    a.denominator = r.denominator;
   }
-  return worst;
+  return a;
 }
 
 }  // namespace hairlut

@@ -1,6 +1,5 @@
 #include "hairlut/validate.hpp"
 
-#include <Imath/half.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -23,6 +22,8 @@
 #include "hairlut/longitudinal_mp.hpp"
 #include "hairlut/marschner.hpp"
 #include "hairlut/melanin.hpp"
+#include "hairlut/sampled_error.hpp"
+#include "hairlut/table_truth.hpp"
 #include "validate_sections.hpp"
 
 namespace hairlut {
@@ -35,6 +36,10 @@ const std::map<std::string, double ValidationThresholds::*>& ValidationThreshold
       {"mp_table_energy", &ValidationThresholds::mp_table_energy},
       {"accuracy_max_rel", &ValidationThresholds::accuracy_max_rel},
       {"accuracy_p99_rel", &ValidationThresholds::accuracy_p99_rel},
+      {"accuracy_energy_max_rel", &ValidationThresholds::accuracy_energy_max_rel},
+      {"accuracy_mp_max_rel", &ValidationThresholds::accuracy_mp_max_rel},
+      {"accuracy_melanin_max_rel", &ValidationThresholds::accuracy_melanin_max_rel},
+      {"accuracy_ds_max_rel", &ValidationThresholds::accuracy_ds_max_rel},
       {"energy_consistency", &ValidationThresholds::energy_consistency},
       {"ds_furnace", &ValidationThresholds::ds_furnace},
       {"ds_consistency", &ValidationThresholds::ds_consistency},
@@ -125,13 +130,6 @@ std::string fmt(double v, int digits = 3) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size()))) - (q > 0 ? 1 : 0));
-  return v[k];
 }
 
 void check_cancel(const ValidationOptions& opt) {
@@ -569,9 +567,36 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
 }
 
 // ---------------------------------------------------------------------------------------------
-// Accuracy off the nodes.
+// Accuracy where a renderer samples: random points over every table's declared domain against
+// direct evaluation, relative to the local denominator of each kind (sampled_error.hpp).
 
-// Midpoint in the axis's mapped coordinate between nodes i and i + 1.
+// The kind of a table for the per-kind checks: "np" (the N_p tables of the lobes, also per
+// material), "energy" (energies, and the residual's N_p: its energy / 2π, uniform in φ and β),
+// "mp", "melanin", or "" (no check).
+std::string accuracy_kind(const Table& t) {
+  if (t.quantity == "N_p") return t.attributes.value("lobe", std::string()) == "residual" ? "energy" : "np";
+  if (t.quantity == "energy") return "energy";
+  if (t.quantity == "M_p") return "mp";
+  if (t.quantity == "sigma_a" || t.quantity == "transmittance") return "melanin";
+  return "";
+}
+
+json error_stats(const SampledErrorStats& s) {
+  return {{"points", s.points}, {"max_rel", s.worst}, {"p99_rel", s.p99}, {"mean_rel", s.mean}, {"max_abs", s.worst_abs}};
+}
+
+std::string point_text(const Table& t, const std::vector<double>& x) {
+  std::string s;
+  for (std::size_t k = 0; k < t.axes.size() && k < x.size(); ++k) {
+    const GridAxis& a = t.axes[k];
+    const bool angle = a.units == "rad";
+    s += (s.empty() ? "" : ", ") + a.name + " = " + fmt(angle ? degrees(x[k]) : x[k], 4) + (angle ? " deg" : "");
+    if (a.count > 1 && a.name != "channel") s += " (cell " + std::to_string(cell_of(a, x[k])) + ")";
+  }
+  return s;
+}
+
+// Midpoint of cell i in the axis's mapped coordinate (heat-map labels).
 double cell_centre(const GridAxis& a, int i) {
   if (a.spacing == Spacing::explicit_values) return 0.5 * (a.values[static_cast<std::size_t>(i)] + a.values[static_cast<std::size_t>(i) + 1]);
   const double t0 = sampler::mapped(a.spacing, sampler::node(a.view(), i));
@@ -579,313 +604,115 @@ double cell_centre(const GridAxis& a, int i) {
   return sampler::unmapped(a.spacing, 0.5 * (t0 + t1));
 }
 
-// The exact function a table approximates, evaluated through "slabs": points that share the
-// slab-axis coordinates share one precomputation (the Gauss–Legendre node factors of N_p).
-struct Truth {
-  std::vector<int> slab_axes;
-  std::function<std::function<double(const std::vector<double>&)>(const std::vector<double>&)> make;
-};
-
-// Marschner 2003 tables: N_p and energies over (σa or channel, θd, [φh,] φ) evaluated directly
-// (no quadrature in N_p; the energies by adaptive quadrature), M_p the closed-form Gaussian.
-std::optional<Truth> marschner_truth_for(const Table& t, const MarschnerConfig& m, const std::vector<std::string>& dims) {
-  const int p = t.attributes.value("p", -1);
-  if (dims.size() < 2 || p < 0 || p > 2) return std::nullopt;
-  if (t.quantity == "M_p" && t.attributes.value("function", std::string()) == "gaussian") {
-    const double alpha = t.attributes.value("alpha_theta_h", 0.0);
-    const GaussianArgument arg = t.attributes.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
-    if (dims == std::vector<std::string>{"beta", "theta_i", "theta_r"}) {
-      const double ratio = t.attributes.value("beta_ratio", 1.0);
-      return Truth{{}, [=](const std::vector<double>&) {
-                     return std::function<double(const std::vector<double>&)>(
-                         [=](const std::vector<double>& y) { return longitudinal_gaussian(ratio * y[0], alpha, y[1], y[2], arg); });
-                   }};
-    }
-    if (dims == std::vector<std::string>{"theta_i", "theta_r"}) {
-      const double beta = t.attributes.value("beta", 0.1);
-      return Truth{{}, [=](const std::vector<double>&) {
-                     return std::function<double(const std::vector<double>&)>(
-                         [=](const std::vector<double>& y) { return longitudinal_gaussian(beta, alpha, y[0], y[1], arg); });
-                   }};
-    }
-    return std::nullopt;
-  }
-  if (dims[0] != "sigma_a" && dims[0] != "channel") return std::nullopt;
-  if (dims[1] != "theta_d") return std::nullopt;
-  const bool with_h = dims.size() > 2 && dims[2] == "phi_h";
-  std::vector<double> channel_sigmas;
-  if (dims[0] == "channel") {
-    if (!t.attributes.contains("sigma_a")) return std::nullopt;
-    channel_sigmas = t.attributes["sigma_a"].get<std::vector<double>>();
-  }
-  auto sigma_of = [channel_sigmas](double x) {
-    return channel_sigmas.empty() ? x : channel_sigmas[static_cast<std::size_t>(std::clamp<long>(std::lround(x), 0, static_cast<long>(channel_sigmas.size()) - 1))];
-  };
-  const std::vector<int> slab = with_h ? std::vector<int>{1, 2} : std::vector<int>{1};
-  const MarschnerParams params = m.params;
-  const bool np = t.quantity == "N_p" && dims.back() == "phi" && dims.size() == (with_h ? 4u : 3u);
-  const bool energy = t.quantity == "energy" && dims.size() == (with_h ? 3u : 2u);
-  if (!np && !energy) return std::nullopt;
-  return Truth{slab, [=](const std::vector<double>& x) {
-                 auto az = std::make_shared<MarschnerAzimuthal>(params, x[1], with_h ? x[2] : 0.0);
-                 return std::function<double(const std::vector<double>&)>([=](const std::vector<double>& y) {
-                   const double sig = sigma_of(y[0]);
-                   if (np) return az->np(p, sig, y.back());
-                   double e = 0.0;
-                   az->energy(p, std::span<const double>(&sig, 1), std::span<double>(&e, 1));
-                   return e;
-                 });
-               }};
+std::uint64_t seed_of(const std::string& path) {  // FNV-1a: the same points for a table in every run
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : path) h = (h ^ c) * 1099511628211ULL;
+  return h;
 }
 
-std::optional<Truth> truth_for(const Table& t, const ModelInfo& info, std::shared_ptr<const GaussLegendreRule> rule) {
-  const auto dims = [&]() {
-    std::vector<std::string> d;
-    for (const GridAxis& a : t.axes) d.push_back(a.name);
-    return d;
-  }();
-  if (info.marschner && t.attributes.value("model", std::string()) == "marschner2003") return marschner_truth_for(t, *info.marschner, dims);
-  const int p = t.attributes.value("p", -1);
-  const bool is_residual = t.attributes.value("lobe", std::string()) == "residual";
-  // Exact N_p: Gauss–Legendre of order 1024 in γ (converged to ~1e−14 for β ≥ 1°, see the
-  // tests), the adaptive reference below 1°.
-  auto np_slab = [info, rule](double theta_d, double sigma, int lobe) {
-    const AttenuationSlice slice(info.eta, theta_d, sigma, info.path);
-    auto slab = std::make_shared<NpQuadratureSlab>(slice, lobe, *rule, IntegrationVariable::gamma);
-    return std::function<double(double, double)>([slice, slab, lobe](double beta, double phi) {
-      if (beta < radians(1.0)) return azimuthal_np_reference(slice, lobe, beta, phi, 1e-9).value[0];
-      return (*slab)(beta, phi);
-    });
-  };
-  auto energy_of = [info](double theta_d, double sigma, int lobe_index, bool residual) {
-    const AttenuationSlice slice(info.eta, theta_d, sigma, info.path);
-    const auto e = lobe_energies_reference(slice, {info.explicit_lobes, true}, 1e-13).value;
-    return residual ? e.back() : e[static_cast<std::size_t>(lobe_index)];
-  };
-  if (t.quantity == "N_p" && dims == std::vector<std::string>{"beta", "sigma_a", "theta_d", "phi"} && p >= 0)
-    return Truth{{1, 2}, [=](const std::vector<double>& x) {
-                   auto f = np_slab(x[2], x[1], p);
-                   return std::function<double(const std::vector<double>&)>([f](const std::vector<double>& y) { return f(y[0], y[3]); });
-                 }};
-  if (t.quantity == "N_p" && dims == std::vector<std::string>{"channel", "theta_d", "phi"} && p >= 0 && t.attributes.contains("sigma_a")) {
-    const auto sig = t.attributes["sigma_a"].get<std::vector<double>>();
-    const double beta = t.attributes.value("beta", 0.1);
-    return Truth{{0, 1}, [=](const std::vector<double>& x) {
-                   auto f = np_slab(x[1], sig[static_cast<std::size_t>(std::lround(x[0]))], p);
-                   return std::function<double(const std::vector<double>&)>([f, beta](const std::vector<double>& y) { return f(beta, y[2]); });
-                 }};
-  }
-  if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && dims == std::vector<std::string>{"sigma_a", "theta_d"}) {
-    const bool res = is_residual;
-    const double scale = t.quantity == "N_p" ? 1.0 / kTwoPi : 1.0;
-    return Truth{{}, [=](const std::vector<double>&) {
-                   return std::function<double(const std::vector<double>&)>(
-                       [=](const std::vector<double>& y) { return scale * energy_of(y[1], y[0], res ? 0 : p, res); });
-                 }};
-  }
-  if (t.quantity == "M_p" && dims == std::vector<std::string>{"beta", "theta_i", "theta_r"}) {
-    const double alpha = t.attributes.value("alpha", 0.0);
-    return Truth{{}, [=](const std::vector<double>&) {
-                   return std::function<double(const std::vector<double>&)>(
-                       [=](const std::vector<double>& y) { return longitudinal_deon_tilted(y[0] * y[0], alpha, y[1], y[2]); });
-                 }};
-  }
-  if (t.quantity == "M_p" && dims == std::vector<std::string>{"theta_i", "theta_r"}) {
-    const double alpha = t.attributes.value("alpha", 0.0), beta = t.attributes.value("beta", 0.1);
-    return Truth{{}, [=](const std::vector<double>&) {
-                   return std::function<double(const std::vector<double>&)>(
-                       [=](const std::vector<double>& y) { return longitudinal_deon_tilted(beta * beta, alpha, y[0], y[1]); });
-                 }};
-  }
-  if (t.quantity == "sigma_a" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
-    if (t.name == "sigma_a_deon")
-      return Truth{{}, [](const std::vector<double>&) {
-                     return std::function<double(const std::vector<double>&)>([](const std::vector<double>& y) {
-                       const Rgb s = melanin_sigma_a_rgb(y[0], y[1]);
-                       const double c[3] = {s.r, s.g, s.b};
-                       return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
-                     });
-                   }};
-    return std::nullopt;
-  }
-  if (t.quantity == "transmittance" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
-    SpectralMelanin::Options so;
-    so.path_length = t.attributes.value("path_length", 2.0);
-    so.spectral_scale = t.attributes.value("spectral_scale", 0.0);
-    auto model = std::make_shared<SpectralMelanin>(SpectralMelanin::builtin(so));
-    const double L = so.path_length;
-    return Truth{{}, [model, L](const std::vector<double>&) {
-                   return std::function<double(const std::vector<double>&)>([model, L](const std::vector<double>& y) {
-                     const Rgb s = model->transmittance_unclamped(y[0], y[1], L);
-                     const double c[3] = {s.r, s.g, s.b};
-                     return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
-                   });
-                 }};
-  }
-  return std::nullopt;
-}
-
-struct PointErrors {
-  std::vector<std::vector<double>> x;  // coordinates
-  std::vector<double> abs_err, abs_err_half;
-};
-
-// Errors of the table (and of its half-rounded copy) at the cartesian product of per-axis
-// coordinate lists, slab axes outermost; at most max_points (every k-th group beyond).
-PointErrors evaluate_points(const Table& t, const Table& half_t, const Truth& truth, const std::vector<std::vector<double>>& coords,
-                            std::size_t max_points, const ValidationOptions& opt) {
-  const std::size_t dims = coords.size();
-  std::vector<int> order = truth.slab_axes;
-  for (int k = 0; k < static_cast<int>(dims); ++k)
-    if (std::find(order.begin(), order.end(), k) == order.end()) order.push_back(k);
-  const std::size_t n_slab_axes = truth.slab_axes.size();
-  std::size_t groups = 1, per_group = 1;
-  for (std::size_t k = 0; k < dims; ++k) (k < n_slab_axes ? groups : per_group) *= coords[static_cast<std::size_t>(order[k])].size();
-  const std::size_t total = groups * per_group;
-  const std::size_t stride = std::max<std::size_t>(1, (total + max_points - 1) / std::max<std::size_t>(max_points, 1));
-  // Every group is kept (so that every cell of the slab axes is sampled) unless there are more
-  // groups than points allowed; within groups a deterministic pseudo-random subset of about
-  // 1/stride of the points is kept (a regular stride would alias with the grid).
-  const std::size_t group_stride = groups > max_points ? (groups + max_points - 1) / max_points : 1;
-  const std::size_t point_stride = std::max<std::size_t>(1, stride / group_stride);
-  auto keep = [point_stride](std::size_t g, std::size_t j) {
-    if (point_stride == 1) return true;
-    std::uint64_t h = (static_cast<std::uint64_t>(g) << 32) ^ j;  // splitmix64 finalizer
-    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
-    return ((h ^ (h >> 31)) % point_stride) == 0;
-  };
-  std::vector<std::size_t> chosen;
-  for (std::size_t g = 0; g < groups; g += group_stride) chosen.push_back(g);
-  std::vector<PointErrors> parts(chosen.size());
-  auto unflatten = [&](std::size_t index, std::size_t first_axis, std::size_t last_axis, std::vector<double>& x) {
-    for (std::size_t k = last_axis; k-- > first_axis;) {
-      const auto& c = coords[static_cast<std::size_t>(order[k])];
-      x[static_cast<std::size_t>(order[k])] = c[index % c.size()];
-      index /= c.size();
-    }
-  };
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  std::atomic<bool> stop{false};
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t gi = 0; gi < chosen.size(); ++gi) {
-    if (stop.load() || (opt.cancel && opt.cancel->load())) {
-      stop = true;
-      continue;
-    }
-    std::vector<double> x(dims);
-    unflatten(chosen[gi], 0, n_slab_axes, x);
-    const auto f = truth.make(x);
-    PointErrors& pe = parts[gi];
-    for (std::size_t j = 0; j < per_group; ++j) {
-      if (!keep(chosen[gi], j)) continue;
-      unflatten(j, n_slab_axes, dims, x);
-      const double exact = f(x);
-      pe.x.push_back(x);
-      pe.abs_err.push_back(std::abs(t.sample(x) - exact));
-      pe.abs_err_half.push_back(std::abs(half_t.sample(x) - exact));
-    }
-  }
-  check_cancel(opt);
-  PointErrors all;
-  for (auto& p : parts) {
-    all.x.insert(all.x.end(), p.x.begin(), p.x.end());
-    all.abs_err.insert(all.abs_err.end(), p.abs_err.begin(), p.abs_err.end());
-    all.abs_err_half.insert(all.abs_err_half.end(), p.abs_err_half.begin(), p.abs_err_half.end());
-  }
-  return all;
-}
-
-json error_stats(const std::vector<double>& abs_err, double peak) {
-  const double mx = abs_err.empty() ? 0.0 : *std::max_element(abs_err.begin(), abs_err.end());
-  const double p99 = percentile(abs_err, 0.99);
-  return {{"points", abs_err.size()}, {"max_abs", mx}, {"p99_abs", p99}, {"max_rel", peak > 0 ? mx / peak : 0.0},
-          {"p99_rel", peak > 0 ? p99 / peak : 0.0}};
-}
+constexpr std::size_t kDualScatteringPoints = 256;
 
 json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
   json out = json::array();
-  double worst_max = 0.0, worst_p99 = 0.0;
-  std::string worst_max_where, worst_p99_where;
+  struct Worst {
+    double value = -1.0;
+    std::string where;
+    bool any = false;
+    void update(double v, const std::string& w) {
+      any = true;
+      if (v > value) value = v, where = w;
+    }
+  };
+  std::map<std::string, Worst> worst_max, worst_p99;
+  std::map<std::string, std::string> denominators;
   const auto rule = std::make_shared<const GaussLegendreRule>(1024);
+  const TruthModel model{info.eta, info.path, info.explicit_lobes, info.marschner};
+  const auto ds_memo = make_dual_scattering_memo();
   std::size_t done = 0;
   for (const Table& t : set.tables) {
     if (opt.progress) opt.progress("accuracy", done, set.tables.size());
     ++done;
     check_cancel(opt);
-    const auto truth = truth_for(t, info, rule);
+    std::string kind = accuracy_kind(t);
+    auto truth = kind.empty() ? std::nullopt : table_truth(t, model, rule);
+    if (!truth && (truth = dual_scattering_truth(set, t, ds_memo))) kind = "ds";
     if (!truth) continue;
-    double peak = 0.0;
-    for (std::size_t i = 0; i < t.size(); ++i) peak = std::max(peak, std::abs(t.get(i)));
-    Table half_t = t;
-    for (std::size_t i = 0; i < t.size(); ++i) half_t.set(i, static_cast<float>(half(static_cast<float>(t.get(i)))));
-    // Coordinates: cell centres along every axis with more than one node (the channel axis stays
-    // on its nodes), and per axis the cell centres of that axis with the others on nodes.
-    std::vector<std::vector<double>> nodes, centres;
-    for (const GridAxis& a : t.axes) {
-      nodes.push_back(a.nodes());
-      std::vector<double> c;
-      if (a.name != "channel")
-        for (int i = 0; i + 1 < a.count; ++i) c.push_back(cell_centre(a, i));
-      centres.push_back(c.empty() ? a.nodes() : c);
-    }
-    const PointErrors all = evaluate_points(t, half_t, *truth, centres, opt.max_points, opt);
-    json tj = {{"path", t.path()}, {"quantity", t.quantity}, {"peak", peak}, {"dims", json::array()}};
+    SampledErrorOptions so;
+    // Dual-scattering references are slow (adaptive θr integrals of half-range energies): at most
+    // kDualScatteringPoints points, the same for every table of the groups (one evaluation each).
+    so.points = std::max<std::size_t>(kind == "ds" ? std::min(opt.max_points, kDualScatteringPoints) : opt.max_points, 1);
+    so.seed = kind == "ds" ? seed_of("dual_scattering") : seed_of(t.path());
+    so.threads = opt.threads;
+    so.half_float = true;
+    so.keep_points = true;
+    so.cancel = opt.cancel;
+    const SampledError r = measure_sampled_error(set, t, *truth, so);
+    check_cancel(opt);
+    json tj = {{"path", t.path()}, {"quantity", t.quantity}, {"kind", kind}, {"denominator", r.denominator}, {"dims", json::array()}};
     for (const GridAxis& a : t.axes) tj["dims"].push_back(a.name);
-    tj["off_node"] = error_stats(all.abs_err, peak);
-    tj["off_node_half"] = error_stats(all.abs_err_half, peak);
+    tj["off_node"] = error_stats(r.error);
+    tj["off_node_half"] = error_stats(r.half);
+    json at = json::object();
+    for (std::size_t k = 0; k < t.axes.size(); ++k) at[t.axes[k].name] = r.worst_at[k];
+    tj["worst"] = {{"at", at}, {"where", point_text(t, r.worst_at)}, {"sampled", r.worst_sampled}, {"exact", r.worst_exact},
+                   {"denominator", r.worst_denominator}};
+    // Per axis: the worst error among the points in each cell of the axis.
     json per_axis = json::array();
     for (std::size_t k = 0; k < t.axes.size(); ++k) {
       if (t.axes[k].count < 2 || t.axes[k].name == "channel") continue;
-      std::vector<std::vector<double>> c = nodes;
-      c[k] = centres[k];
-      const PointErrors e = evaluate_points(t, half_t, *truth, c, opt.max_points / 2, opt);
-      json s = error_stats(e.abs_err, peak);
-      s["axis"] = t.axes[k].name;
-      s["count"] = t.axes[k].count;
-      per_axis.push_back(s);
+      const auto& cells = r.per_axis_cells[k];
+      const auto mx = std::max_element(cells.begin(), cells.end());
+      per_axis.push_back({{"axis", t.axes[k].name}, {"count", t.axes[k].count}, {"max_rel", *mx},
+                          {"worst_cell", static_cast<int>(mx - cells.begin())}, {"cells_max_rel", cells}});
     }
     tj["per_axis"] = per_axis;
-    std::string worst_axis;
-    double worst_axis_err = -1.0;
-    for (const auto& s : per_axis)
-      if (s["max_rel"].get<double>() > worst_axis_err) worst_axis_err = s["max_rel"].get<double>(), worst_axis = s["axis"].get<std::string>();
-    tj["needs_resolution"] = worst_axis;
-    // Heat maps of the largest relative error per pair of axes (cells of the centre grid).
+    // Heat maps of the largest relative error per pair of axes (cells of the table).
     json heat = json::array();
     for (std::size_t i = 0; i < t.axes.size(); ++i)
       for (std::size_t j = i + 1; j < t.axes.size(); ++j) {
-        if (t.axes[i].count < 2 || t.axes[j].count < 2 || t.axes[i].name == "channel" || t.axes[j].name == "channel") continue;
-        const std::size_t ni = centres[i].size(), nj = centres[j].size();
+        const GridAxis &ai = t.axes[i], &aj = t.axes[j];
+        if (ai.count < 2 || aj.count < 2 || ai.name == "channel" || aj.name == "channel") continue;
+        const auto ni = static_cast<std::size_t>(ai.count - 1), nj = static_cast<std::size_t>(aj.count - 1);
         std::vector<std::vector<double>> grid(ni, std::vector<double>(nj, NAN));  // NaN: no point in this cell
-        for (std::size_t q = 0; q < all.x.size(); ++q) {
-          const auto ii = static_cast<std::size_t>(std::lower_bound(centres[i].begin(), centres[i].end(), all.x[q][i]) - centres[i].begin());
-          const auto jj = static_cast<std::size_t>(std::lower_bound(centres[j].begin(), centres[j].end(), all.x[q][j]) - centres[j].begin());
-          if (ii < ni && jj < nj) {
-            const double e = peak > 0 ? all.abs_err[q] / peak : 0.0;
-            grid[ii][jj] = std::isnan(grid[ii][jj]) ? e : std::max(grid[ii][jj], e);
-          }
+        for (std::size_t q = 0; q < r.x.size(); ++q) {
+          double& g = grid[static_cast<std::size_t>(cell_of(ai, r.x[q][i]))][static_cast<std::size_t>(cell_of(aj, r.x[q][j]))];
+          g = std::isnan(g) ? r.rel[q] : std::max(g, r.rel[q]);
         }
-        heat.push_back({{"x", t.axes[j].name}, {"y", t.axes[i].name}, {"x_centres", centres[j]}, {"y_centres", centres[i]}, {"max_rel", grid}});
+        std::vector<double> ci, cj;
+        for (int c = 0; c + 1 < ai.count; ++c) ci.push_back(cell_centre(ai, c));
+        for (int c = 0; c + 1 < aj.count; ++c) cj.push_back(cell_centre(aj, c));
+        heat.push_back({{"x", aj.name}, {"y", ai.name}, {"x_centres", cj}, {"y_centres", ci}, {"max_rel", grid}});
       }
     tj["heatmaps"] = heat;
     out.push_back(tj);
-    const double mr = tj["off_node"]["max_rel"].get<double>(), pr = tj["off_node"]["p99_rel"].get<double>();
-    if (mr > worst_max) worst_max = mr, worst_max_where = t.path() + (worst_axis.empty() ? "" : " (most along " + worst_axis + ")");
-    if (pr > worst_p99) worst_p99 = pr, worst_p99_where = t.path();
+    worst_max[kind].update(r.error.worst, t.path() + " at " + point_text(t, r.worst_at) + ": sampled " + fmt(r.worst_sampled, 4) + ", exact " +
+                                              fmt(r.worst_exact, 4) + ", denominator " + fmt(r.worst_denominator, 4));
+    worst_p99[kind].update(r.error.p99, t.path());
+    denominators[kind] = r.denominator;
   }
   if (opt.progress) opt.progress("accuracy", set.tables.size(), set.tables.size());
-  if (out.empty()) {
-    checks.push_back(skipped("accuracy_max_rel", "Table accuracy off the nodes", "no table of a known kind"));
+  const ValidationThresholds& th = opt.thresholds;
+  auto words = [&](const std::string& kind) { return "; denominator: " + denominators[kind]; };
+  if (!worst_max["np"].any) {
+    checks.push_back(skipped("accuracy_max_rel", "N_p tables where a renderer samples", "no N_p table of a known kind"));
   } else {
-    checks.push_back(check("accuracy_max_rel", "Largest off-node error of the sampled tables, relative to the lobe peak",
-                           worst_max <= opt.thresholds.accuracy_max_rel, worst_max, opt.thresholds.accuracy_max_rel, "<=", worst_max_where));
-    checks.push_back(check("accuracy_p99_rel", "99th percentile of the off-node error, relative to the lobe peak",
-                           worst_p99 <= opt.thresholds.accuracy_p99_rel, worst_p99, opt.thresholds.accuracy_p99_rel, "<=", worst_p99_where));
+    checks.push_back(check("accuracy_max_rel", "N_p tables: worst error at random points over the domain, relative to the slice's peak over phi",
+                           worst_max["np"].value <= th.accuracy_max_rel, worst_max["np"].value, th.accuracy_max_rel, "<=",
+                           worst_max["np"].where + words("np")));
+    checks.push_back(check("accuracy_p99_rel", "N_p tables: 99th percentile of the same", worst_p99["np"].value <= th.accuracy_p99_rel,
+                           worst_p99["np"].value, th.accuracy_p99_rel, "<=", worst_p99["np"].where));
   }
+  const std::tuple<const char*, const char*, const char*, double> kinds[] = {
+      {"energy", "accuracy_energy_max_rel", "Energy tables and the residual's N_p: worst relative error at random points over the domain",
+       th.accuracy_energy_max_rel},
+      {"mp", "accuracy_mp_max_rel", "M_p tables: worst error at random points, relative to the peak over theta_r", th.accuracy_mp_max_rel},
+      {"melanin", "accuracy_melanin_max_rel", "Melanin tables (sigma_a, spectral transmittance): worst relative error at random points", th.accuracy_melanin_max_rel},
+      {"ds", "accuracy_ds_max_rel", "Dual-scattering and mean-energy tables: worst relative error at random points", th.accuracy_ds_max_rel}};
+  for (const auto& [kind, id, title, threshold] : kinds)
+    if (worst_max[kind].any)
+      checks.push_back(check(id, title, worst_max[kind].value <= threshold, worst_max[kind].value, threshold, "<=", worst_max[kind].where + words(kind)));
   return out;
 }
-
 // ∫ N_table dφ against the energy table, and energies against σa and θd, melanin swatches.
 json absorption_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
   json out;

@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
 
 Writes report.html (open it in a browser), report.json and report.md into --out. Thresholds
 (name=value): furnace_direct, furnace_table, longitudinal_deon, mp_table_energy,
-accuracy_max_rel, accuracy_p99_rel, energy_consistency, and for mean-energy and dual-scattering
+accuracy_max_rel, accuracy_p99_rel (N_p), accuracy_energy_max_rel, accuracy_mp_max_rel,
+accuracy_melanin_max_rel, accuracy_ds_max_rel, energy_consistency, and for mean-energy and dual-scattering
 tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too, and a
 file is judged by the thresholds of the config it was baked with (stored in it); --threshold wins.
 Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input or command
@@ -48,7 +49,9 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
   app.add_option("--out", out_dir, "report directory")->capture_default_str();
   app.add_option("--threshold", thresholds, "override a threshold, name=value (repeatable)");
   app.add_option("--threads", threads, "OpenMP threads for direct evaluation (default: all cores)")->check(CLI::Range(0, 4096));
-  app.add_option("--max-points", max_points, "off-node points per table")->check(CLI::Range(std::size_t{1}, std::size_t{100000000}))->capture_default_str();
+  app.add_option("--max-points", max_points, "random points per table where the accuracy is measured (the work grows with it)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}))
+      ->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
   app.set_version_flag("--version", std::string("validate-hair-luts (hairlut) ") + hairlut::kVersion);
   if (const auto rc = hairlut::tools::parse_command_line(app, "validate-hair-luts", argc, argv)) return *rc;

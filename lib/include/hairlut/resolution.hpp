@@ -76,8 +76,21 @@ class AxisErrorProbe {
 ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
                                   std::size_t max_entries = std::size_t{1} << 31, bool normalize_energy = false);
 
-/// The largest |sampled − exact| / lobe peak of baked N_p tables at `samples` deterministic points
-/// between the nodes (cell centres of every axis), over lobes R, TT, TRT present in the set.
-double measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = 3000);
+/// The error a baked table achieves where a renderer samples (sampled_error.hpp).
+struct AchievedError {
+  double worst = 0.0;          ///< largest over the N_p tables
+  double p99 = 0.0;            ///< largest 99th percentile over the N_p tables
+  std::string worst_table;     ///< where the worst occurs
+  std::size_t points = 0;      ///< points measured, all tables together
+  std::map<std::string, std::pair<double, double>> per_table;  ///< path → (worst, p99)
+  std::string denominator;     ///< the denominator of the lobes' errors, in words
+};
+
+/// The error of every lobe's N_p table of group "np" (R, TT, TRT, TRRT, ...; not the residual,
+/// which the validator judges with the energies) at `samples` random points per table over its
+/// declared domain, relative to the peak over φ of the same (β, σa, θd) slice floored at 1e−3 × the
+/// white fibre's: measure_sampled_error with table_truth, as validate-hair-luts's
+/// accuracy_max_rel / accuracy_p99_rel. Deterministic for any thread count.
+AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = 4096, int threads = 0);
 
 }  // namespace hairlut
