@@ -13,36 +13,6 @@
 namespace hairlut {
 namespace {
 
-// Exact N_p of lobe p over the cartesian product of the four lists (Fourier method, 1e−12),
-// as out[((b · ns + k) · nt + t) · nphi + j].
-std::vector<double> exact_grid(double eta, AbsorptionPath path, int p, const std::vector<double>& betas, const std::vector<double>& sigmas,
-                               const std::vector<double>& thetas, const std::vector<double>& phis, const std::shared_ptr<GaussLegendreCache>& rules) {
-  NpGridRequest r;
-  r.eta = eta;
-  r.path = path;
-  r.quadrature.method = NpQuadratureConfig::Method::fourier;
-  r.quadrature.tolerance = 1e-12;
-  r.lobes = p + 1;
-  r.sigmas = sigmas;
-  r.thetas = thetas;
-  r.phis = phis;
-  r.betas_of = [&](int) { return betas; };
-  r.rules = rules;
-  std::vector<double> out(betas.size() * sigmas.size() * thetas.size() * phis.size());
-  const std::size_t ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
-  BakeOptions o;
-  bake_np_grid(r, o, "", [&](int q, std::size_t k, std::size_t t, std::size_t b, std::size_t j, double v) {
-    if (q == p) out[((b * ns + k) * nt + t) * nphi + j] = v;
-  });
-  return out;
-}
-
-// The midpoint of cell i in the axis's mapped coordinate.
-double midpoint(const GridAxis& a, int i) {
-  const double t0 = sampler::mapped(a.spacing, sampler::node(a.view(), i)), t1 = sampler::mapped(a.spacing, sampler::node(a.view(), i + 1));
-  return sampler::unmapped(a.spacing, 0.5 * (t0 + t1));
-}
-
 std::uint64_t next_random(std::uint64_t& state) {
   std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
