@@ -19,6 +19,7 @@
 #include "hairlut/hair_model.hpp"
 #include "hairlut/lobe_energy.hpp"
 #include "hairlut/longitudinal_mp.hpp"
+#include "hairlut/material_np.hpp"
 #include "hairlut/melanin.hpp"
 #include "hairlut/resolution.hpp"
 #include "hairlut/version.hpp"
@@ -384,6 +385,8 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       set.tables.push_back(std::move(t));
     }
     const std::size_t nb = betas.size(), ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
+    if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
+      report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
     unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules}, opt, "N_p",
                                 [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
                                   set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip, v);
@@ -430,12 +433,29 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       }
       const std::size_t nt = thetas.size(), nphi = phis.size();
       const std::vector<double> channel_sigmas(m.sigma_a.begin(), m.sigma_a.end());
-      unconverged += bake_np_grid(
-          {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
-           [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules},
-          opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
-            set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
-          });
+      if (c.quadrature.method == NpQuadratureConfig::Method::fourier) {
+        // The material's own path: every lobe and channel of a θd from one node set.
+        MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance};
+        for (int p = 0; p < s.lobes; ++p) mr.betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
+        const MaterialNp np(std::move(mr), rules.get());
+        if (!np.note().empty() && &m == &c.scene->materials.front()) report.notes.push_back("per-material N_p: " + np.note());
+        const std::size_t K = channel_sigmas.size();
+        parallel_for(nt, opt, "N_p " + m.name, K * nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t it) {
+          std::vector<double> v;
+          np.evaluate(it, v);
+          for (int p = 0; p < s.lobes; ++p)
+            for (std::size_t ic = 0; ic < K; ++ic)
+              for (std::size_t ip = 0; ip < nphi; ++ip)
+                set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v[(static_cast<std::size_t>(p) * K + ic) * nphi + ip]);
+        });
+      } else {
+        unconverged += bake_np_grid(
+            {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
+             [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules},
+            opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
+              set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
+            });
+      }
       bake_energies(s, lobe_set, channel_sigmas, thetas, opt, [&](std::size_t ic, std::size_t it, const std::vector<double>& e) {
         for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(ic * nt + it, e[p]);
         if (c.residual) set.tables[residual_index].set(ic * nt + it, e.back() / kTwoPi);

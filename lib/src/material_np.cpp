@@ -1,0 +1,234 @@
+#include "hairlut/material_np.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "hairlut/angles.hpp"
+#include "hairlut/error.hpp"
+#include "hairlut/fiber_geometry.hpp"
+#include "hairlut/fresnel.hpp"
+
+namespace hairlut {
+namespace {
+
+// The node factors of FiberNodes::make from the θd-independent ones: the same quantities.
+FiberNodes fiber_nodes(const FiberGeometry& g, AbsorptionPath path, std::span<const double> gamma, std::span<const double> cos_gamma,
+                       std::span<const double> sin_gamma, std::span<const double> weight) {
+  FiberNodes n;
+  const std::size_t m = gamma.size();
+  n.weight.assign(weight.begin(), weight.end());
+  n.gamma_i.assign(gamma.begin(), gamma.end());
+  n.gamma_t.resize(m), n.f.resize(m), n.one_minus_f.resize(m), n.length.resize(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const double st = sin_gamma[i] * g.inv_eta_prime;
+    const double ct = std::sqrt((1.0 - st) * (1.0 + st));
+    n.gamma_t[i] = std::asin(st);
+    const double c = g.cos_theta_d * cos_gamma[i];
+    n.f[i] = detail::fresnel_reflectance_unchecked(g.eta, c);
+    n.one_minus_f[i] = detail::fresnel_transmittance_unchecked(g.eta, c);
+    n.length[i] = path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
+  }
+  return n;
+}
+
+}  // namespace
+
+MaterialNp::MaterialNp(MaterialNpRequest request, GaussLegendreCache* rules) : r_(std::move(request)), grid_(PeriodicGrid::of(r_.phis)) {
+  if (r_.betas.empty()) throw DomainError("a per-material N_p bake needs at least one lobe");
+  for (double b : r_.betas) require_positive("beta", b);
+  for (double s : r_.sigmas) require_non_negative("sigma_a", s);
+  if (grid_.period <= 0) note_ = PeriodicGrid::why_not(r_.phis);
+  const std::size_t nt = r_.thetas.size(), L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
+  const double tol = r_.tolerance;
+  spread_.assign(nt * L, 0);
+  spread_m_.assign(nt, 0);
+  fourier_m_.assign(nt, 0);
+  terms_.resize(L);
+  for (std::size_t p = 0; p < L; ++p) terms_[p] = fourier_terms(r_.betas[p], tol);
+  int max_terms = 0;
+  // The node counts depend on θd only through the largest phase rate max(|2p/η' − 2|, 2) (constant
+  // in θd for p ≤ 2), so they are computed once per lobe and rate.
+  std::map<std::pair<std::size_t, double>, std::pair<int, int>> counts;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
+    for (std::size_t p = 0; p < L; ++p) {
+      const int pi = static_cast<int>(p);
+      const double beta = r_.betas[p];
+      const double rate = std::max(std::abs(2.0 * pi * g.inv_eta_prime - 2.0), 2.0);
+      auto it = counts.find({p, rate});
+      if (it == counts.end()) it = counts.emplace(std::pair{p, rate}, std::pair{spread_nodes(beta, pi, g, tol), fourier_nodes(terms_[p], pi, g, tol)}).first;
+      const int ms = it->second.first, mf = it->second.second;
+      const bool spread = spread_cost(beta, ms, K, grid_, tol) < fourier_cost(terms_[p], mf, K, 1, nphi);
+      spread_[t * L + p] = spread;
+      if (spread) spread_m_[t] = std::max(spread_m_[t], ms);
+      else fourier_m_[t] = std::max(fourier_m_[t], mf), max_terms = std::max(max_terms, terms_[p]);
+    }
+  }
+  if (!rules) {
+    own_rules_ = std::make_unique<GaussLegendreCache>();
+    rules = own_rules_.get();
+  }
+  for (std::size_t t = 0; t < nt; ++t)
+    for (const int m : {spread_m_[t], fourier_m_[t]}) {
+      if (m == 0 || nodes_.count(m)) continue;
+      const GaussLegendreRule& rule = rules->get(m);
+      RuleNodes& n = nodes_[m];
+      for (std::size_t i = 0; i < rule.nodes().size(); ++i) {
+        const double gamma = 0.25 * kPi * (1.0 + rule.nodes()[i]);
+        n.gamma.push_back(gamma);
+        n.cos_gamma.push_back(std::cos(gamma));
+        n.sin_gamma.push_back(std::sin(gamma));
+        n.weight.push_back(rule.weights()[i] * 0.25 * kPi * n.cos_gamma.back());
+      }
+    }
+  if (max_terms > 0) series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
+}
+
+void MaterialNp::evaluate(std::size_t t, std::vector<double>& out) const {
+  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
+  out.assign(L * K * nphi, 0.0);
+  if (spread_m_[t] > 0) spread_at(t, out);
+  if (fourier_m_[t] == 0) return;
+  const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
+  const RuleNodes& rn = nodes_.at(fourier_m_[t]);
+  const FiberNodes nodes = fiber_nodes(g, r_.path, rn.gamma, rn.cos_gamma, rn.sin_gamma, rn.weight);
+  std::vector<double> C, v, row(nphi);
+  for (std::size_t p = 0; p < L; ++p) {
+    if (spread_[t * L + p]) continue;
+    const int N = terms_[p];
+    fourier_coefficients(nodes, g, static_cast<int>(p), r_.sigmas, N, C);
+    const double beta = r_.betas[p];
+    std::vector<double> weight(static_cast<std::size_t>(N) + 1);
+    for (int n = 0; n <= N; ++n) weight[static_cast<std::size_t>(n)] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * beta * beta) / kTwoPi;
+    v.resize(weight.size());
+    for (std::size_t k = 0; k < K; ++k) {
+      for (std::size_t n = 0; n < weight.size(); ++n) v[n] = weight[n] * C[n * K + k];
+      series_->evaluate(v, row);
+      for (std::size_t j = 0; j < nphi; ++j) out[(p * K + k) * nphi + j] = std::max(0.0, row[j]);  // roundoff below 0 clamped
+    }
+  }
+}
+
+// Spreading (the quadrature of spread_np): N(φ_j) = ½ Σ_i W_i A_i [g(φ_j − Φ_i) + g(φ_j + Φ_i)],
+// each node's Gaussian added to the circle points within √(2 ln(2/ε)) β of Φ_i. The window
+// values g(d0 + jΔ) = g0 r^j c_j with g0 = e^{−d0²/2β²}, r = e^{−d0Δ/β²}, c_j = e^{−j²Δ²/2β²}
+// (c_j once per lobe), added to a circle padded by the window radius on both sides and folded
+// at the end, so that the inner loop is a straight run of multiply–adds over the window × σa.
+void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
+  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
+  const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
+  const RuleNodes& n = nodes_.at(spread_m_[t]);
+  const std::size_t m = n.gamma.size();
+  const double a = g.inv_eta_prime, eta = g.eta;
+  std::vector<double> st(m), gt(m), f(m), one_minus_f(m), len(m);
+  for (std::size_t i = 0; i < m; ++i) st[i] = n.sin_gamma[i] * a;
+  for (std::size_t i = 0; i < m; ++i) gt[i] = std::asin(st[i]);
+#pragma omp simd
+  for (std::size_t i = 0; i < m; ++i) {
+    const double ct = std::sqrt((1.0 - st[i]) * (1.0 + st[i]));
+    len[i] = r_.path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
+    // Unpolarised Fresnel at cos θd cos γ from outside (η > 1: never total reflection), and its
+    // complement in the cancellation-free form.
+    const double c = g.cos_theta_d * n.cos_gamma[i];
+    const double ctr = std::sqrt(1.0 - (1.0 - c) * (1.0 + c) / (eta * eta));
+    const double ds = c + eta * ctr, dp = eta * c + ctr;
+    const double rs = (c - eta * ctr) / ds, rp = (eta * c - ctr) / dp;
+    const double num = 4.0 * eta * c * ctr;
+    f[i] = std::min(1.0, 0.5 * (rs * rs + rp * rp));
+    one_minus_f[i] = std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
+  }
+  std::vector<std::vector<double>> T(K, std::vector<double>(m));
+  for (std::size_t k = 0; k < K; ++k) {
+    const double sp = reduced_absorption(r_.sigmas[k], g);
+    for (std::size_t i = 0; i < m; ++i) T[k][i] = std::exp(-sp * len[i]);
+  }
+  const auto P = static_cast<long>(grid_.period);
+  const double step = kTwoPi / static_cast<double>(P);
+  const long shift = std::lround(-2.0 * grid_.phi0 / step);
+  std::vector<double> amp(K * m), j0(m), dz(m), e1(m), e2(m), g0(m), rr(m), win, c, buf, circle(static_cast<std::size_t>(P) * K);
+  for (std::size_t p = 0; p < L; ++p) {
+    if (!spread_[t * L + p]) continue;
+    const int pi = static_cast<int>(p);
+    const double beta = r_.betas[p];
+    const long R = static_cast<long>(std::ceil(std::sqrt(2.0 * std::log(2.0 / r_.tolerance)) * beta / step));
+    const std::size_t W = static_cast<std::size_t>(2 * R + 1);
+    const double inv2var = 1.0 / (2.0 * beta * beta), norm = 1.0 / (std::sqrt(kTwoPi) * beta);
+    const bool recurrence = step / beta <= 20.0;  // r^j c_j stays far from overflow
+    c.resize(W);
+    for (long j = -R; j <= R; ++j) c[static_cast<std::size_t>(j + R)] = std::exp(-static_cast<double>(j * j) * step * step * inv2var);
+    for (std::size_t i = 0; i < m; ++i) {
+      double fp = pi == 0 ? f[i] : one_minus_f[i] * one_minus_f[i];
+      for (int q = 1; q < pi; ++q) fp *= f[i];
+      const double base = n.weight[i] * fp * norm;
+      for (std::size_t k = 0; k < K; ++k) {
+        double tp = 1.0;
+        for (int q = 0; q < pi; ++q) tp *= T[k][i];
+        amp[i * K + k] = base * tp;
+      }
+      const double centre = exit_azimuth(pi, n.gamma[i], gt[i]);
+      const double u = (centre - grid_.phi0) / step;
+      const double jr = (u + 0x1.8p52) - 0x1.8p52;  // nearest integer (|u| < 2^51)
+      const double d0 = (jr - u) * step;
+      j0[i] = jr;
+      dz[i] = d0;
+      e1[i] = -d0 * d0 * inv2var;
+      e2[i] = -2.0 * d0 * step * inv2var;
+    }
+    for (std::size_t i = 0; i < m; ++i) g0[i] = std::exp(e1[i]), rr[i] = std::exp(e2[i]);
+    buf.assign((static_cast<std::size_t>(P) + W - 1) * K, 0.0);
+    win.resize(W);
+    for (std::size_t i = 0; i < m; ++i) {
+      const double* ai = amp.data() + i * K;
+      bool any = false;
+      for (std::size_t k = 0; k < K; ++k) any |= ai[k] != 0.0;
+      if (!any || g0[i] == 0.0) continue;
+      if (recurrence) {
+        double up = g0[i], down = g0[i];
+        const double r = rr[i], rinv = 1.0 / rr[i];
+        win[static_cast<std::size_t>(R)] = g0[i];
+        for (long j = 1; j <= R; ++j) {
+          up *= r;
+          down *= rinv;
+          win[static_cast<std::size_t>(R + j)] = up * c[static_cast<std::size_t>(R + j)];
+          win[static_cast<std::size_t>(R - j)] = down * c[static_cast<std::size_t>(R - j)];
+        }
+      } else {
+        for (long j = -R; j <= R; ++j) {
+          const double d = dz[i] + static_cast<double>(j) * step;
+          win[static_cast<std::size_t>(j + R)] = std::exp(-d * d * inv2var);
+        }
+      }
+      long r0 = static_cast<long>(std::fmod(j0[i], static_cast<double>(P)));
+      if (r0 < 0) r0 += P;
+      double* b = buf.data() + static_cast<std::size_t>(r0) * K;
+      if (K == 3) {
+        const double a0 = ai[0], a1 = ai[1], a2 = ai[2];
+        for (std::size_t j = 0; j < W; ++j, b += 3) {
+          const double wj = win[j];
+          b[0] += a0 * wj, b[1] += a1 * wj, b[2] += a2 * wj;
+        }
+      } else {
+        for (std::size_t j = 0; j < W; ++j, b += K)
+          for (std::size_t k = 0; k < K; ++k) b[k] += ai[k] * win[j];
+      }
+    }
+    // Fold the padding onto the circle: buffer slot q holds circle point (q − R) mod P.
+    std::fill(circle.begin(), circle.end(), 0.0);
+    for (std::size_t q = 0; q < buf.size() / K; ++q) {
+      long rc = (static_cast<long>(q) - R) % P;
+      if (rc < 0) rc += P;
+      for (std::size_t k = 0; k < K; ++k) circle[static_cast<std::size_t>(rc) * K + k] += buf[q * K + k];
+    }
+    for (std::size_t j = 0; j < nphi; ++j) {
+      const auto here = static_cast<std::size_t>(static_cast<long>(j) % P);
+      long mirror = (shift - static_cast<long>(j)) % P;
+      if (mirror < 0) mirror += P;
+      for (std::size_t k = 0; k < K; ++k)
+        out[(p * K + k) * nphi + j] = std::max(0.0, 0.5 * (circle[here * K + k] + circle[static_cast<std::size_t>(mirror) * K + k]));
+    }
+  }
+}
+
+}  // namespace hairlut
