@@ -104,3 +104,35 @@ TEST_CASE("Per-material N_p matches the adaptive reference within 1e-10 of the l
       }
     }
 }
+
+TEST_CASE("Newton Gauss-Legendre rules agree with the library's rules", "[material]") {
+  for (int m : {1, 2, 7, 16, 140, 192, 513}) {
+    std::vector<double> x, w;
+    newton_gauss_legendre(m, x, w);
+    const GaussLegendreRule ref(m);
+    double wsum = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      CHECK(std::abs(x[i] - ref.nodes()[i]) <= 1e-15);
+      // A node known to ε moves the weight 2/((1 − x²) P'²) by about ε/(1 − x²) relative.
+      const double x2 = (1.0 - ref.nodes()[i]) * (1.0 + ref.nodes()[i]);
+      CHECK(std::abs(w[i] - ref.weights()[i]) <= (4.0 * 2.2e-16 / x2 + 2.0 * m * 2.2e-16) * ref.weights()[i]);  // and m rounded steps of the recurrence
+      wsum += w[i];
+    }
+    CHECK(wsum == Approx(2.0).epsilon(1e-14));
+  }
+}
+
+TEST_CASE("Lobe energies of all channels at once equal lobe_energies", "[material]") {
+  const GaussLegendreRule rule(128);
+  const double sigmas[3] = {0.0, 0.8, 12.0};
+  for (bool residual : {false, true})
+    for (double td : {0.0, 40.0, 89.0}) {
+      std::vector<double> e;
+      const LobeSet lobes{3, residual};
+      material_energies(1.55, radians(td), AbsorptionPath::chord, sigmas, lobes, rule, e);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const auto ref = lobe_energies(AttenuationSlice(1.55, radians(td), sigmas[k]), lobes, rule);
+        for (std::size_t p = 0; p < ref.size(); ++p) CHECK(e[k * ref.size() + p] == Approx(ref[p]).epsilon(1e-13).margin(1e-300));
+      }
+    }
+}

@@ -437,7 +437,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
         // The material's own path: every lobe and channel of a θd from one node set.
         MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance};
         for (int p = 0; p < s.lobes; ++p) mr.betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
-        const MaterialNp np(std::move(mr), rules.get());
+        const MaterialNp np(std::move(mr));
         if (!np.note().empty() && &m == &c.scene->materials.front()) report.notes.push_back("per-material N_p: " + np.note());
         const std::size_t K = channel_sigmas.size();
         parallel_for(nt, opt, "N_p " + m.name, K * nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t it) {
@@ -456,9 +456,15 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
               set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
             });
       }
-      bake_energies(s, lobe_set, channel_sigmas, thetas, opt, [&](std::size_t ic, std::size_t it, const std::vector<double>& e) {
-        for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(ic * nt + it, e[p]);
-        if (c.residual) set.tables[residual_index].set(ic * nt + it, e.back() / kTwoPi);
+      // Lobe energies of every channel of a θd at once (material_energies: lobe_energies' rule and integrand).
+      parallel_for(nt, opt, "energies " + m.name, channel_sigmas.size(), [&](std::size_t it) {
+        std::vector<double> e;
+        material_energies(c.eta, thetas[it], c.path, channel_sigmas, lobe_set, s.energy_rule, e);
+        const auto E = static_cast<std::size_t>(lobe_set.size());
+        for (std::size_t ic = 0; ic < channel_sigmas.size(); ++ic) {
+          for (std::size_t p = 0; p < E; ++p) set.tables[energy_first + p].set(ic * nt + it, e[ic * E + p]);
+          if (c.residual) set.tables[residual_index].set(ic * nt + it, e[ic * E + E - 1] / kTwoPi);
+        }
       });
       report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
     }

@@ -35,7 +35,7 @@ FiberNodes fiber_nodes(const FiberGeometry& g, AbsorptionPath path, std::span<co
 
 }  // namespace
 
-MaterialNp::MaterialNp(MaterialNpRequest request, GaussLegendreCache* rules) : r_(std::move(request)), grid_(PeriodicGrid::of(r_.phis)) {
+MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid_(PeriodicGrid::of(r_.phis)) {
   if (r_.betas.empty()) throw DomainError("a per-material N_p bake needs at least one lobe");
   for (double b : r_.betas) require_positive("beta", b);
   for (double s : r_.sigmas) require_non_negative("sigma_a", s);
@@ -66,21 +66,18 @@ MaterialNp::MaterialNp(MaterialNpRequest request, GaussLegendreCache* rules) : r
       else fourier_m_[t] = std::max(fourier_m_[t], mf), max_terms = std::max(max_terms, terms_[p]);
     }
   }
-  if (!rules) {
-    own_rules_ = std::make_unique<GaussLegendreCache>();
-    rules = own_rules_.get();
-  }
+  std::vector<double> x, w;
   for (std::size_t t = 0; t < nt; ++t)
     for (const int m : {spread_m_[t], fourier_m_[t]}) {
       if (m == 0 || nodes_.count(m)) continue;
-      const GaussLegendreRule& rule = rules->get(m);
+      newton_gauss_legendre(m, x, w);
       RuleNodes& n = nodes_[m];
-      for (std::size_t i = 0; i < rule.nodes().size(); ++i) {
-        const double gamma = 0.25 * kPi * (1.0 + rule.nodes()[i]);
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        const double gamma = 0.25 * kPi * (1.0 + x[i]);
         n.gamma.push_back(gamma);
         n.cos_gamma.push_back(std::cos(gamma));
         n.sin_gamma.push_back(std::sin(gamma));
-        n.weight.push_back(rule.weights()[i] * 0.25 * kPi * n.cos_gamma.back());
+        n.weight.push_back(w[i] * 0.25 * kPi * n.cos_gamma.back());
       }
     }
   if (max_terms > 0) series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
@@ -229,6 +226,92 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
         out[(p * K + k) * nphi + j] = std::max(0.0, 0.5 * (circle[here * K + k] + circle[static_cast<std::size_t>(mirror) * K + k]));
     }
   }
+}
+
+void newton_gauss_legendre(int m, std::vector<double>& nodes, std::vector<double>& weights) {
+  if (m < 1 || m > 32768) throw_domain_error("quadrature order", "must lie in [1, 32768]", static_cast<long long>(m));
+  const auto M = static_cast<std::size_t>(m), half = (M + 1) / 2;
+  const double n = m;
+  // P_k = a_k x P_{k−1} − b_k P_{k−2}, a_k = (2k − 1)/k, b_k = (k − 1)/k.
+  std::vector<double> a(M + 1), b(M + 1);
+  for (std::size_t k = 2; k <= M; ++k) a[k] = (2.0 * static_cast<double>(k) - 1.0) / static_cast<double>(k), b[k] = (static_cast<double>(k) - 1.0) / static_cast<double>(k);
+  std::vector<double> x(half), value(half), deriv(half), p0(half), p1(half);
+  for (std::size_t i = 0; i < half; ++i) x[i] = std::cos(kPi * (static_cast<double>(i) + 0.75) / (n + 0.5));
+  // P_m and P_m' = m (x P_m − P_{m−1}) / (x² − 1) at every root estimate at once (a loop over the
+  // roots inside the recurrence, which vectorizes).
+  auto evaluate = [&] {
+    for (std::size_t i = 0; i < half; ++i) p0[i] = 1.0, p1[i] = x[i];
+    for (std::size_t k = 2; k <= M; ++k) {
+      const double ak = a[k], bk = b[k];
+#pragma omp simd
+      for (std::size_t i = 0; i < half; ++i) {
+        const double p2 = ak * x[i] * p1[i] - bk * p0[i];
+        p0[i] = p1[i];
+        p1[i] = p2;
+      }
+    }
+    for (std::size_t i = 0; i < half; ++i) value[i] = p1[i], deriv[i] = n * (x[i] * p1[i] - p0[i]) / (x[i] * x[i] - 1.0);
+  };
+  // Newton until every step is below 1e−15, then one more (quadratic convergence).
+  bool last = false;
+  for (int it = 0; it < 100; ++it) {
+    evaluate();
+    double worst = 0.0;
+    for (std::size_t i = 0; i < half; ++i) {
+      const double dx = value[i] / deriv[i];
+      x[i] -= dx;
+      worst = std::max(worst, std::abs(dx));
+    }
+    if (last) break;
+    last = worst <= 1e-15;
+  }
+  evaluate();  // P_m' at the converged roots
+  nodes.assign(M, 0.0);
+  weights.assign(M, 0.0);
+  for (std::size_t i = 0; i < half; ++i) {
+    nodes[M - 1 - i] = x[i];
+    nodes[i] = -x[i];
+    weights[M - 1 - i] = weights[i] = 2.0 / ((1.0 - x[i] * x[i]) * deriv[i] * deriv[i]);
+  }
+  if (M % 2 == 1) nodes[M / 2] = 0.0;
+}
+
+void material_energies(double eta, double theta_d, AbsorptionPath path, std::span<const double> sigmas, LobeSet lobes,
+                       const GaussLegendreRule& rule, std::vector<double>& out) {
+  if (lobes.count < 1 || lobes.count > 1000) throw_domain_error("lobe count", "must lie in [1, 1000]", static_cast<long long>(lobes.count));
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
+  const std::size_t K = sigmas.size(), E = static_cast<std::size_t>(lobes.size()), P = static_cast<std::size_t>(lobes.count);
+  std::vector<double> sp(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    require_non_negative("sigma_a", sigmas[k]);
+    sp[k] = reduced_absorption(sigmas[k], g);
+  }
+  out.assign(K * E, 0.0);
+  const auto x = rule.nodes();
+  const auto w = rule.weights();
+  const double half = 0.25 * kPi;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double gamma = half * (1.0 + x[i]);
+    const double ci = std::cos(gamma), st = std::sin(gamma) * g.inv_eta_prime;
+    const double ct = std::sqrt((1.0 - st) * (1.0 + st));
+    const double c = g.cos_theta_d * ci;
+    const double f = fresnel_reflectance(g.eta, c), omf = fresnel_transmittance(g.eta, c);
+    const double len = path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
+    for (std::size_t k = 0; k < K; ++k) {
+      const double tau = sp[k] * len, T = std::exp(-tau);
+      double* o = out.data() + k * E;
+      // A(p) = f for p = 0, (1 − f)² f^{p−1} T^p after (PathPoint::attenuation), times cos γ.
+      o[0] += w[i] * (f * ci);
+      double fp = 1.0, tp = T;
+      for (std::size_t p = 1; p < P; ++p, fp *= f, tp *= T) o[p] += w[i] * (omf * omf * fp * tp * ci);
+      if (lobes.residual) {
+        const double denom = omf + f * -std::expm1(-tau);  // 1 − fT without cancellation
+        const double r = denom <= 0.0 ? 0.0 : std::min(1.0, omf * omf * std::pow(f, static_cast<double>(P) - 1.0) * std::pow(T, static_cast<double>(P)) / denom);
+        o[P] += w[i] * (r * ci);
+      }
+    }
+  }
+  for (double& v : out) v *= half;
 }
 
 }  // namespace hairlut

@@ -42,7 +42,7 @@ std::string tungsten_shape_config(int materials, double beta_deg) {
                   {"lobes", {{"explicit", {"R", "TT", "TRT"}}, {"residual", false}}},
                   {"quadrature", {{"method", "fourier"}, {"tolerance", 1e-10}}},
                   {"tables", {{"np", {{"axes", {{"theta_d", {{"count", 64}, {"range_deg", {0, 90}}, {"spacing", "cos"}}},
-                                                  {"phi", {{"count", 64}, {"symmetry", "periodic"}}}}}}}}},
+                                                  {"phi", {{"count", 64}, {"symmetry", "full"}}}}}}}}},
                   {"scene", {{"mode", "per-material"}, {"materials", mats}}},
                   {"output", {{"directory", "."}, {"basename", "tungsten-shape"}, {"formats", {"hdf5"}}}}};
   return c.dump(2) + "\n";
