@@ -11,30 +11,6 @@
 #include "hairlut/fresnel.hpp"
 
 namespace hairlut {
-namespace {
-
-// The node factors of FiberNodes::make from the θd-independent ones: the same quantities.
-FiberNodes fiber_nodes(const FiberGeometry& g, AbsorptionPath path, std::span<const double> gamma, std::span<const double> cos_gamma,
-                       std::span<const double> sin_gamma, std::span<const double> weight) {
-  FiberNodes n;
-  const std::size_t m = gamma.size();
-  n.weight.assign(weight.begin(), weight.end());
-  n.gamma_i.assign(gamma.begin(), gamma.end());
-  n.gamma_t.resize(m), n.f.resize(m), n.one_minus_f.resize(m), n.length.resize(m);
-  for (std::size_t i = 0; i < m; ++i) {
-    const double st = sin_gamma[i] * g.inv_eta_prime;
-    const double ct = std::sqrt((1.0 - st) * (1.0 + st));
-    n.gamma_t[i] = std::asin(st);
-    const double c = g.cos_theta_d * cos_gamma[i];
-    n.f[i] = detail::fresnel_reflectance_unchecked(g.eta, c);
-    n.one_minus_f[i] = detail::fresnel_transmittance_unchecked(g.eta, c);
-    n.length[i] = path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
-  }
-  return n;
-}
-
-}  // namespace
-
 MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid_(PeriodicGrid::of(r_.phis)) {
   if (r_.betas.empty()) throw DomainError("a per-material N_p bake needs at least one lobe");
   for (double b : r_.betas) require_positive("beta", b);
@@ -78,6 +54,8 @@ MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid
         n.cos_gamma.push_back(std::cos(gamma));
         n.sin_gamma.push_back(std::sin(gamma));
         n.weight.push_back(w[i] * 0.25 * kPi * n.cos_gamma.back());
+        n.cos_2gamma.push_back(std::cos(2.0 * gamma));
+        n.sin_2gamma.push_back(std::sin(2.0 * gamma));
       }
     }
   if (max_terms > 0) series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
@@ -88,20 +66,100 @@ void MaterialNp::evaluate(std::size_t t, std::vector<double>& out) const {
   out.assign(L * K * nphi, 0.0);
   if (spread_m_[t] > 0) spread_at(t, out);
   if (fourier_m_[t] == 0) return;
+  fourier_at(t, out);
+}
+
+// The Fourier form (fourier_coefficients) with what the lobes and channels of a θd share: the
+// node factors once, T_k once per node for every lobe, and e^{iΦ_p} = (−1)^p e^{−2iγ} (e^{2iγt})^p
+// from one sine and cosine per node (e^{−2iγ} once per rule). C_n by rotating z^n, re-anchored
+// with exact cos and sin of nΦ every 32 steps as there.
+void MaterialNp::fourier_at(std::size_t t, std::vector<double>& out) const {
+  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
   const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
   const RuleNodes& rn = nodes_.at(fourier_m_[t]);
-  const FiberNodes nodes = fiber_nodes(g, r_.path, rn.gamma, rn.cos_gamma, rn.sin_gamma, rn.weight);
-  std::vector<double> C, v, row(nphi);
+  const std::size_t m = rn.gamma.size();
+  const double a = g.inv_eta_prime;
+  std::vector<double> gt(m), f(m), omf(m), vr(m), vi(m), T(K * m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const double st = rn.sin_gamma[i] * a;
+    const double ct = std::sqrt((1.0 - st) * (1.0 + st));
+    gt[i] = std::asin(st);
+    const double c = g.cos_theta_d * rn.cos_gamma[i];
+    f[i] = detail::fresnel_reflectance_unchecked(g.eta, c);
+    omf[i] = detail::fresnel_transmittance_unchecked(g.eta, c);
+    const double len = r_.path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
+    for (std::size_t k = 0; k < K; ++k) T[k * m + i] = std::exp(-reduced_absorption(r_.sigmas[k], g) * len);
+    vr[i] = std::cos(2.0 * gt[i]), vi[i] = std::sin(2.0 * gt[i]);
+  }
+  std::vector<double> phase, zr, zi, sr, si, amp, C, v, row(nphi);
   for (std::size_t p = 0; p < L; ++p) {
     if (spread_[t * L + p]) continue;
-    const int N = terms_[p];
-    fourier_coefficients(nodes, g, static_cast<int>(p), r_.sigmas, N, C);
+    const int pi = static_cast<int>(p);
+    const auto N = static_cast<std::size_t>(terms_[p]);
+    // Nodes with a non-zero weight for some channel: e^{iΦ}, and the weights [k][i].
+    phase.clear(), sr.clear(), si.clear(), amp.clear();
+    std::vector<std::size_t> used;
+    for (std::size_t i = 0; i < m; ++i) {
+      double fp = pi == 0 ? f[i] : omf[i] * omf[i];
+      for (int q = 1; q < pi; ++q) fp *= f[i];
+      const double base = rn.weight[i] * fp;
+      bool any = false;
+      for (std::size_t k = 0; k < K; ++k) {
+        double tp = 1.0;
+        for (int q = 0; q < pi; ++q) tp *= T[k * m + i];
+        any |= base * tp != 0.0;
+      }
+      if (!any) continue;
+      used.push_back(i);
+      double er = (pi % 2 ? -1.0 : 1.0) * rn.cos_2gamma[i], ei = (pi % 2 ? 1.0 : -1.0) * rn.sin_2gamma[i];  // (−1)^p e^{−2iγ}
+      for (int q = 0; q < pi; ++q) {
+        const double r = er * vr[i] - ei * vi[i];
+        ei = er * vi[i] + ei * vr[i];
+        er = r;
+      }
+      sr.push_back(er), si.push_back(ei);
+      phase.push_back(exit_azimuth(pi, rn.gamma[i], gt[i]));
+    }
+    const std::size_t u = used.size();
+    amp.assign(K * u, 0.0);
+    for (std::size_t q = 0; q < u; ++q) {
+      const std::size_t i = used[q];
+      double fp = pi == 0 ? f[i] : omf[i] * omf[i];
+      for (int e = 1; e < pi; ++e) fp *= f[i];
+      for (std::size_t k = 0; k < K; ++k) {
+        double tp = 1.0;
+        for (int e = 0; e < pi; ++e) tp *= T[k * m + i];
+        amp[k * u + q] = rn.weight[i] * fp * tp;
+      }
+    }
+    C.assign((N + 1) * K, 0.0);
+    zr.assign(u, 1.0), zi.assign(u, 0.0);
+    for (std::size_t n = 0; n <= N; ++n) {
+      if (n % 32 == 0 && n > 0)
+        for (std::size_t q = 0; q < u; ++q) {
+          const double arg = static_cast<double>(n) * phase[q];
+          zr[q] = std::cos(arg), zi[q] = std::sin(arg);
+        }
+      for (std::size_t k = 0; k < K; ++k) {
+        const double* w = amp.data() + k * u;
+        double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+        for (std::size_t q = 0; q < u; ++q) sum += zr[q] * w[q];
+        C[n * K + k] = sum;
+      }
+#pragma omp simd
+      for (std::size_t q = 0; q < u; ++q) {
+        const double r = zr[q] * sr[q] - zi[q] * si[q];
+        zi[q] = zr[q] * si[q] + zi[q] * sr[q];
+        zr[q] = r;
+      }
+    }
     const double beta = r_.betas[p];
-    std::vector<double> weight(static_cast<std::size_t>(N) + 1);
-    for (int n = 0; n <= N; ++n) weight[static_cast<std::size_t>(n)] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * beta * beta) / kTwoPi;
-    v.resize(weight.size());
+    std::vector<double> weight(N + 1);
+    for (std::size_t n = 0; n <= N; ++n) weight[n] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n * n) * beta * beta) / kTwoPi;
+    v.resize(N + 1);
     for (std::size_t k = 0; k < K; ++k) {
-      for (std::size_t n = 0; n < weight.size(); ++n) v[n] = weight[n] * C[n * K + k];
+      for (std::size_t n = 0; n <= N; ++n) v[n] = weight[n] * C[n * K + k];
       series_->evaluate(v, row);
       for (std::size_t j = 0; j < nphi; ++j) out[(p * K + k) * nphi + j] = std::max(0.0, row[j]);  // roundoff below 0 clamped
     }

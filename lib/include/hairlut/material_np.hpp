@@ -58,8 +58,10 @@ class MaterialNp {
   // θd-independent factors of a rule's nodes mapped to γ ∈ [0, π/2].
   struct RuleNodes {
     std::vector<double> gamma, cos_gamma, sin_gamma, weight;  // weight: w · π/4 · cos γ
+    std::vector<double> cos_2gamma, sin_2gamma;
   };
   void spread_at(std::size_t t, std::vector<double>& out) const;
+  void fourier_at(std::size_t t, std::vector<double>& out) const;
 
   MaterialNpRequest r_;
   PeriodicGrid grid_;
