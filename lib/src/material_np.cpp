@@ -232,7 +232,8 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
       e2[i] = -2.0 * d0 * step * inv2var;
     }
     for (std::size_t i = 0; i < m; ++i) g0[i] = std::exp(e1[i]), rr[i] = std::exp(e2[i]);
-    buf.assign((static_cast<std::size_t>(P) + W - 1) * K, 0.0);
+    const std::size_t stride = static_cast<std::size_t>(P) + W - 1;
+    buf.assign(stride * K, 0.0);
     win.resize(W);
     for (std::size_t i = 0; i < m; ++i) {
       const double* ai = amp.data() + i * K;
@@ -255,26 +256,22 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
           win[static_cast<std::size_t>(j + R)] = std::exp(-d * d * inv2var);
         }
       }
-      long r0 = static_cast<long>(std::fmod(j0[i], static_cast<double>(P)));
+      long r0 = static_cast<long>(j0[i]) % P;
       if (r0 < 0) r0 += P;
-      double* b = buf.data() + static_cast<std::size_t>(r0) * K;
-      if (K == 3) {
-        const double a0 = ai[0], a1 = ai[1], a2 = ai[2];
-        for (std::size_t j = 0; j < W; ++j, b += 3) {
-          const double wj = win[j];
-          b[0] += a0 * wj, b[1] += a1 * wj, b[2] += a2 * wj;
-        }
-      } else {
-        for (std::size_t j = 0; j < W; ++j, b += K)
-          for (std::size_t k = 0; k < K; ++k) b[k] += ai[k] * win[j];
+      // One plane per σa: a straight, vectorizable run over the window.
+      for (std::size_t k = 0; k < K; ++k) {
+        double* b = buf.data() + k * stride + static_cast<std::size_t>(r0);
+        const double ak = ai[k];
+#pragma omp simd
+        for (std::size_t j = 0; j < W; ++j) b[j] += ak * win[j];
       }
     }
     // Fold the padding onto the circle: buffer slot q holds circle point (q − R) mod P.
     std::fill(circle.begin(), circle.end(), 0.0);
-    for (std::size_t q = 0; q < buf.size() / K; ++q) {
+    for (std::size_t q = 0; q < stride; ++q) {
       long rc = (static_cast<long>(q) - R) % P;
       if (rc < 0) rc += P;
-      for (std::size_t k = 0; k < K; ++k) circle[static_cast<std::size_t>(rc) * K + k] += buf[q * K + k];
+      for (std::size_t k = 0; k < K; ++k) circle[static_cast<std::size_t>(rc) * K + k] += buf[k * stride + q];
     }
     for (std::size_t j = 0; j < nphi; ++j) {
       const auto here = static_cast<std::size_t>(static_cast<long>(j) % P);

@@ -145,7 +145,10 @@ int main(int argc, char** argv) {
   char date[32];
   const std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
-  report["machine"] = {{"cpu", cpu_model()}, {"cores", max_threads}, {"date", date}, {"hairlut_version", kVersion}};
+  std::string loadavg;
+  std::getline(std::ifstream("/proc/loadavg"), loadavg);
+  report["machine"] = {{"cpu", cpu_model()}, {"cores", max_threads}, {"date", date}, {"hairlut_version", kVersion},
+                       {"load_average_at_start", loadavg.substr(0, loadavg.find(' ', loadavg.find(' ', loadavg.find(' ') + 1) + 1))}};
   report["command"] = "bench-hair-luts --out " + out_dir + (quick ? " --quick" : "") + " --slices " + std::to_string(slices);
   Settings st;
   st.out_dir = out_dir, st.bake_tool = bake_tool, st.source_dir = HAIRLUT_SOURCE_DIR;
