@@ -19,7 +19,7 @@ namespace bench {
 
 using namespace hairlut;
 
-std::string tungsten_shape_config(int materials, double beta_deg);
+std::string tungsten_shape_config(int materials, double beta_deg, int compression);
 
 namespace {
 
@@ -66,7 +66,7 @@ json bench_scaling(const Settings& st) {
   md << "| config | threads | total | in parallel stages | serial | efficiency | serial fraction (1 thread) | projected 16-thread speed-up | tables identical |\n"
         "|---|---|---|---|---|---|---|---|---|\n";
   const std::string e2e = std::filesystem::temp_directory_path() / ("hairlut-bench-scaling-" + std::to_string(::getpid()) + ".json");
-  std::ofstream(e2e) << tungsten_shape_config(16, 2.0);
+  std::ofstream(e2e) << tungsten_shape_config(16, 2.0, -1);
   const std::vector<std::pair<std::string, std::string>> configs = {{"16 materials of Tungsten's shape", e2e},
                                                                      {"tables/configs/default.json", st.source_dir + "/tables/configs/default.json"}};
   const int max_t = std::max(2, std::min(st.max_threads, 2));
