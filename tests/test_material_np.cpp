@@ -28,6 +28,7 @@ TEST_CASE("Periodic grids with both ends present are recognised", "[fourier][mat
   CHECK(b.period == 63);
   CHECK(PeriodicGrid::of(uniform(0.0, kPi / 63, 64)).period == 126);           // [0, π] edges
   CHECK(PeriodicGrid::of(uniform(kPi / 128, kPi / 64, 64)).period == 128);     // (0, π) centres
+  CHECK(PeriodicGrid::of(uniform(-kPi + kPi / 64, kTwoPi / 64, 64)).period == 64);  // (−π, π) centres
   CHECK(PeriodicGrid::why_not(uniform(0.0, kTwoPi / 63, 64)).empty());
   // Not periodic, with the reason named.
   CHECK(PeriodicGrid::of(uniform(0.0, kTwoPi / 63, 65)).period == 0);  // more than one period

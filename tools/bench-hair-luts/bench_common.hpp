@@ -19,6 +19,9 @@ inline double seconds_since(clock_type::time_point t0) { return std::chrono::dur
 
 /// CPU time (user + system) of this process so far, in seconds.
 double process_cpu_seconds();
+/// CPU time of the calling thread so far, in seconds: single-threaded timings that do not count
+/// the time other processes of a shared machine take from it.
+double thread_cpu_seconds();
 
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
