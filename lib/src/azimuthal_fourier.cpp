@@ -146,19 +146,68 @@ int spread_nodes(double beta, int p, const FiberGeometry& g, double tolerance) {
   return static_cast<int>(std::ceil(m / 16.0)) * 16;
 }
 
+namespace {
+
+// Step of a uniform grid (0 when not uniform to 1e−12) and its period 2π/step when that is an
+// integer P with points ≤ P + 1 (the (P + 1)-th point, if present, repeats the first one 2π on),
+// and when the grid is symmetric about φ = 0 on the circle (2φ_0 a multiple of the step).
+struct GridShape {
+  double step = 0.0;
+  long period = 0;
+  const char* why = nullptr;
+};
+
+GridShape grid_shape(std::span<const double> phis) {
+  GridShape s;
+  if (phis.size() < 2) {
+    s.why = "a single phi node";
+    return s;
+  }
+  const double step = phis[1] - phis[0];
+  if (!(step > 0.0)) {
+    s.why = "phi nodes are not increasing";
+    return s;
+  }
+  for (std::size_t j = 0; j < phis.size(); ++j)
+    if (std::abs(phis[j] - (phis[0] + static_cast<double>(j) * step)) > 1e-12) {
+      s.why = "phi nodes are not uniformly spaced";
+      return s;
+    }
+  const double P = kTwoPi / step;
+  if (std::abs(P - std::round(P)) > 1e-9) {
+    s.why = "the phi step does not divide 2 pi";
+    return s;
+  }
+  if (std::round(P) + 1.0 < static_cast<double>(phis.size())) {
+    s.why = "phi nodes span more than one period";
+    return s;
+  }
+  const double mirror = -2.0 * phis[0] / step;
+  if (std::abs(mirror - std::round(mirror)) > 1e-9) {
+    s.why = "phi nodes are not symmetric about 0 (2 phi_0 is not a multiple of the step)";
+    return s;
+  }
+  s.step = step;
+  s.period = std::lround(P);
+  return s;
+}
+
+}  // namespace
+
 PeriodicGrid PeriodicGrid::of(std::span<const double> phis) {
   PeriodicGrid grid;
-  if (phis.size() < 2) return grid;
-  const double step = phis[1] - phis[0];
-  if (!(step > 0.0)) return grid;
-  for (std::size_t j = 0; j < phis.size(); ++j)
-    if (std::abs(phis[j] - (phis[0] + static_cast<double>(j) * step)) > 1e-12) return grid;
-  const double P = kTwoPi / step;
-  if (std::abs(P - std::round(P)) > 1e-9 || std::round(P) < static_cast<double>(phis.size())) return grid;
+  const GridShape s = grid_shape(phis);
+  if (s.period == 0) return grid;
   grid.phi0 = phis[0];
-  grid.period = static_cast<int>(std::round(P));
+  grid.period = static_cast<int>(s.period);
   grid.points = static_cast<int>(phis.size());
   return grid;
+}
+
+std::string PeriodicGrid::why_not(std::span<const double> phis) {
+  const GridShape s = grid_shape(phis);
+  if (s.period > 0) return {};
+  return std::string(s.why) + ": narrow detectors are evaluated from the Fourier series instead of by spreading (slower)";
 }
 
 void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const SpreadLobe> lobes, std::span<const double> sigmas,
@@ -245,9 +294,10 @@ void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const 
     for (std::size_t j = 0; j < static_cast<std::size_t>(grid.points); ++j) {
       long mirror = (shift - static_cast<long>(j)) % P;
       if (mirror < 0) mirror += P;
+      const auto here = static_cast<std::size_t>(static_cast<long>(j) % P);  // the point after the last repeats the first
       for (std::size_t k = 0; k < K; ++k)
         out[l][k * static_cast<std::size_t>(grid.points) + j] =
-            std::max(0.0, 0.5 * (circle[l][k * static_cast<std::size_t>(P) + j] + circle[l][k * static_cast<std::size_t>(P) + static_cast<std::size_t>(mirror)]));
+            std::max(0.0, 0.5 * (circle[l][k * static_cast<std::size_t>(P) + here] + circle[l][k * static_cast<std::size_t>(P) + static_cast<std::size_t>(mirror)]));
     }
 }
 

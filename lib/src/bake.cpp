@@ -19,6 +19,7 @@
 #include "hairlut/hair_model.hpp"
 #include "hairlut/lobe_energy.hpp"
 #include "hairlut/longitudinal_mp.hpp"
+#include "hairlut/material_np.hpp"
 #include "hairlut/melanin.hpp"
 #include "hairlut/resolution.hpp"
 #include "hairlut/version.hpp"
@@ -445,6 +446,8 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       set.tables.push_back(std::move(t));
     }
     const std::size_t nb = betas.size(), nphi = phis.size();
+    if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
+      report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
     unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules}, opt, "N_p",
                                 [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
                                   if (!node_energy.empty()) {
@@ -466,6 +469,15 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     const GridAxis theta_axis = axis_named(np_axes, "theta_d"), phi_axis = axis_named(np_axes, "phi");
     const std::vector<double> thetas = theta_axis.nodes(), phis = phi_axis.nodes();
     const GridAxis channel = channel_axis({"R", "G", "B"}, "colour channel (linear sRGB primaries)");
+    const std::size_t nt = thetas.size(), nphi = phis.size();
+    // Each material's tables and planned N_p, filled by one parallel loop below.
+    struct Pending {
+      std::size_t first, energy_first, residual_index;
+      std::vector<double> sigmas;
+      std::unique_ptr<MaterialNp> np;  // null: N_p already baked by bake_np_grid (per-entry methods)
+    };
+    std::vector<Pending> pending;
+    pending.reserve(c.scene->materials.size());
     for (const MaterialConfig& m : c.scene->materials) {
       const std::string group = "materials/" + m.name;
       const std::size_t first = set.tables.size();
@@ -494,20 +506,46 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
         residual_index = set.tables.size();
         set.tables.push_back(std::move(t));
       }
-      const std::size_t nt = thetas.size(), nphi = phis.size();
       const std::vector<double> channel_sigmas(m.sigma_a.begin(), m.sigma_a.end());
-      unconverged += bake_np_grid(
-          {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
-           [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules},
-          opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
-            set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
-          });
-      bake_energies(s, lobe_set, channel_sigmas, thetas, opt, [&](std::size_t ic, std::size_t it, const std::vector<double>& e) {
-        for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(ic * nt + it, e[p]);
-        if (c.residual) set.tables[residual_index].set(ic * nt + it, e.back() / kTwoPi);
-      });
+      Pending& item = pending.emplace_back(Pending{first, energy_first, residual_index, channel_sigmas, nullptr});
+      if (c.quadrature.method == NpQuadratureConfig::Method::fourier) {
+        // The material's own path: every lobe and channel of a θd from one node set.
+        MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance};
+        for (int p = 0; p < s.lobes; ++p) mr.betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
+        item.np = std::make_unique<MaterialNp>(std::move(mr));
+        if (!item.np->note().empty() && &m == &c.scene->materials.front()) report.notes.push_back("per-material N_p: " + item.np->note());
+      } else {
+        unconverged += bake_np_grid(
+            {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
+             [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules},
+            opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
+              set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
+            });
+      }
       report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
     }
+    // One parallel loop over every (material, θd): N_p of every lobe and channel, and the lobe
+    // energies of every channel at once (material_energies: lobe_energies' rule and integrand).
+    // Few large loops rather than two per material: less time in OpenMP's start and spin-waiting.
+    parallel_for(pending.size() * nt, opt, "N_p and energies (per material)", 3 * nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t item) {
+      const Pending& w = pending[item / nt];
+      const std::size_t it = item % nt, K = w.sigmas.size();
+      if (w.np) {
+        std::vector<double> v;
+        w.np->evaluate(it, v);
+        for (int p = 0; p < s.lobes; ++p)
+          for (std::size_t ic = 0; ic < K; ++ic)
+            for (std::size_t ip = 0; ip < nphi; ++ip)
+              set.tables[w.first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v[(static_cast<std::size_t>(p) * K + ic) * nphi + ip]);
+      }
+      std::vector<double> e;
+      material_energies(c.eta, thetas[it], c.path, w.sigmas, lobe_set, s.energy_rule, e);
+      const auto E = static_cast<std::size_t>(lobe_set.size());
+      for (std::size_t ic = 0; ic < K; ++ic) {
+        for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, e[ic * E + p]);
+        if (c.residual) set.tables[w.residual_index].set(ic * nt + it, e[ic * E + E - 1] / kTwoPi);
+      }
+    });
   }
 
   // ---- M_p: generic over (β, θi, θr) per lobe; per material over (θi, θr).

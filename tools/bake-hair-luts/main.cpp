@@ -1,6 +1,7 @@
 // bake-hair-luts: bake the tables a config asks for into HDF5 / OpenEXR files with a JSON sidecar.
 // Thin: parsing, baking and writing live in the hairlut library; this file handles the command
 // line, progress display, signals and exit codes.
+#include <malloc.h>
 #include <unistd.h>
 
 #include "common/cli.hpp"
@@ -70,6 +71,10 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   app.add_flag("--check", check, "validate the config and exit");
   app.set_version_flag("--version", std::string("bake-hair-luts (hairlut) ") + hairlut::kVersion);
   if (const auto rc = hairlut::tools::parse_command_line(app, "bake-hair-luts", argc, argv)) return *rc;
+  // The HDF5 deflate filter allocates and frees its buffers for every dataset; without a trim
+  // threshold glibc hands the freed top of the heap back each time and the next dataset faults it
+  // in again (system time of a per-material bake went from ~0.2 s to ~0.05 s for 16 materials).
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
 
   hairlut::BakeConfig config;
   try {

@@ -1,14 +1,12 @@
 // bench-hair-luts: run time against error of the ways hairlut can integrate N_p, the generic and
-// per-material bakes against their targets, interpolation error against table resolution, thread
-// scaling and peak memory. Writes bench.json, bench.csv, bench.md and pareto.svg.
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
+// per-material bakes against their targets and against Tungsten's precompute (baseline_tungsten.cpp),
+// pbrt-v4's analytic evaluation (pbrt_hair.cpp), interpolation error against table resolution,
+// thread scaling and peak memory. Writes bench.json, bench.csv, bench.md, pareto.svg and one set of
+// files per section (per-material, end-to-end, scaling, pbrt-hair, presets).
 #include <unistd.h>
 
 #include "common/cli.hpp"
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -16,47 +14,23 @@
 #include <fstream>
 #include <hairlut/azimuthal_fourier.hpp>
 #include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/engine_exr.hpp>
 #include <hairlut/benchmark.hpp>
 #include <hairlut/hairlut.hpp>
-#include <hairlut/melanin.hpp>
 #include <hairlut/resolution.hpp>
 #include <hairlut/svg_plot.hpp>
 
 #include "representations.hpp"
 #include <hairlut/version.hpp>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <omp.h>
 #include <sstream>
 
-extern char** environ;
+#include "bench_common.hpp"
 
 namespace {
 
 using namespace hairlut;
-using json = nlohmann::ordered_json;
-using clock_type = std::chrono::steady_clock;
-
-double seconds_since(clock_type::time_point t0) { return std::chrono::duration<double>(clock_type::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-}
-
-void log(bool quiet, const char* fmt, auto... args) {
-  if (quiet) return;
-  std::fprintf(stderr, fmt, args...);
-  std::fflush(stderr);
-}
+using namespace bench;
 
 // ---- Methods on the stress set -------------------------------------------------------------
 
@@ -141,112 +115,6 @@ double time_per_entry(const NpQuadratureConfig& q, std::size_t n_theta, std::siz
   return median(t) / entries * 1e9;
 }
 
-// ---- Child process: the baker, for wall time and peak memory ---------------------------------
-
-struct ChildResult {
-  int status = -1;
-  double seconds = 0.0;
-  long peak_rss_kb = 0;
-};
-
-ChildResult run_child(const std::vector<std::string>& argv) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  ChildResult r;
-  pid_t pid = 0;
-  const auto t0 = clock_type::now();
-  if (posix_spawn(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return r;
-  int status = 0;
-  struct rusage ru {};
-  wait4(pid, &status, 0, &ru);
-  r.seconds = seconds_since(t0);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.peak_rss_kb = ru.ru_maxrss;
-  return r;
-}
-
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown";
-}
-
-std::string fmt(double v, int digits = 3) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
-// ---- Export presets: time to bake each shipped preset config -----------------------------------
-
-// Each shipped preset config: the bake in this process (all threads, median of `repeats`) and the
-// tool end to end (bake and write HDF5, engine textures and sidecar; wall time and peak memory).
-json bench_presets(const std::string& bake_tool, bool quick, bool quiet) {
-  json rows = json::array();
-  const int repeats = quick ? 1 : 3;
-  std::vector<const char*> names = {"unreal-hair-strands", "unity-hdrp-hair", "dual-scattering"};
-  if (quick) names = {"dual-scattering"};  // a smoke run: the smallest config
-  for (const char* name : names) {
-    const std::string path = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/" + name + ".json";
-    log(quiet, "preset %s ...\n", name);
-    const BakeConfig c = load_config(path);
-    std::vector<double> times;
-    BakeReport report;
-    std::size_t tables = 0;
-    for (int i = 0; i < repeats; ++i) {
-      const TableSet set = bake(c, {}, &report);
-      times.push_back(report.seconds);
-      tables = set.tables.size();
-    }
-    const std::string tmp = (std::filesystem::temp_directory_path() / ("hairlut-bench-preset-" + std::to_string(::getpid()))).string();
-    const ChildResult child = run_child({bake_tool, "--config", path, "--output-dir", tmp, "--force", "--quiet"});
-    json files = json::array();
-    std::error_code ec;
-    for (const auto& e : std::filesystem::directory_iterator(tmp, ec))
-      files.push_back({{"file", e.path().filename().string()}, {"bytes", static_cast<double>(std::filesystem::file_size(e.path(), ec))}});
-    std::filesystem::remove_all(tmp, ec);
-    json textures = json::array();
-    BakeConfig named = c;
-    named.output.directory = ".";
-    for (const EngineOutput& o : engine_outputs(named)) textures.push_back(o.texture.name);
-    rows.push_back({{"preset", name},
-                    {"config", "tables/configs/" + std::string(name) + ".json"},
-                    {"textures", textures},
-                    {"tables", tables},
-                    {"entries", report.entries},
-                    {"threads", omp_get_max_threads()},
-                    {"bake_seconds_median", median(times)},
-                    {"bake_seconds_runs", times},
-                    {"tool_exit_status", child.status},
-                    {"tool_wall_seconds", child.seconds},
-                    {"tool_peak_rss_bytes", static_cast<double>(child.peak_rss_kb) * 1024.0},
-                    {"files", files}});
-  }
-  return rows;
-}
-
-void write_presets(const json& rows, const json& machine, const std::string& out_dir) {
-  std::filesystem::create_directories(out_dir);
-  std::ofstream(out_dir + "/presets.json") << json({{"machine", machine}, {"presets", rows}}).dump(2) << "\n";
-  std::ofstream csv(out_dir + "/presets.csv");
-  csv << "preset,textures,tables,entries,threads,bake_seconds_median,tool_wall_seconds,tool_peak_rss_bytes\n";
-  std::ostringstream md;
-  md << "| preset | textures | values | bake (median, " << rows.front()["threads"] << " threads) | bake-hair-luts end to end | peak memory |\n|---|---|---|---|---|---|\n";
-  for (const json& r : rows) {
-    std::string tex;
-    for (const auto& t : r["textures"]) tex += (tex.empty() ? "" : " ") + t.get<std::string>();
-    csv << r["preset"].get<std::string>() << ",\"" << tex << "\"," << r["tables"] << ',' << r["entries"] << ',' << r["threads"] << ','
-        << r["bake_seconds_median"] << ',' << r["tool_wall_seconds"] << ',' << r["tool_peak_rss_bytes"] << "\n";
-    md << "| " << r["preset"].get<std::string>() << " | " << (tex.empty() ? "(generic tables)" : tex) << " | " << r["entries"] << " | "
-       << fmt(r["bake_seconds_median"].get<double>()) << " s | " << fmt(r["tool_wall_seconds"].get<double>()) << " s | "
-       << fmt(r["tool_peak_rss_bytes"].get<double>() / 1048576.0) << " MiB |\n";
-  }
-  std::ofstream(out_dir + "/presets.md") << md.str();
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -266,6 +134,11 @@ int main(int argc, char** argv) {
   app.add_flag("--presets-only", presets_only, "only time the export presets (writes presets.json, presets.csv, presets.md)");
   app.add_flag("--representations-only", representations_only,
                "only measure table representations: entries against sampled error and lookup ns (writes representations.*)");
+  std::string only;
+  app.add_option("--only", only,
+                 "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets (the full run "
+                 "also writes bench.json/csv/md and pareto.svg)")
+      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets"}));
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)\n\n"
              "Exit status: 0 done, 2 bad command line (one line \"bench-hair-luts: error: ...\" on stderr).");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
@@ -277,7 +150,10 @@ int main(int argc, char** argv) {
   char date[32];
   const std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
-  report["machine"] = {{"cpu", cpu_model()}, {"cores", max_threads}, {"date", date}, {"hairlut_version", kVersion}};
+  std::string loadavg;
+  std::getline(std::ifstream("/proc/loadavg"), loadavg);
+  report["machine"] = {{"cpu", cpu_model()}, {"cores", max_threads}, {"date", date}, {"hairlut_version", kVersion},
+                       {"load_average_at_start", loadavg.substr(0, loadavg.find(' ', loadavg.find(' ', loadavg.find(' ') + 1) + 1))}};
   report["command"] = "bench-hair-luts --out " + out_dir + (quick ? " --quick" : "") + " --slices " + std::to_string(slices);
   if (representations_only) {
     std::filesystem::create_directories(out_dir);
@@ -289,13 +165,23 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  if (presets_only) {
-    const json rows = bench_presets(bake_tool, quick, quiet);
-    write_presets(rows, report["machine"], out_dir);
+  Settings st;
+  st.out_dir = out_dir, st.bake_tool = bake_tool, st.source_dir = HAIRLUT_SOURCE_DIR;
+  st.quick = quick, st.quiet = quiet, st.repeats = repeats, st.max_threads = max_threads, st.machine = report["machine"];
+  if (presets_only) only = "presets";
+  if (!only.empty()) {
+    const std::map<std::string, std::string> files = {{"presets", "presets"}, {"per-material", "per-material"}, {"end-to-end", "end-to-end"},
+                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}};
+    if (only == "presets") write_presets(bench_presets(st), st);
+    if (only == "per-material") bench_per_material(st);
+    if (only == "end-to-end") bench_end_to_end(st);
+    if (only == "scaling") bench_scaling(st);
+    if (only == "pbrt") bench_pbrt(st);
+    const std::string base = files.at(only);
     if (!quiet) {
       std::ostringstream md;
-      md << std::ifstream(out_dir + "/presets.md").rdbuf();
-      std::printf("%s\nwrote %s/presets.json, presets.csv, presets.md\n", md.str().c_str(), out_dir.c_str());
+      md << std::ifstream(out_dir + "/" + base + ".md").rdbuf();
+      std::printf("%s\nwrote %s/%s.json, .csv, .md\n", md.str().c_str(), out_dir.c_str(), base.c_str());
     }
     return 0;
   }
@@ -409,74 +295,11 @@ int main(int argc, char** argv) {
                                {"table_bytes", table_bytes}, {"peak_rss_over_tables", static_cast<double>(c.peak_rss_kb) * 1024.0 / table_bytes}};
   }
 
-  // ---- 4. Per material: renderers' baseline against hairlut, one thread.
-  log(quiet, "per-material ...\n");
-  {
-    std::vector<double> mphi, mcos, mtheta;
-    for (int j = 0; j < 64; ++j) mphi.push_back((j + 0.5) * kPi / 64);
-    for (int t = 0; t < 64; ++t) mcos.push_back((t + 0.5) / 64), mtheta.push_back(std::acos((t + 0.5) / 64));
-    const Rgb s = melanin_sigma_a_rgb(0.8, 0.2);
-    const double sig[3] = {s.r, s.g, s.b}, betas[3] = {radians(2.0), radians(2.0), radians(2.0)};
-    std::vector<float> base;
-    std::vector<double> tb, th;
-    const GaussLegendreRule rule140(140);  // both sides build their rules once, outside the timing
-    for (int i = 0; i < (quick ? 1 : 5); ++i) {
-      const auto t0 = clock_type::now();
-      renderer_baseline_material(1.55, sig, betas, mphi, mcos, rule140, base);
-      tb.push_back(seconds_since(t0));
-    }
-    NpGridRequest r;
-    r.eta = 1.55;
-    r.quadrature.method = NpQuadratureConfig::Method::fourier;
-    r.quadrature.tolerance = 1e-10;
-    r.lobes = 3;
-    r.sigmas = {sig[0], sig[1], sig[2]};
-    r.thetas = mtheta;
-    r.phis = mphi;
-    r.betas_of = [&](int p) { return std::vector<double>{betas[p]}; };
-    r.rules = std::make_shared<GaussLegendreCache>();
-    BakeOptions o;
-    o.threads = 1;
-    std::vector<double> ours(3 * 64 * 64 * 3);
-    bake_np_grid(r, o, "", [](int, std::size_t, std::size_t, std::size_t, std::size_t, double) {});  // builds the rules
-    for (int i = 0; i < (quick ? 1 : 5); ++i) {
-      const auto t0 = clock_type::now();
-      bake_np_grid(r, o, "", [&](int p, std::size_t k, std::size_t t, std::size_t, std::size_t j, double v) {
-        ours[((static_cast<std::size_t>(p) * 64 + t) * 64 + j) * 3 + k] = v;
-      });
-      th.push_back(seconds_since(t0));
-    }
-    // Errors at the nodes against the reference, relative to each lobe's peak.
-    double base_err[3] = {0, 0, 0}, our_err[3] = {0, 0, 0}, base_val_err[3] = {0, 0, 0};
-    for (int p = 0; p < 3; ++p) {
-      std::vector<double> refv;
-      double peak = 0.0;
-      for (std::size_t t = 0; t < 64; t += quick ? 16 : 4)
-        for (std::size_t j = 0; j < 64; ++j)
-          for (std::size_t k = 0; k < 3; ++k) {
-            refv.push_back(azimuthal_np_reference(AttenuationSlice(1.55, mtheta[t], sig[k]), p, betas[p], mphi[j], 1e-12).value[0]);
-            peak = std::max(peak, refv.back());
-          }
-      std::size_t q = 0;
-      for (std::size_t t = 0; t < 64; t += quick ? 16 : 4)
-        for (std::size_t j = 0; j < 64; ++j)
-          for (std::size_t k = 0; k < 3; ++k, ++q) {
-            const std::size_t idx = ((static_cast<std::size_t>(p) * 64 + t) * 64 + j) * 3 + k;
-            base_err[p] = std::max(base_err[p], std::abs(base[idx] - refv[q]) / peak);
-            our_err[p] = std::max(our_err[p], std::abs(ours[idx] - refv[q]) / peak);
-            if (refv[q] > 1e-3 * peak) base_val_err[p] = std::max(base_val_err[p], std::abs(base[idx] - refv[q]) / refv[q]);
-          }
-    }
-    report["per_material"] = {{"table", "64 phi x 64 cos(theta_d), lobes R, TT, TRT, RGB sigma_a of eumelanin 0.8 + pheomelanin 0.2, beta 2 deg"},
-                              {"baseline", "per entry 140-point Gauss-Legendre in h, single precision, 2048-sample tabulated detector"},
-                              {"baseline_ms", median(tb) * 1e3},
-                              {"baseline_max_rel_err_of_peak", {base_err[0], base_err[1], base_err[2]}},
-                              {"baseline_max_rel_err_of_value", {base_val_err[0], base_val_err[1], base_val_err[2]}},
-                              {"hairlut", "fourier, tolerance 1e-10, one thread"},
-                              {"hairlut_ms", median(th) * 1e3},
-                              {"hairlut_max_rel_err_of_peak", {our_err[0], our_err[1], our_err[2]}},
-                              {"ratio", median(th) / median(tb)}};
-  }
+  // ---- 4. Per material: Tungsten's precompute (re-implemented) against hairlut, one thread; the
+  // same shape end to end through bake-hair-luts; pbrt-v4's analytic evaluation per call.
+  report["per_material"] = bench_per_material(st);
+  report["end_to_end"] = bench_end_to_end(st);
+  report["pbrt_hair"] = bench_pbrt(st);
 
   // ---- 5. Interpolation error against resolution, per axis of the generic table.
   log(quiet, "resolution ...\n");
@@ -519,33 +342,16 @@ int main(int argc, char** argv) {
                             {"axes", res}};
   }
 
-  // ---- 6. Thread scaling of the Fourier bake.
-  log(quiet, "scaling ...\n");
-  {
-    NpQuadratureConfig q;
-    json sc = json::array();
-    double t1 = 0.0;
-    for (int th = 1; th <= max_threads; th *= 2) {
-      const double tpe = time_per_entry(q, quick ? 4 : 16, 32, repeats, th);
-      if (th == 1) t1 = tpe;
-      sc.push_back({{"threads", th}, {"time_per_entry_ns", tpe}, {"efficiency", t1 / (tpe * th)}});
-      if (th * 2 > max_threads && th != max_threads) {
-        const double t = time_per_entry(q, quick ? 4 : 16, 32, repeats, max_threads);
-        sc.push_back({{"threads", max_threads}, {"time_per_entry_ns", t}, {"efficiency", t1 / (t * max_threads)}});
-      }
-    }
-    report["scaling"] = sc;
-  }
-
-  // ---- 7. The export presets.
-  report["presets"] = bench_presets(bake_tool, quick, quiet);
+  // ---- 6. Thread scaling with stage timings; 7. the export presets.
+  report["scaling"] = bench_scaling(st);
+  report["presets"] = bench_presets(st);
 
   // ---- 8. Table representations: entries against sampled error and lookup cost.
   report["representations"] = hairlut::bench::bench_representations(quick, quiet);
 
   // ---- Outputs.
   std::filesystem::create_directories(out_dir);
-  write_presets(report["presets"], report["machine"], out_dir);
+  write_presets(report["presets"], st);
   hairlut::bench::write_representations(report["representations"], report["machine"], out_dir);
   {
     std::ofstream(out_dir + "/bench.json") << report.dump(2) << "\n";
@@ -585,9 +391,11 @@ int main(int argc, char** argv) {
          << fmt(r["max_energy_rel"].get<double>()) << " |\n";
     if (report.contains("same_accuracy")) md << "\nSame accuracy: `" << report["same_accuracy"].dump() << "`\n";
     if (report.contains("generic_table")) md << "\nGeneric table: `" << report["generic_table"].dump() << "`\n";
-    md << "\nPer material: `" << report["per_material"].dump() << "`\n";
+    md << "\nPer material (per-material.md):\n\n" << std::ifstream(out_dir + "/per-material.md").rdbuf();
+    md << "\nEnd to end (end-to-end.md):\n\n" << std::ifstream(out_dir + "/end-to-end.md").rdbuf();
+    md << "\npbrt-v4 HairBxDF::f (pbrt-hair.md):\n\n" << std::ifstream(out_dir + "/pbrt-hair.md").rdbuf();
     md << "\nResolution: `" << report["resolution"]["axes"].dump() << "`\n";
-    md << "\nScaling: `" << report["scaling"].dump() << "`\n";
+    md << "\nScaling (scaling.md):\n\n" << std::ifstream(out_dir + "/scaling.md").rdbuf();
     md << "\nExport presets:\n\n" << std::ifstream(out_dir + "/presets.md").rdbuf();
     std::ofstream(out_dir + "/bench.md") << md.str();
     if (!quiet) std::printf("%s\nwrote %s/bench.json, bench.csv, bench.md, pareto.svg\n", md.str().c_str(), out_dir.c_str());

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <vector>
 
 #include "hairlut/attenuation.hpp"
@@ -75,13 +76,17 @@ struct FiberNodes {
 /// π σ √(2 / ln(1/ε)) (the trapezoid-rule bound for a Gaussian); plus the Fresnel-edge nodes.
 int spread_nodes(double beta, int p, const FiberGeometry& geometry, double tolerance);
 
-/// A uniform φ grid whose step divides 2π: φ_j = φ_0 + 2πj/P for j < points (P ≥ points).
+/// A uniform φ grid whose step divides 2π and that is symmetric about φ = 0 on the circle:
+/// φ_j = φ_0 + 2πj/P for j < points ≤ P + 1 (with P + 1 points both ends are present, 0 and 2π or
+/// −π and π, the last repeating the first) and 2φ_0 a multiple of 2π/P.
 struct PeriodicGrid {
   double phi0 = 0.0;
   int period = 0;   ///< P
-  int points = 0;   ///< how many of the P circle points the table keeps
+  int points = 0;   ///< how many circle points the table keeps (point j is circle point j mod P)
   /// The grid of `phis`, or period = 0 when they are not such a grid.
   static PeriodicGrid of(std::span<const double> phis);
+  /// Why `phis` is not such a grid, with what that costs (empty when it is).
+  static std::string why_not(std::span<const double> phis);
 };
 
 /// One (lobe, detector width) evaluated by spread_np.

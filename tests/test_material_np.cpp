@@ -1,0 +1,139 @@
+// Periodic φ layouts (both ends present, −π … π, cell centres) and the per-material N_p path
+// (material_np.hpp) against the adaptive reference (a different algorithm: adaptive Gauss–Kronrod
+// over h with breakpoints, 1e−12), on Tungsten's layout and hairlut's, for β from 2° to 30°.
+#include <cmath>
+#include <hairlut/azimuthal_fourier.hpp>
+#include <hairlut/hairlut.hpp>
+#include <hairlut/material_np.hpp>
+
+#include "catch.hpp"
+
+using namespace hairlut;
+
+namespace {
+
+std::vector<double> uniform(double lo, double step, int n) {
+  std::vector<double> v;
+  for (int j = 0; j < n; ++j) v.push_back(lo + step * j);
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("Periodic grids with both ends present are recognised", "[fourier][material]") {
+  const PeriodicGrid a = PeriodicGrid::of(uniform(0.0, kTwoPi / 63, 64));  // [0, 2π], Tungsten's
+  CHECK(a.period == 63);
+  CHECK(a.points == 64);
+  const PeriodicGrid b = PeriodicGrid::of(uniform(-kPi, kTwoPi / 63, 64));  // [−π, π]
+  CHECK(b.period == 63);
+  CHECK(PeriodicGrid::of(uniform(0.0, kPi / 63, 64)).period == 126);           // [0, π] edges
+  CHECK(PeriodicGrid::of(uniform(kPi / 128, kPi / 64, 64)).period == 128);     // (0, π) centres
+  CHECK(PeriodicGrid::of(uniform(-kPi + kPi / 64, kTwoPi / 64, 64)).period == 64);  // (−π, π) centres
+  CHECK(PeriodicGrid::why_not(uniform(0.0, kTwoPi / 63, 64)).empty());
+  // Not periodic, with the reason named.
+  CHECK(PeriodicGrid::of(uniform(0.0, kTwoPi / 63, 65)).period == 0);  // more than one period
+  CHECK(PeriodicGrid::why_not(uniform(0.0, kTwoPi / 63, 65)).find("more than one period") != std::string::npos);
+  CHECK(PeriodicGrid::of(uniform(0.1, kPi / 64, 64)).period == 0);  // not symmetric about 0
+  CHECK(PeriodicGrid::why_not(uniform(0.1, kPi / 64, 64)).find("symmetric") != std::string::npos);
+  CHECK(PeriodicGrid::of(uniform(0.0, 0.1, 20)).period == 0);  // step does not divide 2π
+  CHECK(PeriodicGrid::of(std::vector<double>{0.5}).period == 0);
+  CHECK(!PeriodicGrid::why_not(std::vector<double>{0.5}).empty());
+}
+
+TEST_CASE("Spreading on a grid with both ends present repeats the first point at the last", "[fourier][material]") {
+  const auto phis = uniform(-kPi, kTwoPi / 40, 41);
+  const double beta = radians(3.0), tol = 1e-12;
+  const FiberGeometry g = FiberGeometry::make(1.55, radians(20.0));
+  const GaussLegendreRule rule(spread_nodes(beta, 2, g, tol));
+  const std::vector<SpreadLobe> lobes = {{0, beta}, {1, beta}, {2, beta}};
+  const double sigma[1] = {0.4};
+  std::vector<std::vector<double>> out;
+  spread_np(FiberNodes::make(g, AbsorptionPath::chord, rule), g, lobes, sigma, PeriodicGrid::of(phis), tol, out);
+  const AttenuationSlice slice(1.55, radians(20.0), 0.4);
+  for (std::size_t l = 0; l < lobes.size(); ++l) {
+    CHECK(out[l][40] == out[l][0]);
+    for (std::size_t j : {0u, 7u, 20u, 33u, 40u}) {
+      const double ref = azimuthal_np_reference(slice, lobes[l].p, beta, phis[j], 1e-13).value[0];
+      CHECK(out[l][j] == Approx(ref).epsilon(1e-10).margin(1e-13));
+    }
+  }
+}
+
+TEST_CASE("Per-material N_p matches the adaptive reference within 1e-10 of the lobe peak", "[fourier][material]") {
+  struct Layout {
+    const char* name;
+    std::vector<double> thetas, phis;
+  };
+  std::vector<Layout> layouts(4);
+  layouts[0].name = "tungsten [0, 2 pi]";
+  layouts[1].name = "hairlut (0, pi) centres";
+  layouts[2].name = "[-pi, pi] edges";
+  layouts[3].name = "uneven (Fourier only)";
+  for (int y = 0; y < 64; y += 9) {
+    layouts[0].thetas.push_back(std::acos(std::max(y, 1) / 63.0));
+    layouts[1].thetas.push_back(std::acos((y + 0.5) / 64.0));
+  }
+  layouts[2].thetas = layouts[0].thetas;
+  layouts[3].thetas = {radians(10.0), radians(70.0)};
+  layouts[0].phis = uniform(0.0, kTwoPi / 63, 64);
+  layouts[1].phis = uniform(kPi / 128, kPi / 64, 64);
+  layouts[2].phis = uniform(-kPi, kTwoPi / 63, 64);
+  layouts[3].phis = {0.0, 0.3, 1.1, 2.0, 3.0};
+  const double sigma[3] = {0.37, 0.64, 1.3};
+  const double tol = 1e-10;
+  for (const Layout& l : layouts)
+    for (double bd : {2.0, 10.0, 30.0}) {
+      if (l.name[0] == 'u' && bd < 5.0) continue;  // the direct Fourier sum at 2° is slow; covered by the others
+      const double beta = radians(bd);
+      const MaterialNp np({1.55, AbsorptionPath::chord, {beta, beta, beta}, {sigma, sigma + 3}, l.thetas, l.phis, tol});
+      CHECK(np.note().empty() == (l.name[0] != 'u'));
+      const std::size_t nphi = l.phis.size();
+      std::vector<double> v;
+      for (int p = 0; p < 3; ++p) {
+        double peak = 0.0, err = 0.0;
+        for (std::size_t t = 0; t < l.thetas.size(); ++t) {
+          np.evaluate(t, v);
+          for (std::size_t j = 0; j < nphi; j += 3)
+            for (std::size_t k = 0; k < 3; ++k) {
+              const double ref = azimuthal_np_reference(AttenuationSlice(1.55, l.thetas[t], sigma[k]), p, beta, l.phis[j], 1e-12).value[0];
+              peak = std::max(peak, ref);
+              err = std::max(err, std::abs(v[(static_cast<std::size_t>(p) * 3 + k) * nphi + j] - ref));
+            }
+        }
+        INFO(l.name << ", beta " << bd << " deg, p " << p << ": error / peak " << err / peak);
+        CHECK(err <= 1e-10 * peak);
+      }
+    }
+}
+
+TEST_CASE("Newton Gauss-Legendre rules agree with the library's rules", "[material]") {
+  for (int m : {1, 2, 7, 16, 140, 192, 513}) {
+    std::vector<double> x, w;
+    newton_gauss_legendre(m, x, w);
+    const GaussLegendreRule ref(m);
+    double wsum = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      CHECK(std::abs(x[i] - ref.nodes()[i]) <= 1e-15);
+      // A node known to ε moves the weight 2/((1 − x²) P'²) by about ε/(1 − x²) relative.
+      const double x2 = (1.0 - ref.nodes()[i]) * (1.0 + ref.nodes()[i]);
+      CHECK(std::abs(w[i] - ref.weights()[i]) <= (4.0 * 2.2e-16 / x2 + 2.0 * m * 2.2e-16) * ref.weights()[i]);  // and m rounded steps of the recurrence
+      wsum += w[i];
+    }
+    CHECK(wsum == Approx(2.0).epsilon(1e-14));
+  }
+}
+
+TEST_CASE("Lobe energies of all channels at once equal lobe_energies", "[material]") {
+  const GaussLegendreRule rule(128);
+  const double sigmas[3] = {0.0, 0.8, 12.0};
+  for (bool residual : {false, true})
+    for (double td : {0.0, 40.0, 89.0}) {
+      std::vector<double> e;
+      const LobeSet lobes{3, residual};
+      material_energies(1.55, radians(td), AbsorptionPath::chord, sigmas, lobes, rule, e);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const auto ref = lobe_energies(AttenuationSlice(1.55, radians(td), sigmas[k]), lobes, rule);
+        for (std::size_t p = 0; p < ref.size(); ++p) CHECK(e[k * ref.size() + p] == Approx(ref[p]).epsilon(1e-13).margin(1e-300));
+      }
+    }
+}

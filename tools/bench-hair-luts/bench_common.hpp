@@ -1,0 +1,76 @@
+// Helpers shared by the sections of bench-hair-luts (timing, statistics, child processes, output).
+#pragma once
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+using json = nlohmann::ordered_json;
+using clock_type = std::chrono::steady_clock;
+
+inline double seconds_since(clock_type::time_point t0) { return std::chrono::duration<double>(clock_type::now() - t0).count(); }
+
+/// CPU time (user + system) of this process so far, in seconds.
+double process_cpu_seconds();
+/// CPU time of the calling thread so far, in seconds: single-threaded timings that do not count
+/// the time other processes of a shared machine take from it.
+double thread_cpu_seconds();
+
+inline double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+inline double minimum(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
+
+inline double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+}
+
+template <class... Args>
+void log(bool quiet, const char* fmt, Args... args) {
+  if (quiet) return;
+  std::fprintf(stderr, fmt, args...);
+  std::fflush(stderr);
+}
+
+std::string fmt(double v, int digits = 3);
+std::string cpu_model();
+
+/// A child process's exit status, wall time, CPU time (user + system) and peak resident memory.
+struct ChildResult {
+  int status = -1;
+  double seconds = 0.0, cpu_seconds = 0.0;
+  long peak_rss_kb = 0;
+};
+ChildResult run_child(const std::vector<std::string>& argv);
+
+/// What every section gets from the command line.
+struct Settings {
+  std::string out_dir, bake_tool, source_dir;
+  bool quick = false, quiet = false;
+  int repeats = 3;
+  int max_threads = 1;
+  json machine;
+};
+
+/// Writes text to out_dir/name (creating the directory).
+void write_file(const Settings& s, const std::string& name, const std::string& text);
+
+// The sections; each returns its JSON and writes its own files under out_dir.
+json bench_presets(const Settings& s);
+void write_presets(const json& rows, const Settings& s);
+json bench_per_material(const Settings& s);
+json bench_end_to_end(const Settings& s);
+json bench_scaling(const Settings& s);
+json bench_pbrt(const Settings& s);
+
+}  // namespace bench

@@ -1,0 +1,162 @@
+// pbrt-v4's HairBxDF::f re-implemented operation for operation (files and commit in the header).
+#include "pbrt_hair.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+namespace bench {
+namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
+
+float sq(float v) { return v * v; }
+float safe_sqrt(float v) { return std::sqrt(std::max(0.0f, v)); }
+float safe_asin(float v) { return std::asin(std::clamp(v, -1.0f, 1.0f)); }
+float pow_n(float v, int n) {  // pbrt's Pow<n> by repeated squaring
+  if (n == 0) return 1.0f;
+  const float half = pow_n(v, n / 2);
+  return (n & 1) ? half * half * v : half * half;
+}
+
+// 2^x' with x' = x log2 e: integer part into the exponent bits, 2^f by a cubic with fused steps.
+float fast_exp(float x) {
+  const float xp = x * 1.442695041f;
+  const float fxp = std::floor(xp), f = xp - fxp;
+  const int i = static_cast<int>(fxp);
+  const float two_f = std::fma(f, std::fma(f, std::fma(f, 0.0781455737f, 0.226173572f), 0.695556856f), 1.0f);
+  const int exponent = static_cast<int>(std::bit_cast<std::uint32_t>(two_f) >> 23) - 127 + i;
+  if (exponent < -126) return 0.0f;
+  if (exponent > 127) return INFINITY;
+  std::uint32_t bits = std::bit_cast<std::uint32_t>(two_f);
+  bits &= 0b10000000011111111111111111111111u;
+  bits |= static_cast<std::uint32_t>(exponent + 127) << 23;
+  return std::bit_cast<float>(bits);
+}
+
+// I0(x) ≈ Σ_{i<10} x^{2i} / (4^i (i!)²), integer factorials as there.
+float bessel_i0(float x) {
+  float val = 0.0f, x2i = 1.0f;
+  std::int64_t ifact = 1;
+  int i4 = 1;
+  for (int i = 0; i < 10; ++i) {
+    if (i > 1) ifact *= i;
+    val += x2i / static_cast<float>(i4 * ifact * ifact);
+    x2i *= x * x;
+    i4 *= 4;
+  }
+  return val;
+}
+
+float log_bessel_i0(float x) {
+  if (x > 12.0f) return x + 0.5f * (-std::log(2.0f * kPi) + std::log(1.0f / x) + 1.0f / (8.0f * x));
+  return std::log(bessel_i0(x));
+}
+
+float longitudinal(float cos_i, float cos_o, float sin_i, float sin_o, float v) {
+  const float a = cos_i * cos_o / v, b = sin_i * sin_o / v;
+  return v <= 0.1f ? fast_exp(log_bessel_i0(a) - b - 1.0f / v + 0.6931f + std::log(1.0f / (2.0f * v)))
+                   : (fast_exp(-b) * bessel_i0(a)) / (std::sinh(1.0f / v) * 2.0f * v);
+}
+
+float fresnel_dielectric(float cos_i, float eta) {
+  cos_i = std::clamp(cos_i, -1.0f, 1.0f);
+  if (cos_i < 0.0f) {
+    eta = 1.0f / eta;
+    cos_i = -cos_i;
+  }
+  const float sin2_t = (1.0f - sq(cos_i)) / sq(eta);
+  if (sin2_t >= 1.0f) return 1.0f;
+  const float cos_t = safe_sqrt(1.0f - sin2_t);
+  const float parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  const float perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return (sq(parl) + sq(perp)) / 2.0f;
+}
+
+float trimmed_logistic(float x, float s) {
+  // Logistic(x, s) / (LogisticCDF(π, s) − LogisticCDF(−π, s)).
+  x = std::abs(x);
+  const float logistic = std::exp(-x / s) / (s * sq(1.0f + std::exp(-x / s)));  // two exp() calls, as there
+  return logistic / (1.0f / (1.0f + std::exp(-kPi / s)) - 1.0f / (1.0f + std::exp(kPi / s)));
+}
+
+float azimuthal(float phi, int p, float s, float gamma_o, float gamma_t) {
+  float dphi = phi - (2.0f * static_cast<float>(p) * gamma_t - 2.0f * gamma_o + static_cast<float>(p) * kPi);
+  while (dphi > kPi) dphi -= 2.0f * kPi;
+  while (dphi < -kPi) dphi += 2.0f * kPi;
+  return trimmed_logistic(dphi, s);
+}
+
+}  // namespace
+
+PbrtHair::PbrtHair(float h, float eta, const Spectrum& sigma_a, float beta_m, float beta_n, float alpha_deg)
+    : h_(h), eta_(eta), sigma_a_(sigma_a) {
+  v_[0] = sq(0.726f * beta_m + 0.812f * sq(beta_m) + 3.7f * pow_n(beta_m, 20));
+  v_[1] = 0.25f * v_[0];
+  v_[2] = 4.0f * v_[0];
+  for (int p = 3; p <= kPMax; ++p) v_[p] = v_[2];
+  s_ = 0.626657069f * (0.265f * beta_n + 1.194f * sq(beta_n) + 5.372f * pow_n(beta_n, 22));
+  sin2k_[0] = std::sin(alpha_deg * (kPi / 180.0f));
+  cos2k_[0] = safe_sqrt(1.0f - sq(sin2k_[0]));
+  for (int i = 1; i < kPMax; ++i) {
+    sin2k_[i] = 2.0f * cos2k_[i - 1] * sin2k_[i - 1];
+    cos2k_[i] = sq(cos2k_[i - 1]) - sq(sin2k_[i - 1]);
+  }
+}
+
+PbrtHair::Spectrum PbrtHair::f(PbrtVec3 wo, PbrtVec3 wi) const {
+  const float sin_o = wo.x, cos_o = safe_sqrt(1.0f - sq(sin_o));
+  const float phi_o = std::atan2(wo.z, wo.y);
+  const float gamma_o = safe_asin(h_);
+  const float sin_i = wi.x, cos_i = safe_sqrt(1.0f - sq(sin_i));
+  const float phi_i = std::atan2(wi.z, wi.y);
+  const float sin_t = sin_o / eta_, cos_t = safe_sqrt(1.0f - sq(sin_t));
+  const float etap = safe_sqrt(sq(eta_) - sq(sin_o)) / cos_o;
+  const float sin_gt = h_ / etap, cos_gt = safe_sqrt(1.0f - sq(sin_gt));
+  const float gamma_t = safe_asin(sin_gt);
+  Spectrum T;
+  for (int k = 0; k < kSamples; ++k) T[k] = std::exp(-sigma_a_[k] * (2.0f * cos_gt / cos_t));
+  const float phi = phi_i - phi_o;
+
+  // A_p: Fresnel at the first hit, then (1 − f)² T (T f)^{p−1}, and the tail after pMax.
+  std::array<Spectrum, kPMax + 1> ap{};
+  const float fr = fresnel_dielectric(cos_o * safe_sqrt(1.0f - sq(h_)), eta_);
+  for (int k = 0; k < kSamples; ++k) {
+    ap[0][k] = fr;
+    ap[1][k] = sq(1.0f - fr) * T[k];
+  }
+  for (int p = 2; p < kPMax; ++p)
+    for (int k = 0; k < kSamples; ++k) ap[p][k] = ap[p - 1][k] * T[k] * fr;
+  bool any = false;
+  for (int k = 0; k < kSamples; ++k) any |= (1.0f - T[k] * fr) != 0.0f;
+  if (any)
+    for (int k = 0; k < kSamples; ++k) ap[kPMax][k] = ap[kPMax - 1][k] * fr * T[k] / (1.0f - T[k] * fr);
+
+  Spectrum sum{};
+  for (int p = 0; p < kPMax; ++p) {
+    float sin_po, cos_po;
+    if (p == 0) {
+      sin_po = sin_o * cos2k_[1] - cos_o * sin2k_[1];
+      cos_po = cos_o * cos2k_[1] + sin_o * sin2k_[1];
+    } else if (p == 1) {
+      sin_po = sin_o * cos2k_[0] + cos_o * sin2k_[0];
+      cos_po = cos_o * cos2k_[0] - sin_o * sin2k_[0];
+    } else {
+      sin_po = sin_o * cos2k_[2] + cos_o * sin2k_[2];
+      cos_po = cos_o * cos2k_[2] - sin_o * sin2k_[2];
+    }
+    cos_po = std::abs(cos_po);
+    const float mp = longitudinal(cos_i, cos_po, sin_i, sin_po, v_[p]);
+    const float np = azimuthal(phi, p, s_, gamma_o, gamma_t);
+    for (int k = 0; k < kSamples; ++k) sum[k] += mp * ap[p][k] * np;
+  }
+  const float mtail = longitudinal(cos_i, cos_o, sin_i, sin_o, v_[kPMax]);
+  for (int k = 0; k < kSamples; ++k) sum[k] += mtail * ap[kPMax][k] / (2.0f * kPi);
+  const float abs_cos = std::abs(wi.z);
+  if (abs_cos > 0.0f)
+    for (int k = 0; k < kSamples; ++k) sum[k] /= abs_cos;
+  return sum;
+}
+
+}  // namespace bench

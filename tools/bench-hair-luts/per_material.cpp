@@ -1,0 +1,219 @@
+// Section "per material": Tungsten's precompute (baseline_tungsten.cpp) against hairlut's
+// per-material bake (hairlut/material_np.hpp), one thread, the same material and β, on the
+// baseline's own layout (64 cos θd = y/63 × 64 φ = 2πx/63, both ends present) and on hairlut's
+// (64 cos θd cell centres × 64 φ cell centres over (0, π)); accuracy of both against the adaptive
+// reference; a cost model of hairlut's spreading path next to the measurement.
+#include <cmath>
+#include <hairlut/angles.hpp>
+#include <hairlut/azimuthal_np.hpp>
+#include <hairlut/material_np.hpp>
+#include <hairlut/melanin.hpp>
+#include <sstream>
+
+#include "baseline_tungsten.hpp"
+#include "bench_common.hpp"
+
+namespace bench {
+
+using namespace hairlut;
+
+namespace {
+
+struct Layout {
+  std::string name, description;
+  std::vector<double> thetas, phis;
+};
+
+Layout tungsten_layout() {
+  Layout l{"tungsten", "64 cos(theta_d) = y/63 x 64 phi = 2 pi x/63 (Tungsten's, both ends present)", {}, {}};
+  for (int y = 0; y < 64; ++y) l.thetas.push_back(std::acos(y / 63.0));
+  for (int x = 0; x < 64; ++x) l.phis.push_back(kTwoPi * x / 63.0);
+  return l;
+}
+
+Layout hairlut_layout() {
+  Layout l{"hairlut", "64 cos(theta_d) cell centres x 64 phi cell centres over (0, pi) (phi even)", {}, {}};
+  for (int t = 0; t < 64; ++t) l.thetas.push_back(std::acos((t + 0.5) / 64.0));
+  for (int j = 0; j < 64; ++j) l.phis.push_back((j + 0.5) * kPi / 64.0);
+  return l;
+}
+
+// One hairlut per-material bake, rules included (as Tungsten builds its rule inside).
+void hairlut_material(const Layout& l, const std::array<double, 3>& sigma, double beta, double tol, std::vector<double>& out) {
+  MaterialNpRequest r{1.55, AbsorptionPath::chord, {beta, beta, beta}, {sigma[0], sigma[1], sigma[2]}, l.thetas, l.phis, tol};
+  const MaterialNp np(std::move(r));
+  const std::size_t per = 3 * 3 * l.phis.size();
+  out.resize(l.thetas.size() * per);
+  std::vector<double> v;
+  for (std::size_t t = 0; t < l.thetas.size(); ++t) {
+    np.evaluate(t, v);
+    std::copy(v.begin(), v.end(), out.begin() + static_cast<std::ptrdiff_t>(t * per));
+  }
+}
+
+// Nanoseconds per std::exp and std::asin call over an array and per multiply–add of the window
+// loop (three channels), each timed on its own over arrays that stay in cache.
+struct UnitCosts {
+  double exp_ns, asin_ns, madd_ns;
+};
+
+UnitCosts unit_costs() {
+  const std::size_t n = 4096;
+  std::vector<double> x(n), y(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = -20.0 * static_cast<double>(i) / n;
+  auto time_it = [&](auto&& f, double per) {
+    std::vector<double> t;
+    for (int r = 0; r < 15; ++r) {
+      const double c0 = thread_cpu_seconds();
+      for (int k = 0; k < 20; ++k) f();
+      t.push_back((thread_cpu_seconds() - c0) / 20.0 / per * 1e9);
+    }
+    return minimum(t);
+  };
+  volatile double sink = 0.0;
+  UnitCosts c{};
+  c.exp_ns = time_it([&] { for (std::size_t i = 0; i < n; ++i) y[i] = std::exp(x[i]); sink = y[7]; }, n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = 0.6 * static_cast<double>(i) / n;
+  c.asin_ns = time_it([&] { for (std::size_t i = 0; i < n; ++i) y[i] = std::asin(x[i]); sink = y[7]; }, n);
+  std::vector<double> buf(3 * 300, 0.0), win(11, 0.5);
+  c.madd_ns = time_it([&] {
+    for (std::size_t i = 0; i < 256; ++i) {
+      double* b = buf.data() + (i * 7 % 256) * 3;
+      const double a0 = 1e-3 * static_cast<double>(i), a1 = 2e-3, a2 = 3e-3;
+      for (std::size_t j = 0; j < win.size(); ++j, b += 3) b[0] += a0 * win[j], b[1] += a1 * win[j], b[2] += a2 * win[j];
+    }
+    sink = buf[5];
+  }, 256.0 * 11 * 3);
+  (void)sink;
+  return c;
+}
+
+}  // namespace
+
+json bench_per_material(const Settings& st) {
+  const Rgb s = melanin_sigma_a_rgb(0.8, 0.2);
+  const std::array<double, 3> sigma = {s.r, s.g, s.b};
+  const double tol = 1e-10;
+  std::vector<double> betas_deg = {2, 5, 10, 20, 30};
+  if (st.quick) betas_deg = {2, 30};
+  const int runs = st.quick ? 3 : 9;
+  const std::vector<Layout> layouts = {tungsten_layout(), hairlut_layout()};
+  const UnitCosts unit = unit_costs();
+  json rows = json::array();
+  std::ostringstream csv, md;
+  csv << "beta_deg,layout,baseline_ms,hairlut_ms,ratio,speedup,baseline_max_err_of_peak,hairlut_max_err_of_peak,spread_nodes,window,model_ms\n";
+  md << "| β | layout | Tungsten precompute (re-implementation) | hairlut | speed-up | baseline error / peak | hairlut error / peak | cost model |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  for (double bd : betas_deg) {
+    const double beta = radians(bd);
+    const TungstenMaterial tm{1.55f, {static_cast<float>(sigma[0]), static_cast<float>(sigma[1]), static_cast<float>(sigma[2])}, static_cast<float>(beta)};
+    for (const Layout& l : layouts) {
+      log(st.quiet, "per material: beta %g deg, %s layout ...\n", bd, l.name.c_str());
+      TungstenTables base;
+      std::vector<double> ours;
+      std::vector<double> tb, th;
+      std::vector<double> wb, wh;
+      for (int i = 0; i < runs; ++i) {  // alternating, so that both see the same machine
+        auto t0 = clock_type::now();
+        double c0 = thread_cpu_seconds();
+        tungsten_precompute(tm, base);
+        tb.push_back(thread_cpu_seconds() - c0);
+        wb.push_back(seconds_since(t0));
+        t0 = clock_type::now();
+        c0 = thread_cpu_seconds();
+        hairlut_material(l, sigma, beta, tol, ours);
+        th.push_back(thread_cpu_seconds() - c0);
+        wh.push_back(seconds_since(t0));
+      }
+      // Errors at sampled nodes against the adaptive reference, relative to each lobe's peak.
+      double base_err = 0.0, our_err = 0.0;
+      const std::size_t nphi = l.phis.size();
+      const Layout tl = tungsten_layout();
+      for (int p = 0; p < 3; ++p) {
+        for (int which = 0; which < (l.name == "tungsten" ? 2 : 1); ++which) {
+          // which 0: hairlut on this layout; 1: the baseline (always on its own layout)
+          const Layout& ll = which == 0 ? l : tl;
+          std::vector<double> ref, got;
+          double peak = 0.0;
+          for (std::size_t t = 3; t < 64; t += st.quick ? 20 : 8)
+            for (std::size_t j = 0; j < nphi; j += 2)
+              for (std::size_t k = 0; k < 3; ++k) {
+                ref.push_back(azimuthal_np_reference(AttenuationSlice(1.55, ll.thetas[t], sigma[k]), p, beta, ll.phis[j], 1e-12).value[0]);
+                peak = std::max(peak, ref.back());
+                got.push_back(which == 0 ? ours[t * 9 * nphi + (static_cast<std::size_t>(p) * 3 + k) * nphi + j]
+                                         : static_cast<double>(base.lobe[static_cast<std::size_t>(p)].value[(t * 64 + j) * 3 + k]));
+              }
+          double e = 0.0;
+          for (std::size_t q = 0; q < ref.size(); ++q) e = std::max(e, std::abs(got[q] - ref[q]) / peak);
+          (which == 0 ? our_err : base_err) = std::max(which == 0 ? our_err : base_err, e);
+        }
+      }
+      // Cost model of the spreading path: per θd, m nodes × (asin + K exp + lobes × (2 exp + W × K multiply–adds)).
+      MaterialNpRequest r{1.55, AbsorptionPath::chord, {beta, beta, beta}, {sigma[0], sigma[1], sigma[2]}, l.thetas, l.phis, tol};
+      const MaterialNp plan(std::move(r));
+      double model_ns = 0.0;
+      int spread_m = 0, window = 0, fourier_lobes = 0;
+      const double step = kTwoPi / PeriodicGrid::of(l.phis).period;
+      const int W = 2 * static_cast<int>(std::ceil(std::sqrt(2.0 * std::log(2.0 / tol)) * beta / step)) + 1;
+      for (std::size_t t = 0; t < l.thetas.size(); ++t) {
+        const int m = plan.spread_nodes_at(t);
+        int spread_lobes = 0;
+        for (int p = 0; p < 3; ++p) spread_lobes += plan.spreads(t, p), fourier_lobes += !plan.spreads(t, p);
+        spread_m = std::max(spread_m, m);
+        if (spread_lobes) window = W;
+        model_ns += m * (unit.asin_ns + 3 * unit.exp_ns + spread_lobes * (2 * unit.exp_ns + W * 3 * unit.madd_ns));
+      }
+      json row = {{"beta_deg", bd},
+                  {"layout", l.name},
+                  {"layout_description", l.description},
+                  {"baseline_ms_min", minimum(tb) * 1e3},
+                  {"baseline_ms_median", median(tb) * 1e3},
+                  {"hairlut_ms_min", minimum(th) * 1e3},
+                  {"hairlut_ms_median", median(th) * 1e3},
+                  {"baseline_wall_ms_min", minimum(wb) * 1e3},
+                  {"hairlut_wall_ms_min", minimum(wh) * 1e3},
+                  {"ratio", minimum(th) / minimum(tb)},
+                  {"speedup", minimum(tb) / minimum(th)},
+                  {"baseline_max_err_of_peak", base_err},
+                  {"hairlut_max_err_of_peak", our_err},
+                  {"hairlut_tolerance", tol},
+                  {"spread_nodes", spread_m},
+                  {"window_points", window},
+                  {"fourier_lobe_thetas", fourier_lobes},
+                  {"spread_model_ms", model_ns * 1e-6}};
+      rows.push_back(row);
+      csv << bd << ',' << l.name << ',' << row["baseline_ms_min"] << ',' << row["hairlut_ms_min"] << ',' << row["ratio"] << ',' << row["speedup"] << ','
+          << base_err << ',' << our_err << ',' << spread_m << ',' << window << ',' << model_ns * 1e-6 << "\n";
+      md << "| " << bd << "° | " << l.name << " | " << fmt(minimum(tb) * 1e3) << " ms | " << fmt(minimum(th) * 1e3) << " ms | "
+         << fmt(minimum(tb) / minimum(th)) << "× | " << (l.name == "tungsten" ? fmt(base_err, 2) : std::string("—")) << " | " << fmt(our_err, 2)
+         << " | " << (spread_m ? fmt(model_ns * 1e-6) + " ms (" + std::to_string(spread_m) + " nodes, " + std::to_string(window) + " points)" : std::string("Fourier"))
+         << " |\n";
+    }
+  }
+  const TungstenCounts n = tungsten_counts({1.55f, {0.0f, 0.0f, 0.0f}, static_cast<float>(radians(2.0))});
+  json counts = {{"rule_newton_steps", n.rule_newton_steps},   {"detector_gaussians_beta_2deg", n.detector_gaussians},
+                 {"row_asin", n.row_asin},                     {"row_cos", n.row_cos},
+                 {"row_exp", n.row_exp},                       {"row_fresnel", n.row_fresnel},
+                 {"node_visits", n.node_visits},               {"detector_lookups", n.detector_lookups},
+                 {"colour_multiply_adds", n.colour_multiply_adds}, {"table_entries", n.table_entries}};
+  json unit_json = {{"exp_ns", unit.exp_ns}, {"asin_ns", unit.asin_ns}, {"window_multiply_add_ns", unit.madd_ns}};
+  json result = {{"machine", st.machine},
+                 {"material", "sigma_a of eumelanin 0.8 + pheomelanin 0.2 (d'Eon's cross-sections), eta 1.55, chord path, one beta for R, TT, TRT"},
+                 {"baseline", "Tungsten HairBcsdf::precomputeAzimuthalDistributions re-implemented operation for operation "
+                              "(tools/bench-hair-luts/baseline_tungsten.cpp; tunabrain/tungsten 88ea020): 140-point Gauss-Legendre in h "
+                              "built inside, float, three 2048-sample detector tables of one beta, lookups shared by RGB, sampling CDFs"},
+                 {"hairlut", "hairlut::MaterialNp (lib/src/material_np.cpp), tolerance 1e-10 of the lobe peak, rules built inside, one thread"},
+                 {"timing", "CPU time of the one thread (CLOCK_THREAD_CPUTIME_ID; wall times also recorded), minimum (and median) of " +
+                                std::to_string(runs) + " alternating runs of each"},
+                 {"error", "max |value - adaptive reference (1e-12)| / lobe peak over every 8th theta_d row from row 3, every 2nd phi, RGB, R/TT/TRT"},
+                 {"baseline_operation_counts", counts},
+                 {"unit_costs", unit_json},
+                 {"rows", rows}};
+  md << "\nBaseline operation counts per material (β = 2°): " << counts.dump() << "\n\nUnit costs (ns): " << unit_json.dump() << "\n";
+  write_file(st, "per-material.json", result.dump(2) + "\n");
+  write_file(st, "per-material.csv", csv.str());
+  write_file(st, "per-material.md", md.str());
+  return result;
+}
+
+}  // namespace bench
