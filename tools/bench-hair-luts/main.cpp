@@ -157,7 +157,7 @@ int main(int argc, char** argv) {
   report["command"] = "bench-hair-luts --out " + out_dir + (quick ? " --quick" : "") + " --slices " + std::to_string(slices);
   if (representations_only) {
     std::filesystem::create_directories(out_dir);
-    hairlut::bench::write_representations(hairlut::bench::bench_representations(quick, quiet), report["machine"], out_dir);
+    bench::write_representations(bench::bench_representations(quick, quiet), report["machine"], out_dir);
     if (!quiet) {
       std::ostringstream md;
       md << std::ifstream(out_dir + "/representations.md").rdbuf();
@@ -347,12 +347,12 @@ int main(int argc, char** argv) {
   report["presets"] = bench_presets(st);
 
   // ---- 8. Table representations: entries against sampled error and lookup cost.
-  report["representations"] = hairlut::bench::bench_representations(quick, quiet);
+  report["representations"] = bench::bench_representations(quick, quiet);
 
   // ---- Outputs.
   std::filesystem::create_directories(out_dir);
   write_presets(report["presets"], st);
-  hairlut::bench::write_representations(report["representations"], report["machine"], out_dir);
+  bench::write_representations(report["representations"], report["machine"], out_dir);
   {
     std::ofstream(out_dir + "/bench.json") << report.dump(2) << "\n";
     std::ofstream csv(out_dir + "/bench.csv");

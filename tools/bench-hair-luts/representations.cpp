@@ -28,8 +28,10 @@
 #include <random>
 #include <sstream>
 
-namespace hairlut::bench {
+namespace bench {
 namespace {
+
+using namespace hairlut;
 
 using json = nlohmann::ordered_json;
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
@@ -369,4 +371,4 @@ void write_representations(const json& rows, const json& machine, const std::str
   std::ofstream(out_dir + "/representations.svg") << svg::line_plot(plot) << "\n";
 }
 
-}  // namespace hairlut::bench
+}  // namespace bench

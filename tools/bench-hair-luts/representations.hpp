@@ -5,11 +5,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-namespace hairlut::bench {
+namespace bench {
 
 /// Bakes each representation in memory and measures it (quick: fewer cases and points).
 nlohmann::ordered_json bench_representations(bool quick, bool quiet);
 /// Writes representations.json, .csv, .md and .svg (Pareto plot) into out_dir.
 void write_representations(const nlohmann::ordered_json& rows, const nlohmann::ordered_json& machine, const std::string& out_dir);
 
-}  // namespace hairlut::bench
+}  // namespace bench
