@@ -15,11 +15,9 @@
 #include <hairlut/version.hpp>
 #include <string>
 
+#include "../common/cancel.hpp"
+
 namespace {
-
-std::atomic<bool> g_cancel{false};  // set by SIGINT / SIGTERM; polled by the baker and the writer
-
-extern "C" void on_signal(int) { g_cancel.store(true); }
 
 // A one-line progress bar on stderr, redrawn at most every 100 ms.
 class ProgressBar {
@@ -47,6 +45,7 @@ class ProgressBar {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hairlut_tools::install_cancel_handlers("bake-hair-luts");
   CLI::App app{"bake-hair-luts: bake hair scattering lookup tables (d'Eon 2011 M_p and N_p, melanin absorption) "
                "into HDF5 and OpenEXR files described by a JSON sidecar"};
   app.footer(R"(Examples:
@@ -57,7 +56,8 @@ int main(int argc, char** argv) {
 
 The config format is schemas/hairlut-config.schema.json. An unchanged config with up-to-date
 outputs is not baked again (use --force). Exit codes: 0 done or up to date, 1 bake or I/O
-failure, 2 bad config or command line, 130 interrupted (no partial output is left).)");
+failure, 2 bad config or command line, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP (no partial
+output is left).)");
   std::string config_path, output_dir;
   bool force = false, quiet = false, check = false;
   int threads = 0;
@@ -88,18 +88,17 @@ failure, 2 bad config or command line, 130 interrupted (no partial output is lef
     return 0;
   }
 
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hairlut_tools::register_temp_dir(config.output.directory);
   ProgressBar bar(!quiet && ::isatty(STDERR_FILENO));
   hairlut::BakeOptions options;
   options.threads = threads;
-  options.cancel = &g_cancel;
+  options.cancel = hairlut_tools::cancel_pointer();
   options.progress = [&](std::string_view stage, std::size_t done, std::size_t total) { bar.update(stage, done, total); };
   try {
     hairlut::remove_stale_temporaries(config);
     hairlut::BakeReport report;
     const hairlut::TableSet set = hairlut::bake(config, options, &report);
-    const auto files = hairlut::write_outputs(set, config, report, &g_cancel);
+    const auto files = hairlut::write_outputs(set, config, report, hairlut_tools::cancel_pointer());
     if (!quiet) {
       for (const auto& f : report.folded)
         std::printf("folded lobe %s into the residual (largest energy %.3g < fold_below %.3g)\n", f.lobe.c_str(), f.max_energy,
@@ -111,7 +110,7 @@ failure, 2 bad config or command line, 130 interrupted (no partial output is lef
     }
   } catch (const hairlut::BakeCancelled&) {
     std::fprintf(stderr, "\nbake-hair-luts: interrupted; no output was written or replaced\n");
-    return 130;
+    return hairlut_tools::cancel_exit_code();
   } catch (const hairlut::IoError& e) {
     std::fprintf(stderr, "bake-hair-luts: error: %s\n", e.what());
     return 1;

@@ -31,6 +31,8 @@
 
 extern char** environ;
 
+#include "../common/cancel.hpp"
+
 namespace {
 
 using namespace hairlut;
@@ -248,6 +250,7 @@ void write_presets(const json& rows, const json& machine, const std::string& out
 }  // namespace
 
 int main(int argc, char** argv) {
+  hairlut_tools::install_cancel_handlers("bench-hair-luts");
   CLI::App app{"bench-hair-luts: run time against error of hairlut's N_p methods, bake targets, resolution and scaling"};
   std::string out_dir = "bench", bake_tool, generic_config;
   std::size_t slices = 80;
