@@ -244,7 +244,20 @@ def probe_disk_full():
         "np": {"axes": {"theta_d": {"count": 24, "range_deg": [0, 85]}, "phi": {"count": 64},
                         "sigma_a": {"count": 6, "range": [0, 5]}, "beta": {"count": 6, "range_deg": [0.5, 30], "spacing": "log"}}}},
         output={"directory": "out", "basename": "t", "formats": ["hdf5", "exr"], "hdf5": {"compression": 0}, "exr": {"compression": "none"}}))
-    for limit_kib in (4, 64, 300):
+    # Limits that stop the HDF5 file, and (with a deflated HDF5 file smaller than the EXR) one that
+    # lets the HDF5 file through and stops the EXR writer.
+    cfg = json.load(open(os.path.join(d, "c.json")))
+    cfg["output"]["hdf5"] = {"compression": 6}
+    write_json(os.path.join(d, "c.json"), cfg)
+    bake(os.path.join(d, "c.json"))
+    h5_size, exr_size = (os.path.getsize(os.path.join(d, "out", "t." + e)) for e in ("h5", "exr"))
+    shutil.rmtree(os.path.join(d, "out"))
+    limits = [4, 64, h5_size // 2048]
+    if h5_size + 4096 < exr_size:
+        limits.append((h5_size + exr_size) // 2048)
+    else:
+        fail("the probe needs an HDF5 file smaller than the EXR file (%d, %d bytes)" % (h5_size, exr_size))
+    for limit_kib in limits:
         def limit():
             resource.setrlimit(resource.RLIMIT_FSIZE, (limit_kib * 1024, limit_kib * 1024))
             signal.signal(signal.SIGXFSZ, signal.SIG_DFL)  # the tool itself must ignore it
