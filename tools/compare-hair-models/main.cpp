@@ -109,6 +109,7 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
     s.phi_samples = phi_samples;
     s.energies = !no_energy;
     s.cancel = hairlut_tools::cancel_pointer();
+    hairlut_tools::register_temp_dir(out_dir);
     s.validate();
   } catch (const hairlut::ConfigError& e) {
     std::fprintf(stderr, "compare-hair-models: error: %s\n", e.what());

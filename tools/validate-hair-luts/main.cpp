@@ -61,11 +61,14 @@ Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input
   options.threads = threads;
   options.max_points = max_points;
   options.cancel = hairlut_tools::cancel_pointer();
+  hairlut_tools::register_temp_dir(out_dir);
   hairlut::TableSet set;
   std::string source;
   try {
     // Clear the previous report first: a failed run must not leave one behind as if it were new.
-    for (const char* name : {"report.html", "report.json", "report.md"}) std::filesystem::remove(std::filesystem::path(out_dir) / name);
+    // (An --out that cannot hold a report is an I/O failure, reported when the report is written.)
+    std::error_code ignored;
+    for (const char* name : {"report.html", "report.json", "report.md"}) std::filesystem::remove(std::filesystem::path(out_dir) / name, ignored);
     if (!config_path.empty()) {
       const hairlut::BakeConfig config = hairlut::load_config(config_path);
       if (config.validate_thresholds.is_object())
