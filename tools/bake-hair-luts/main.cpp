@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdio>
 #include <hairlut/bake.hpp>
+#include <hairlut/bake_estimate.hpp>
 #include <hairlut/error.hpp>
 #include <hairlut/config.hpp>
 #include <hairlut/table_io.hpp>
@@ -78,8 +79,23 @@ output is left).)");
     return 2;
   }
   if (!output_dir.empty()) config.output.directory = output_dir;
+  // Size up front: refuse what cannot fit in memory before any work.
+  const hairlut::BakeEstimate size = hairlut::estimate_bake(config);
+  const double mib = 1024.0 * 1024.0;
+  const auto physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+  if (size.memory_bytes > physical) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s: the tables need about %.0f MiB of memory (%llu values), more than this machine has (%.0f MiB)\n",
+                 config_path.c_str(), static_cast<double>(size.memory_bytes) / mib, static_cast<unsigned long long>(size.values),
+                 static_cast<double>(physical) / mib);
+    return 1;
+  }
   if (check) {
-    if (!quiet) std::printf("%s: valid (config hash %s)\n", config_path.c_str(), config.hash.c_str());
+    if (!quiet) {
+      std::printf("%s: valid (config hash %s)\n", config_path.c_str(), config.hash.c_str());
+      std::printf("estimate: %llu values, about %.1f MiB of memory, at most %.1f MiB on disk before compression\n",
+                  static_cast<unsigned long long>(size.values), static_cast<double>(size.memory_bytes) / mib,
+                  static_cast<double>(size.disk_bytes) / mib);
+    }
     return 0;
   }
   if (!force && hairlut::outputs_up_to_date(config)) {
