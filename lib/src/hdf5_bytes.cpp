@@ -1,9 +1,16 @@
-#include "hdf5_heap_check.hpp"
+#include "hdf5_bytes.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <vector>
+
+#include "hairlut/hdf5_io.hpp"  // IoError
 
 namespace hairlut::detail {
 namespace {
@@ -38,7 +45,74 @@ std::string walk_collection(const unsigned char* c, std::size_t available, std::
   return "";
 }
 
+// Bob Jenkins' lookup3 hash ("hashlittle", byte-wise), which HDF5 uses for its metadata checksums.
+std::uint32_t lookup3(const unsigned char* k, std::size_t length) {
+  auto rot = [](std::uint32_t x, int r) { return (x << r) | (x >> (32 - r)); };
+  std::uint32_t a, b, c;
+  a = b = c = 0xdeadbeefu + static_cast<std::uint32_t>(length);
+  auto word = [&](const unsigned char* p, std::size_t n) {  // n (<= 4) little-endian bytes
+    std::uint32_t w = 0;
+    for (std::size_t i = 0; i < n; ++i) w |= static_cast<std::uint32_t>(p[i]) << (8 * i);
+    return w;
+  };
+  while (length > 12) {
+    a += word(k, 4), b += word(k + 4, 4), c += word(k + 8, 4);
+    a -= c, a ^= rot(c, 4), c += b;
+    b -= a, b ^= rot(a, 6), a += c;
+    c -= b, c ^= rot(b, 8), b += a;
+    a -= c, a ^= rot(c, 16), c += b;
+    b -= a, b ^= rot(a, 19), a += c;
+    c -= b, c ^= rot(b, 4), b += a;
+    length -= 12, k += 12;
+  }
+  if (length == 0) return c;
+  a += word(k, std::min<std::size_t>(length, 4));
+  if (length > 4) b += word(k + 4, std::min<std::size_t>(length - 4, 4));
+  if (length > 8) c += word(k + 8, length - 8);
+  c ^= b, c -= rot(b, 14);
+  a ^= c, a -= rot(c, 11);
+  b ^= a, b -= rot(a, 25);
+  c ^= b, c -= rot(b, 16);
+  a ^= c, a -= rot(c, 4);
+  b ^= a, b -= rot(a, 14);
+  c ^= b, c -= rot(b, 24);
+  return c;
+}
+
 }  // namespace
+
+void write_file_bytes(const std::filesystem::path& path, const std::vector<char>& bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw IoError(path.string() + ": cannot create file (" + std::strerror(errno) + ")");
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throw IoError(path.string() + ": cannot write (" + std::strerror(err) + ")");
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
+    const int err = errno;
+    ::close(fd);
+    throw IoError(path.string() + ": cannot write (" + std::strerror(err) + ")");
+  }
+  if (::close(fd) != 0) throw IoError(path.string() + ": cannot write (" + std::strerror(errno) + ")");
+}
+
+// Superblock versions 2 and 3: 12 bytes, four addresses, then the lookup3 checksum.
+void fix_superblock_checksum(std::vector<char>& image) {
+  auto* b = reinterpret_cast<unsigned char*>(image.data());
+  if (image.size() < 12 || b[8] < 2) return;
+  const std::size_t n = 12 + 4 * static_cast<std::size_t>(b[9]);
+  if (image.size() < n + 4) return;
+  b[11] = 0;  // file consistency flags: closed
+  const std::uint32_t sum = lookup3(b, n);
+  for (int i = 0; i < 4; ++i) b[n + static_cast<std::size_t>(i)] = static_cast<unsigned char>(sum >> (8 * i));
+}
 
 std::string global_heap_problem(const unsigned char* data, std::size_t size) {
   for (std::size_t i = 0; i + 4 <= size; ++i) {
