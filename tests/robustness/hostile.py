@@ -13,7 +13,8 @@ the documented exit code, and no file left where none may be. Probes:
   format-version a newer major format version is refused; a newer minor one is read
   disk-full      a bake under a file-size limit (ulimit -f): one-line I/O error, exit 1
   max-points     validate --max-points 0 and 1: refused with exit 2
-  signals        SIGINT/SIGTERM/SIGHUP stop bake and validate within a second (130/143/129)
+  signals        SIGINT/SIGTERM/SIGHUP stop bake, validate, bench and compare within a second
+                 (130/143/129)
   stale-temps    *.tmp-PID files of dead processes are removed by the next bake
   eta-near-one   eta = 1 + 1e-7 bakes and validates in bounded time
   concurrent     two bakes of different configs into one directory leave one consistent set
@@ -28,6 +29,7 @@ import sys
 import time
 
 PROBE, BAKE, VALIDATE, WORK = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
+TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(BAKE)))  # the other tools sit beside the baker
 failures = []
 
 
@@ -298,7 +300,10 @@ def probe_signals():
     codes = {signal.SIGINT: 130, signal.SIGTERM: 143, signal.SIGHUP: 129}
     for tool, args in (("bake", [BAKE, "--config", cfg, "--quiet", "--force"]),
                        ("validate", [VALIDATE, "--config", cfg, "--quiet", "--out", os.path.join(d, "r")]),
-                       ("validate file", [VALIDATE, h5, "--quiet", "--out", os.path.join(d, "r2")])):
+                       ("validate file", [VALIDATE, h5, "--quiet", "--out", os.path.join(d, "r2")]),
+                       ("bench", [os.path.join(TOOLS, "bench-hair-luts", "bench-hair-luts"), "--quick", "--quiet", "--out", os.path.join(d, "bench")]),
+                       ("compare", [os.path.join(TOOLS, "compare-hair-models", "compare-hair-models"), "--quiet", "--phi-samples", "20000",
+                                    "--out", os.path.join(d, "compare")])):
         for sig, code in codes.items():
             p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             time.sleep(1.0)
