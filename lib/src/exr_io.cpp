@@ -186,7 +186,7 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
     auto expect_text = [&](const std::string& key, const std::string& want) {
       const auto* a = h.findTypedAttribute<Imf::StringAttribute>(key);
       if (!a) fail(pname + ": header attribute " + key + " is missing (metadata altered)");
-      if (a->value() != want) fail(pname + ": header attribute " + key + " disagrees with hairlut.part (metadata altered)");
+      if (a->value() != want) fail(pname + ": header attribute " + key + " disagrees with the checksummed description (metadata altered)");
     };
     {
       const Table& first = tables.front();
@@ -203,7 +203,7 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
         std::vector<float> want;
         for (double v : a.nodes()) want.push_back(static_cast<float>(v));
         if (!nodes || nodes->value() != want)
-          fail(pname + ": header attribute hairlut.axis." + a.name + ".nodes is missing or disagrees with hairlut.part (metadata altered)");
+          fail(pname + ": header attribute hairlut.axis." + a.name + ".nodes is missing or disagrees with the checksummed description (metadata altered)");
       }
       if (p == 0) expect_text("hairlut.version", set.metadata.value("hairlut_version", std::string("?")));
     }

@@ -10,6 +10,7 @@ the documented exit code, and no file left where none may be. Probes:
   config-files   /dev/zero, a directory, a FIFO-less device, an oversized file, deep nesting
   corrupt-files  truncated and byte-flipped .h5 and .exr, loaded by the validator
   metadata       HDF5 attributes altered or deleted with h5py: the validator refuses, naming them
+  exr-metadata   OpenEXR header text attributes altered in place: refused, naming them
   format-version a newer major format version is refused; a newer minor one is read
   disk-full      a bake under a file-size limit (ulimit -f): one-line I/O error, exit 1
   max-points     validate --max-points 0 and 1: refused with exit 2
@@ -215,6 +216,24 @@ def probe_metadata():
         expect_error(what, [VALIDATE, path, "--quiet", "--max-points", "200", "--out", os.path.join(WORK, "r")], 2, name)
 
 
+def probe_exr_metadata():
+    """OpenEXR header attributes (no checksum in the format) altered in place, same length."""
+    data = open(os.path.join(baked_tiny(), "t.exr"), "rb").read()
+    for name in (b"hairlut.layout", b"hairlut.channels", b"hairlut.quantity", b"hairlut.axis.phi", b"hairlut.version"):
+        at = data.find(name + b"\x00string\x00")
+        if at < 0:
+            fail("no attribute %s in the EXR file" % name.decode())
+            continue
+        value = at + len(name) + 8 + 4  # name, NUL, "string", NUL, 4-byte size
+        b = bytearray(data)
+        b[value] = ord("#") if b[value] != ord("#") else ord("%")
+        path = os.path.join(WORK, "mut.exr")
+        with open(path, "wb") as f:
+            f.write(bytes(b))
+        expect_error("EXR %s altered" % name.decode(), [VALIDATE, path, "--quiet", "--max-points", "200", "--out", os.path.join(WORK, "r")],
+                     2, name.decode())
+
+
 def set_fixed(f, key, value):
     import h5py
     import numpy as np
@@ -408,7 +427,7 @@ def probe_concurrent():
 
 PROBES = {
     "long-strings": probe_long_strings, "config-files": probe_config_files, "corrupt-files": probe_corrupt_files,
-    "metadata": probe_metadata, "format-version": probe_format_version, "disk-full": probe_disk_full,
+    "metadata": probe_metadata, "exr-metadata": probe_exr_metadata, "format-version": probe_format_version, "disk-full": probe_disk_full,
     "max-points": probe_max_points, "signals": probe_signals, "stale-temps": probe_stale_temps,
     "eta-near-one": probe_eta_near_one, "concurrent": probe_concurrent,
 }
