@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Interrupting bake-hair-luts (SIGINT, SIGTERM) exits 130 and leaves no partial file at the
+# Interrupting bake-hair-luts (SIGINT, SIGTERM, SIGHUP) exits 128 + the signal (130, 143, 129)
+# and leaves no partial file at the
 # destination: an existing output stays byte-identical, and no temporary file remains.
 set -euo pipefail
 exe=$1
@@ -20,14 +21,15 @@ make_config gauss-legendre
 before=$(cat "$work"/out/t.* | md5sum)
 # A slow bake (adaptive reference) of a changed config, interrupted.
 make_config adaptive
-for sig in INT TERM; do
+for sig in INT TERM HUP; do
+  case $sig in INT) want=130;; TERM) want=143;; HUP) want=129;; esac
   "$exe" --config "$work/c.json" --quiet & pid=$!
   sleep 1.5
   kill -s $sig $pid
   set +e; wait $pid; rc=$?; set -e
-  [ "$rc" -eq 130 ] || { echo "SIG$sig: expected exit 130, got $rc"; exit 1; }
+  [ "$rc" -eq "$want" ] || { echo "SIG$sig: expected exit $want, got $rc"; exit 1; }
   after=$(cat "$work"/out/t.* | md5sum)
   [ "$before" = "$after" ] || { echo "SIG$sig: the existing output changed"; exit 1; }
   if ls "$work"/out | grep -q tmp; then echo "SIG$sig: temporary files left: $(ls "$work"/out)"; exit 1; fi
-  echo "SIG$sig: exit 130, output untouched, no temporaries"
+  echo "SIG$sig: exit $rc, output untouched, no temporaries"
 done

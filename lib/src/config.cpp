@@ -620,19 +620,35 @@ BakeConfig parse_config(const nlohmann::json& document, const std::string& sourc
 
 BakeConfig load_config(const std::filesystem::path& file) {
   const std::string source = file.string();
+  // A config is a small file: refuse directories and devices (/dev/zero never ends), and stop
+  // reading past kMaxConfigBytes (a pipe is read up to that bound).
+  constexpr std::uintmax_t kMaxConfigBytes = std::uintmax_t{16} << 20;
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (status.type() == std::filesystem::file_type::directory) throw ConfigError(source + ": is a directory, not a config file");
+  if (!ec && status.type() != std::filesystem::file_type::regular && status.type() != std::filesystem::file_type::fifo &&
+      status.type() != std::filesystem::file_type::not_found)
+    throw ConfigError(source + ": not a regular file or pipe (a config is a JSON file)");
+  if (const auto bytes = std::filesystem::file_size(file, ec); !ec && bytes > kMaxConfigBytes)
+    throw ConfigError(source + ": config file too large (" + std::to_string(bytes) + " bytes; at most 16 MiB)");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ConfigError(source + ": cannot open config file (" + std::string(std::strerror(errno)) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string text;
+  std::vector<char> block(1 << 16);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    text.append(block.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxConfigBytes) throw ConfigError(source + ": config file too large (more than 16 MiB)");
+  }
   if (in.bad()) throw ConfigError(source + ": cannot read config file");
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(text.str());
+    doc = nlohmann::json::parse(text);
   } catch (const nlohmann::json::out_of_range& e) {
     throw ConfigError(source + ": invalid JSON: a number is out of range (" + std::string(e.what()) + ")");
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is the offset of the error; turn it into line:column.
-    const std::string s = text.str();
+    const std::string& s = text;
     std::size_t line = 1, col = 1;
     for (std::size_t i = 0; i + 1 < e.byte && i < s.size(); ++i) {
       if (s[i] == '\n') ++line, col = 1;

@@ -57,6 +57,7 @@ AlbedoResult directional_albedo(const HairModel& model, double theta_i, double r
   };
   AdaptiveOptions opt;
   opt.rel_tol = rel_tol;
+  opt.abs_tol = kAlbedoAbsTol;  // a lobe of (almost) no energy is done at the noise floor
   const AdaptiveResult r = integrate_adaptive(integrand, params.size(), bp, opt);
 
   AlbedoResult a;

@@ -113,6 +113,7 @@ void write_engine_texture(const TableSet& set, const EngineTexture& t, const std
                                                       axis_text(first->axes[0], 'Z')));
   h.insert("hairlut.engine.format", Imf::StringAttribute(t.engine_format));
   h.insert("hairlut.version", Imf::StringAttribute(kVersion));
+  h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text()));
   try {
     Imf::OutputFile out(name.c_str(), h);
     Imf::FrameBuffer fb;
@@ -138,6 +139,9 @@ EngineImage read_engine_texture(const std::filesystem::path& file) {
     Imf::InputFile in(name.c_str());
     const auto* attr = in.header().findTypedAttribute<Imf::StringAttribute>("hairlut.engine");
     if (!attr) throw IoError(name + ": missing header attribute hairlut.engine (not a hairlut engine texture?)");
+    const auto* version = in.header().findTypedAttribute<Imf::StringAttribute>("hairlut.format_version");
+    if (!version) throw IoError(name + ": missing header attribute hairlut.format_version (written before the format was versioned?)");
+    check_format_version(version->value(), name);
     img.description = nlohmann::json::parse(attr->value());
     const Imath::Box2i dw = in.header().dataWindow();
     img.width = dw.max.x - dw.min.x + 1;

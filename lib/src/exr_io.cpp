@@ -119,6 +119,10 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
     const auto* part_attr = h.findTypedAttribute<Imf::StringAttribute>("hairlut.part");
     if (!part_attr) fail(pname + ": missing header attribute hairlut.part (not a hairlut table file?)");
     if (p == 0) {
+      const auto* version = h.findTypedAttribute<Imf::StringAttribute>("hairlut.format_version");
+      if (!version)
+        fail(pname + ": missing header attribute hairlut.format_version (not a hairlut table file, or written before the format was versioned)");
+      check_format_version(version->value(), name);
       const auto* meta = h.findTypedAttribute<Imf::StringAttribute>("hairlut.metadata");
       if (!meta) fail(pname + ": missing header attribute hairlut.metadata (not a hairlut table file?)");
       try {
@@ -177,6 +181,32 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
     if (width <= 0 || height <= 0 || width * height > (1L << 30)) fail(pname + ": image too large");
     for (const std::string& c : channels)
       if (!h.channels().findChannel(c)) fail(pname + ": missing channel " + c);
+    // The plain-text header attributes (what exrheader shows and engines read) must say what the
+    // checksummed description says; an altered one is named.
+    auto expect_text = [&](const std::string& key, const std::string& want) {
+      const auto* a = h.findTypedAttribute<Imf::StringAttribute>(key);
+      if (!a) fail(pname + ": header attribute " + key + " is missing (metadata altered)");
+      if (a->value() != want) fail(pname + ": header attribute " + key + " disagrees with the checksummed description (metadata altered)");
+    };
+    {
+      const Table& first = tables.front();
+      expect_text("hairlut.layout", describe_layout(first.axes, l));
+      std::string chdesc;
+      for (std::size_t c = 0; c < channels.size(); ++c)
+        chdesc += (c ? " " : "") + channels[c] + "=" +
+                  (l.channel_axis >= 0 ? first.path() + "[channel " + std::to_string(c) + "]" : tables[c].path());
+      expect_text("hairlut.channels", chdesc);
+      expect_text("hairlut.quantity", first.quantity + " [" + first.units + "]");
+      for (const GridAxis& a : first.axes) {
+        expect_text("hairlut.axis." + a.name, describe_axis(a));
+        const auto* nodes = h.findTypedAttribute<Imf::FloatVectorAttribute>("hairlut.axis." + a.name + ".nodes");
+        std::vector<float> want;
+        for (double v : a.nodes()) want.push_back(static_cast<float>(v));
+        if (!nodes || nodes->value() != want)
+          fail(pname + ": header attribute hairlut.axis." + a.name + ".nodes is missing or disagrees with the checksummed description (metadata altered)");
+      }
+      if (p == 0) expect_text("hairlut.version", set.metadata.value("hairlut_version", std::string("?")));
+    }
     // Read every channel as float.
     const std::size_t npix = static_cast<std::size_t>(width * height);
     std::vector<std::vector<float>> pixels(channels.size(), std::vector<float>(npix));
@@ -305,6 +335,7 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
       h.insert("hairlut.axis." + a.name + ".nodes", Imf::FloatVectorAttribute(nodes));
     }
     if (p == 0) {
+      h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text()));
       h.insert("hairlut.metadata", Imf::StringAttribute(set.metadata.dump()));
       h.insert("hairlut.version", Imf::StringAttribute(set.metadata.value("hairlut_version", std::string("?"))));
       h.insert("hairlut.checksum",

@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
 
 #include "hairlut/error.hpp"
+#include "hdf5_bytes.hpp"
 
 namespace hairlut {
 namespace {
@@ -38,19 +40,73 @@ class Handle {
   }
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
+  // Closes now and returns HDF5's status (the destructor, which cannot report, ignores it).
+  herr_t close_now() {
+    herr_t status = 0;
+    if (id_ >= 0 && close_) status = close_(id_);
+    id_ = -1;
+    return status;
+  }
 
  private:
   hid_t id_ = -1;
   herr_t (*close_)(hid_t) = nullptr;
 };
 
-// Context for one file: turns HDF5 failures into one-line IoErrors naming the file. HDF5's own
-// error-stack printing is suppressed per call (H5E_BEGIN_TRY), leaving the library's global
-// settings untouched.
+// While alive, HDF5's automatic error-stack printing is off (restored afterwards), so a failure
+// reaches the user only as the one-line IoError built from the stack (hdf5_reason).
+class ErrorSilencer {
+ public:
+  ErrorSilencer() {
+    // HDF5 1.10 cannot close a file whose corrupted object header failed to load (no identifier
+    // stays open, but its shutdown loops and prints "infinite loop closing library" at exit).
+    // hairlut never leaves data to flush at exit (files are written from memory images and closed
+    // explicitly, reads are read-only), so the library's exit handler is skipped; this only takes
+    // effect if it runs before HDF5's first use in the process.
+    static const bool no_exit_handler = [] { return H5dont_atexit() >= 0; }();
+    (void)no_exit_handler;
+    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ErrorSilencer(const ErrorSilencer&) = delete;
+  ErrorSilencer& operator=(const ErrorSilencer&) = delete;
+  ~ErrorSilencer() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+// The innermost message of HDF5's current error stack as a short phrase (the system's reason,
+// e.g. "No space left on device", when HDF5 recorded one); empty when the stack is empty. Clears
+// the stack.
+std::string hdf5_reason() {
+  std::string innermost;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* e, void* out) -> herr_t {
+        if (n == 0 && e && e->desc) *static_cast<std::string*>(out) = e->desc;
+        return 0;
+      },
+      &innermost);
+  H5Eclear2(H5E_DEFAULT);
+  if (const auto at = innermost.find("error message = '"); at != std::string::npos) {
+    const auto start = at + 17, end = innermost.find('\'', start);
+    return innermost.substr(start, end == std::string::npos ? std::string::npos : end - start);
+  }
+  if (innermost.size() > 120) innermost = innermost.substr(0, 117) + "...";
+  return innermost;
+}
+
+// Context for one file: turns HDF5 failures into one-line IoErrors naming the file and, when HDF5
+// gives one, its innermost reason.
 struct File {
   std::string name;
 
-  [[noreturn]] void fail(const std::string& what) const { throw IoError(name + ": " + what); }
+  [[noreturn]] void fail(const std::string& what) const {
+    const std::string reason = hdf5_reason();
+    throw IoError(name + ": " + what + (reason.empty() ? std::string() : " (HDF5: " + reason + ")"));
+  }
 
   hid_t check(hid_t id, const std::string& what) const {
     if (id < 0) fail(what);
@@ -215,6 +271,82 @@ void write_scale(const File& f, hid_t group, const GridAxis& a, const std::strin
   }
 }
 
+// --- The attributes h5py users read (written by write_json_attrs / write_string_attr) must say
+// what the checksummed metadata say: a reader refuses a file whose visible metadata were altered,
+// naming the attribute. Numbers live in the (checksummed) object header; string values live in
+// the global heap, which read_hdf5 screens first (hdf5_heap_check.hpp).
+
+std::string read_vlen_string_attr(const File& f, hid_t attr, const std::string& where) {
+  Handle type = string_type();
+  char* value = nullptr;
+  f.check_status(quiet([&] { return H5Aread(attr, type.get(), &value); }), where + ": cannot read the value");
+  std::string s = value ? value : "";
+  if (value) H5free_memory(value);
+  return s;
+}
+
+// Fails naming `where` (object path and attribute) unless the attribute holds `want` as
+// write_json_attrs would have written it.
+void verify_attr(const File& f, hid_t obj, const std::string& key, const json& want, const std::string& object) {
+  const std::string where = object + " attribute " + key;
+  if (quiet([&] { return H5Aexists(obj, key.c_str()); }) <= 0) f.fail(where + " is missing (metadata altered)");
+  Handle attr(quiet([&] { return H5Aopen(obj, key.c_str(), H5P_DEFAULT); }), H5Aclose);
+  f.check(attr.get(), "cannot open " + where);
+  Handle type(quiet([&] { return H5Aget_type(attr.get()); }), H5Tclose);
+  Handle space(quiet([&] { return H5Aget_space(attr.get()); }), H5Sclose);
+  if (!type.valid() || !space.valid()) f.fail("cannot read " + where);
+  const H5T_class_t cls = H5Tget_class(type.get());
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  const bool numbers = want.is_array() && !want.empty() && std::all_of(want.begin(), want.end(), [](const json& x) { return x.is_number(); });
+  bool same = false;
+  if (want.is_number_integer() || want.is_boolean()) {
+    long long v = 0;
+    same = cls == H5T_INTEGER && n == 1 && quiet([&] { return H5Aread(attr.get(), H5T_NATIVE_LLONG, &v); }) >= 0 &&
+           v == (want.is_boolean() ? static_cast<long long>(want.get<bool>()) : want.get<long long>());
+  } else if (want.is_number() || numbers) {
+    const std::vector<double> w = numbers ? want.get<std::vector<double>>() : std::vector<double>{want.get<double>()};
+    std::vector<double> v(w.size());
+    same = cls == H5T_FLOAT && n == static_cast<hssize_t>(w.size()) &&
+           quiet([&] { return H5Aread(attr.get(), H5T_NATIVE_DOUBLE, v.data()); }) >= 0 && v == w;
+  } else {
+    const std::string w = want.is_string() ? want.get<std::string>() : want.dump();
+    same = cls == H5T_STRING && H5Tis_variable_str(type.get()) > 0 && n == 1 && read_vlen_string_attr(f, attr.get(), "cannot read " + where) == w;
+  }
+  if (!same) f.fail(where + " disagrees with the checksummed metadata (metadata altered)");
+}
+
+void verify_json_attrs(const File& f, hid_t obj, const json& attrs, const std::string& object) {
+  for (const auto& [key, value] : attrs.items()) verify_attr(f, obj, key, value, object);
+}
+
+void verify_scale_attrs(const File& f, hid_t scale, const GridAxis& a, const std::string& object) {
+  verify_attr(f, scale, "units", a.units, object);
+  verify_attr(f, scale, "long_name", a.long_name, object);
+  verify_attr(f, scale, "spacing", std::string(to_string(a.spacing)), object);
+  verify_attr(f, scale, "placement", std::string(to_string(a.placement)), object);
+  verify_attr(f, scale, "wrap", std::string(to_string(a.wrap)), object);
+  verify_attr(f, scale, "range", json::array({a.lo, a.hi}), object);
+  if (!a.labels.empty()) {
+    std::string joined;
+    for (const auto& l : a.labels) joined += (joined.empty() ? "" : ",") + l;
+    verify_attr(f, scale, "labels", joined, object);
+  }
+  if (quiet([&] { return H5DSis_scale(scale); }) <= 0) f.fail(object + " is no longer a dimension scale (metadata altered)");
+}
+
+// DIMENSION_LIST (which axis scale each dimension uses) must be present with one entry per
+// dimension; its references live in the global heap and are not followed here.
+void verify_dimension_list(const File& f, hid_t ds, std::size_t rank, const std::string& object) {
+  const std::string where = object + " attribute DIMENSION_LIST";
+  if (quiet([&] { return H5Aexists(ds, "DIMENSION_LIST"); }) <= 0) f.fail(where + " is missing (metadata altered)");
+  Handle attr(quiet([&] { return H5Aopen(ds, "DIMENSION_LIST", H5P_DEFAULT); }), H5Aclose);
+  Handle type(attr.valid() ? quiet([&] { return H5Aget_type(attr.get()); }) : -1, H5Tclose);
+  Handle space(attr.valid() ? quiet([&] { return H5Aget_space(attr.get()); }) : -1, H5Sclose);
+  if (!type.valid() || !space.valid() || H5Tget_class(type.get()) != H5T_VLEN ||
+      H5Sget_simple_extent_npoints(space.get()) != static_cast<hssize_t>(rank))
+    f.fail(where + " does not list one scale per dimension (metadata altered)");
+}
+
 bool same_axis(const GridAxis& a, const GridAxis& b) { return a.to_json() == b.to_json(); }
 
 // The dataset name of an axis's dimension scale in its group: the axis's name, or name_2, name_3,
@@ -254,16 +386,53 @@ void check_signature(const File& f, const std::filesystem::path& path) {
 
 }  // namespace
 
+std::string format_version_text() { return std::to_string(kFormatVersionMajor) + "." + std::to_string(kFormatVersionMinor); }
+
+void check_format_version(const std::string& text, const std::string& name) {
+  const auto dot = text.find('.');
+  auto digits = [](const std::string& d) {
+    return !d.empty() && d.size() <= 6 && std::all_of(d.begin(), d.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (dot == std::string::npos || !digits(text.substr(0, dot)) || !digits(text.substr(dot + 1)))
+    throw IoError(name + ": malformed format version \"" + text.substr(0, 40) + "\" (expected MAJOR.MINOR)");
+  const int major = std::stoi(text.substr(0, dot));
+  if (major > kFormatVersionMajor)
+    throw IoError(name + ": written in table format " + text + ", newer than this hairlut reads (format " + format_version_text() +
+                  ", major version " + std::to_string(kFormatVersionMajor) + "); use a newer hairlut");
+  if (major < kFormatVersionMajor)
+    throw IoError(name + ": written in table format " + text + ", older than this hairlut reads (major version " +
+                  std::to_string(kFormatVersionMajor) + "); bake the tables again");
+}
+
+namespace {
+
+// The whole HDF5 file, built in memory (HDF5's core driver without a backing store): HDF5 never
+// writes to disk, so a full disk or a file-size limit cannot leave HDF5 with a file it fails to
+// close (HDF5 1.10 then crashes when the library shuts down); write_file_bytes reports it instead.
+std::vector<char> hdf5_image(const TableSet& set, const File& f, const Hdf5WriteOptions& options);
+
+}  // namespace
+
 void write_hdf5(const TableSet& set, const std::filesystem::path& path, const Hdf5WriteOptions& options) {
+  const ErrorSilencer silence;
   const File f{path.string()};
+  const std::vector<char> image = hdf5_image(set, f, options);
+  detail::write_file_bytes(path, image);
+}
+
+namespace {
+std::vector<char> hdf5_image(const TableSet& set, const File& f, const Hdf5WriteOptions& options) {
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // on an error path, closing the file closes every object in it
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);  // 1.10 format: compact chunk indexes
+  f.check_status(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0), "cannot set up an in-memory HDF5 file");
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   H5Pset_obj_track_times(fcpl.get(), 0);
-  Handle file(quiet([&] { return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
+  Handle file(quiet([&] { return H5Fcreate(f.name.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
   f.check(file.get(), "cannot create HDF5 file");
   Handle root(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose);
 
+  write_fixed_string_attr(f, root.get(), "hairlut_format_version", format_version_text());
   // Provenance on the root, both as individual attributes and as one JSON text.
   write_json_attrs(f, root.get(), set.metadata);
   write_fixed_string_attr(f, root.get(), "hairlut_metadata", set.metadata.dump());
@@ -309,15 +478,26 @@ void write_hdf5(const TableSet& set, const std::filesystem::path& path, const Hd
     write_fixed_string_attr(f, ds.get(), "hairlut_table", t.describe().dump());
   }
   f.check_status(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush HDF5 file");
+  const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
+  if (size <= 0) f.fail("cannot take the HDF5 file image");
+  std::vector<char> image(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.get(), image.data(), image.size()) != size) f.fail("cannot take the HDF5 file image");
+  detail::fix_superblock_checksum(image);
+  root.close_now();
+  f.check_status(file.close_now(), "cannot close HDF5 file");
+  return image;
 }
+}  // namespace
 
 namespace {
 TableSet read_open_file(const File& f, hid_t file_id);
 }
 
 TableSet read_hdf5(const std::filesystem::path& path) {
+  const ErrorSilencer silence;
   const File f{path.string()};
   check_signature(f, path);
+  if (const std::string why = detail::global_heap_problem(path); !why.empty()) f.fail(why);
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // closing the file closes whatever a failed read left open
   Handle file(quiet([&] { return H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()); }), H5Fclose);
@@ -326,8 +506,10 @@ TableSet read_hdf5(const std::filesystem::path& path) {
 }
 
 TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name) {
+  const ErrorSilencer silence;
   const File f{name};
   check_signature_bytes(f, reinterpret_cast<const unsigned char*>(data), size);
+  if (const std::string why = detail::global_heap_problem(reinterpret_cast<const unsigned char*>(data), size); !why.empty()) f.fail(why);
   // An in-memory file image (core driver, no backing store): HDF5 reads from a private copy.
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
@@ -342,6 +524,12 @@ namespace {
 TableSet read_open_file(const File& f, hid_t file_id) {
   Handle root(quiet([&] { return H5Gopen2(file_id, "/", H5P_DEFAULT); }), H5Gclose);
   f.check(root.get(), "cannot open the root group");
+
+  if (quiet([&] { return H5Aexists(root.get(), "hairlut_format_version"); }) <= 0) {
+    (void)read_string_attr(f, root.get(), "hairlut_metadata", "/");  // no hairlut metadata at all: says so
+    f.fail("missing attribute hairlut_format_version (written before the table format was versioned; bake the tables again)");
+  }
+  check_format_version(read_string_attr(f, root.get(), "hairlut_format_version", "/"), f.name);
 
   TableSet set;
   json index;
@@ -440,6 +628,24 @@ TableSet read_open_file(const File& f, hid_t file_id) {
   // The content checksum covers everything read above; HDF5 checksums only part of it.
   if (read_string_attr(f, root.get(), "hairlut_checksum", "/") != content_checksum(set))
     f.fail("content checksum mismatch: the file is corrupted");
+  // The visible copies of the metadata (what h5py shows) must agree with the checksummed ones.
+  verify_json_attrs(f, root.get(), set.metadata, "/");
+  for (const Table& t : set.tables) {
+    const std::string object = "/" + t.path();
+    Handle ds(quiet([&] { return H5Dopen2(root.get(), t.path().c_str(), H5P_DEFAULT); }), H5Dclose);
+    f.check(ds.get(), "cannot open table " + object);
+    verify_attr(f, ds.get(), "quantity", t.quantity, object);
+    verify_attr(f, ds.get(), "units", t.units, object);
+    verify_attr(f, ds.get(), "long_name", t.long_name, object);
+    verify_json_attrs(f, ds.get(), t.attributes, object);
+    verify_dimension_list(f, ds.get(), t.axes.size(), object);
+    for (const GridAxis& a : t.axes) {
+      const std::string scale_path = t.group + "/" + a.name;
+      Handle scale(quiet([&] { return H5Dopen2(root.get(), scale_path.c_str(), H5P_DEFAULT); }), H5Dclose);
+      f.check(scale.get(), "cannot open dimension scale /" + scale_path);
+      verify_scale_attrs(f, scale.get(), a, "/" + scale_path);
+    }
+  }
   return set;
 }
 }  // namespace

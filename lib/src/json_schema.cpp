@@ -12,6 +12,19 @@ namespace {
 
 using json = nlohmann::json;
 
+// std::regex's default (depth-first) matcher recurses once per input character, so a long string
+// overflows the stack. libstdc++'s breadth-first matcher (the __polynomial flag, a Thompson-style
+// simulation) keeps its recursion bounded by the pattern's size and its time linear in the input
+// for the anchored patterns the schemas use. Elsewhere, strings longer than kMaxPatternInput code
+// points are refused instead of matched.
+#if defined(__GLIBCXX__)
+constexpr auto kRegexFlags = std::regex::ECMAScript | std::regex_constants::__polynomial;
+constexpr std::size_t kMaxPatternInput = std::size_t(-1);
+#else
+constexpr auto kRegexFlags = std::regex::ECMAScript;
+constexpr std::size_t kMaxPatternInput = 4096;
+#endif
+
 const std::set<std::string> kKeywords = {
     "$schema", "$id", "$defs", "$ref", "$comment", "title", "description", "default", "examples", "deprecated", "readOnly",
     "writeOnly", "format", "type", "enum", "const", "multipleOf", "maximum", "exclusiveMaximum", "minimum",
@@ -239,13 +252,21 @@ struct Validator {
       add(out, max, path, "must have at least " + m->dump() + " character" + (m->get<std::size_t>() == 1 ? "" : "s") + " (got " + std::to_string(n) + ")");
       ok = false;
     }
+    bool too_long = false;
     if (const auto m = s.find("maxLength"); m != s.end() && n > m->get<std::size_t>()) {
       add(out, max, path, "must have at most " + m->dump() + " characters (got " + std::to_string(n) + ")");
       ok = false;
+      too_long = true;
     }
-    if (const auto p = s.find("pattern"); p != s.end() && !std::regex_search(str, regexes.at(p->get<std::string>()))) {
-      add(out, max, path, "must match the pattern " + p->dump() + " (got " + brief(inst) + ")");
-      ok = false;
+    // A string already too long is not matched against the pattern as well (one reason is enough).
+    if (const auto p = s.find("pattern"); p != s.end() && !too_long) {
+      if (n > kMaxPatternInput) {
+        add(out, max, path, "is too long to match the pattern " + p->dump() + " (" + std::to_string(n) + " characters)");
+        ok = false;
+      } else if (!std::regex_search(str, regexes.at(p->get<std::string>()))) {
+        add(out, max, path, "must match the pattern " + p->dump() + " (got " + brief(inst) + ")");
+        ok = false;
+      }
     }
     return ok;
   }
@@ -344,7 +365,7 @@ struct Validator {
       }
       if (pattern_props != s.end())
         for (auto pp = pattern_props->begin(); pp != pattern_props->end(); ++pp)
-          if (std::regex_search(key, regexes.at(pp.key()))) {
+          if (code_points(key) <= kMaxPatternInput && std::regex_search(key, regexes.at(pp.key()))) {
             matched = true;
             ok &= check(*pp, *it, child, out, max, depth + 1);
           }
@@ -480,7 +501,7 @@ void inspect(const json& s, const std::string& where, std::map<std::string, std:
   auto compile = [&](const std::string& pattern) {
     if (regexes.count(pattern)) return;
     try {
-      regexes.emplace(pattern, std::regex(pattern, std::regex::ECMAScript));
+      regexes.emplace(pattern, std::regex(pattern, kRegexFlags));
     } catch (const std::regex_error&) {
       throw SchemaError("invalid regular expression " + json(pattern).dump() + " at " + where);
     }

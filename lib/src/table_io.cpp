@@ -1,9 +1,12 @@
 #include "hairlut/table_io.hpp"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -45,6 +48,55 @@ struct TempFiles {
     for (const auto& p : paths) fs::remove(p, ec);
   }
 };
+
+// An advisory lock (flock) on a directory, held while alive: exclusive while a bake writes and
+// commits its set there, shared while a reader loads a file of a set and checks it against the
+// set's sidecar. Without a lock (a directory that cannot be opened, or a file system without
+// flock) the work goes on unlocked.
+class DirectoryLock {
+ public:
+  DirectoryLock(const fs::path& dir, bool exclusive) {
+    fd_ = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd_ < 0) return;
+    while (::flock(fd_, exclusive ? LOCK_EX : LOCK_SH) != 0 && errno == EINTR) {
+    }
+  }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+  ~DirectoryLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+// When `file` is listed in the sidecar of its set (same directory, same base name, ".json"), its
+// size and FNV-1a 64 must be the recorded ones: a file of another bake, or one replaced after the
+// set was committed, is refused.
+void check_against_sidecar(const fs::path& file) {
+  const fs::path sidecar = fs::path(file).replace_extension(".json");
+  std::error_code ec;
+  const auto side_bytes = fs::file_size(sidecar, ec);
+  if (ec || side_bytes > (std::uintmax_t{64} << 20)) return;
+  json side;
+  try {
+    std::ifstream in(sidecar, std::ios::binary);
+    side = json::parse(in);
+  } catch (const json::exception&) {
+    throw IoError(sidecar.string() + ": the set's sidecar is not valid JSON (incomplete or corrupted set)");
+  }
+  if (!side.is_object() || side.value("format", std::string()) != "hairlut-tables" || !side.contains("files") || !side["files"].is_array()) return;
+  for (const json& f : side["files"]) {
+    if (!f.is_object() || f.value("path", std::string()) != file.filename().string()) continue;
+    const std::uintmax_t bytes = fs::file_size(file, ec);
+    const std::string want = f.value("fnv1a64", std::string());
+    if (ec || !f.contains("bytes") || !f["bytes"].is_number_unsigned() || f["bytes"].get<std::uintmax_t>() != bytes || file_fnv(file) != want)
+      throw IoError(file.string() + ": does not match its set's sidecar " + sidecar.filename().string() +
+                    " (size or FNV-1a 64 differ): the file belongs to another bake or was changed after the set was written");
+    return;
+  }
+}
 
 }  // namespace
 
@@ -132,6 +184,9 @@ std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, co
   std::error_code ec;
   fs::create_directories(c.output.directory, ec);
   if (ec) throw IoError(c.output.directory.string() + ": cannot create output directory (" + ec.message() + ")");
+  // One bake at a time writes and commits into a directory, so that its set is never mixed with
+  // another's; readers of the directory wait for the commit (load_tables).
+  const DirectoryLock lock(c.output.directory, true);
   TempFiles temps;
   std::vector<std::pair<std::string, fs::path>> written;  // format, temporary path
   if (c.output.hdf5) {
@@ -192,12 +247,20 @@ void remove_stale_temporaries(const BakeConfig& c) {
     if ((n.rfind(prefix, 0) != 0 && n.rfind(c.output.basename + "-", 0) != 0) || pos == std::string::npos) continue;
     // Only temporaries of processes that no longer run (a concurrent bake keeps its own).
     const long pid = std::strtol(n.c_str() + pos + 5, nullptr, 10);
-    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) == 0) continue;
+    // (kill(pid, 0) fails with EPERM for a live process of another user: that one is kept too.)
+    if (pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) continue;
     fs::remove(entry.path(), ec);
   }
 }
 
 TableSet load_tables(const fs::path& file) {
+  const DirectoryLock lock(file.parent_path(), false);
+  TableSet set = load_table_file(file);
+  check_against_sidecar(file);
+  return set;
+}
+
+TableSet load_table_file(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw IoError(file.string() + ": cannot open file (" + std::string(std::strerror(errno)) + ")");
   char head[8] = {};

@@ -10,17 +10,16 @@
 #include <csignal>
 #include <cstdio>
 #include <hairlut/bake.hpp>
+#include <hairlut/bake_estimate.hpp>
 #include <hairlut/error.hpp>
 #include <hairlut/config.hpp>
 #include <hairlut/table_io.hpp>
 #include <hairlut/version.hpp>
 #include <string>
 
+#include "../common/cancel.hpp"
+
 namespace {
-
-std::atomic<bool> g_cancel{false};  // set by SIGINT / SIGTERM; polled by the baker and the writer
-
-extern "C" void on_signal(int) { g_cancel.store(true); }
 
 // A one-line progress bar on stderr, redrawn at most every 100 ms.
 class ProgressBar {
@@ -48,6 +47,7 @@ class ProgressBar {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hairlut_tools::install_cancel_handlers("bake-hair-luts");
   CLI::App app{"bake-hair-luts: bake hair scattering lookup tables (d'Eon 2011 M_p and N_p, melanin absorption) "
                "into HDF5 and OpenEXR files described by a JSON sidecar"};
   app.footer(R"(Examples:
@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
 The config format is schemas/hairlut-config.schema.json. An unchanged config with up-to-date
 outputs is not baked again (use --force). Exit codes: 0 done or up to date, 1 bake or I/O
 failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on stderr),
-130 interrupted (no partial output is left).)");
+130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP (no partial output is left).)");
   std::string config_path, output_dir;
   bool force = false, quiet = false, check = false;
   int threads = 0;
@@ -84,8 +84,23 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     return 2;
   }
   if (!output_dir.empty()) config.output.directory = output_dir;
+  // Size up front: refuse what cannot fit in memory before any work.
+  const hairlut::BakeEstimate size = hairlut::estimate_bake(config);
+  const double mib = 1024.0 * 1024.0;
+  const auto physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+  if (size.memory_bytes > physical) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s: the tables need about %.0f MiB of memory (%llu values), more than this machine has (%.0f MiB)\n",
+                 config_path.c_str(), static_cast<double>(size.memory_bytes) / mib, static_cast<unsigned long long>(size.values),
+                 static_cast<double>(physical) / mib);
+    return 1;
+  }
   if (check) {
-    if (!quiet) std::printf("%s: valid (config hash %s)\n", config_path.c_str(), config.hash.c_str());
+    if (!quiet) {
+      std::printf("%s: valid (config hash %s)\n", config_path.c_str(), config.hash.c_str());
+      std::printf("estimate: %llu values, about %.1f MiB of memory, at most %.1f MiB on disk before compression\n",
+                  static_cast<unsigned long long>(size.values), static_cast<double>(size.memory_bytes) / mib,
+                  static_cast<double>(size.disk_bytes) / mib);
+    }
     return 0;
   }
   if (!force && hairlut::outputs_up_to_date(config)) {
@@ -94,18 +109,17 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     return 0;
   }
 
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  hairlut_tools::register_temp_dir(config.output.directory);
   ProgressBar bar(!quiet && ::isatty(STDERR_FILENO));
   hairlut::BakeOptions options;
   options.threads = threads;
-  options.cancel = &g_cancel;
+  options.cancel = hairlut_tools::cancel_pointer();
   options.progress = [&](std::string_view stage, std::size_t done, std::size_t total) { bar.update(stage, done, total); };
   try {
     hairlut::remove_stale_temporaries(config);
     hairlut::BakeReport report;
     const hairlut::TableSet set = hairlut::bake(config, options, &report);
-    const auto files = hairlut::write_outputs(set, config, report, &g_cancel);
+    const auto files = hairlut::write_outputs(set, config, report, hairlut_tools::cancel_pointer());
     if (!quiet) {
       for (const auto& f : report.folded)
         std::printf("folded lobe %s into the residual (largest energy %.3g < fold_below %.3g)\n", f.lobe.c_str(), f.max_energy,
@@ -117,7 +131,7 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     }
   } catch (const hairlut::BakeCancelled&) {
     std::fprintf(stderr, "\nbake-hair-luts: interrupted; no output was written or replaced\n");
-    return 130;
+    return hairlut_tools::cancel_exit_code();
   } catch (const hairlut::IoError& e) {
     std::fprintf(stderr, "bake-hair-luts: error: %s\n", e.what());
     return 1;

@@ -27,6 +27,8 @@
 
 #include "bench_common.hpp"
 
+#include "../common/cancel.hpp"
+
 namespace {
 
 using namespace hairlut;
@@ -118,6 +120,7 @@ double time_per_entry(const NpQuadratureConfig& q, std::size_t n_theta, std::siz
 }  // namespace
 
 int main(int argc, char** argv) {
+  hairlut_tools::install_cancel_handlers("bench-hair-luts");
   CLI::App app{"bench-hair-luts: run time against error of hairlut's N_p methods, bake targets, resolution and scaling"};
   std::string out_dir = "bench", bake_tool, generic_config;
   std::size_t slices = 80;

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "../common/cancel.hpp"
+
 namespace {
-std::atomic<bool> g_cancel{false};
-extern "C" void on_signal(int) { g_cancel.store(true); }
 
 std::vector<double> to_radians(const std::vector<double>& deg) {
   std::vector<double> r;
@@ -30,6 +30,7 @@ std::vector<double> to_radians(const std::vector<double>& deg) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hairlut_tools::install_cancel_handlers("compare-hair-models");
   CLI::App app{"compare-hair-models: d'Eon 2011, Marschner 2003 and Kajiya-Kay for one fiber, side by side"};
   app.footer(R"(Examples:
   compare-hair-models --out compare/
@@ -108,7 +109,8 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
     s.kajiya_kay = {kd, ks, exponent};
     s.phi_samples = phi_samples;
     s.energies = !no_energy;
-    s.cancel = &g_cancel;
+    s.cancel = hairlut_tools::cancel_pointer();
+    hairlut_tools::register_temp_dir(out_dir);
     s.validate();
   } catch (const hairlut::ConfigError& e) {
     std::fprintf(stderr, "compare-hair-models: error: %s\n", e.what());
@@ -117,8 +119,6 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
     std::fprintf(stderr, "compare-hair-models: error: %s\n", e.what());
     return 2;
   }
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
   if (!quiet && ::isatty(STDERR_FILENO))
     s.progress = [](std::string_view stage, std::size_t done, std::size_t total) {
       std::fprintf(stderr, "\r%-20.20s %zu/%zu   ", std::string(stage).c_str(), done, total);
@@ -134,7 +134,7 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
     return 0;
   } catch (const hairlut::BakeCancelled&) {
     std::fprintf(stderr, "\ncompare-hair-models: interrupted; nothing written\n");
-    return 130;
+    return hairlut_tools::cancel_exit_code();
   } catch (const hairlut::DomainError& e) {
     std::fprintf(stderr, "compare-hair-models: error: %s\n", e.what());
     return 2;

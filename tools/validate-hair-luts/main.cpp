@@ -19,12 +19,10 @@
 #include <string>
 #include <vector>
 
-namespace {
-std::atomic<bool> g_cancel{false};
-extern "C" void on_signal(int) { g_cancel.store(true); }
-}  // namespace
+#include "../common/cancel.hpp"
 
 int main(int argc, char** argv) {
+  hairlut_tools::install_cancel_handlers("validate-hair-luts");
   CLI::App app{"validate-hair-luts: energy-conservation and accuracy report of hairlut tables"};
   app.footer(R"(Examples:
   validate-hair-luts tables/default/hairlut-default.h5 --out report/
@@ -38,7 +36,7 @@ accuracy_melanin_max_rel, accuracy_ds_max_rel, energy_consistency, and for mean-
 tables ds_consistency, ds_furnace, ds_accuracy; a config's "validate.thresholds" sets them too, and a
 file is judged by the thresholds of the config it was baked with (stored in it); --threshold wins.
 Exit status: 0 all checks pass, 1 a check fails (or an I/O failure), 2 bad input or command
-line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
+line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.)");
   std::string file, config_path, out_dir = "hairlut-report";
   std::vector<std::string> thresholds;
   bool quiet = false;
@@ -59,16 +57,23 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
     std::fprintf(stderr, "validate-hair-luts: error: give either a table file or --config (see --help)\n");
     return 2;
   }
+  if (max_points < 2) {
+    std::fprintf(stderr, "validate-hair-luts: error: --max-points must be at least 2 (got %zu)\n", max_points);
+    return 2;
+  }
 
   hairlut::ValidationOptions options;
   options.threads = threads;
   options.max_points = max_points;
-  options.cancel = &g_cancel;
+  options.cancel = hairlut_tools::cancel_pointer();
+  hairlut_tools::register_temp_dir(out_dir);
   hairlut::TableSet set;
   std::string source;
   try {
     // Clear the previous report first: a failed run must not leave one behind as if it were new.
-    for (const char* name : {"report.html", "report.json", "report.md"}) std::filesystem::remove(std::filesystem::path(out_dir) / name);
+    // (An --out that cannot hold a report is an I/O failure, reported when the report is written.)
+    std::error_code ignored;
+    for (const char* name : {"report.html", "report.json", "report.md"}) std::filesystem::remove(std::filesystem::path(out_dir) / name, ignored);
     if (!config_path.empty()) {
       const hairlut::BakeConfig config = hairlut::load_config(config_path);
       if (config.validate_thresholds.is_object())
@@ -81,7 +86,7 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
         source = config_path + " (baked in memory; outputs missing or out of date)";
         hairlut::BakeOptions bo;
         bo.threads = threads;
-        bo.cancel = &g_cancel;
+        bo.cancel = hairlut_tools::cancel_pointer();
         set = hairlut::bake(config, bo);
       }
     } else if (hairlut::is_engine_texture(file)) {
@@ -124,14 +129,12 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
     return 2;
   } catch (const hairlut::BakeCancelled&) {
     std::fprintf(stderr, "validate-hair-luts: interrupted; no report written\n");
-    return 130;
+    return hairlut_tools::cancel_exit_code();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
     return 2;
   }
 
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
   if (!quiet && ::isatty(STDERR_FILENO))
     options.progress = [](std::string_view stage, std::size_t done, std::size_t total) {
       std::fprintf(stderr, "\r%-14.14s %zu/%zu   ", std::string(stage).c_str(), done, total);
@@ -147,7 +150,7 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130 interrupted.)");
     return report["summary"]["status"] == "pass" ? 0 : 1;
   } catch (const hairlut::BakeCancelled&) {
     std::fprintf(stderr, "\nvalidate-hair-luts: interrupted; no report written\n");
-    return 130;
+    return hairlut_tools::cancel_exit_code();
   } catch (const hairlut::DomainError& e) {
     std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
     return 2;

@@ -14,6 +14,11 @@
 namespace hairlut {
 
 /// E(θi) in total and per lobe (explicit lobes, then the residual if the model has one).
+/// Absolute tolerance of directional_albedo per lobe. Albedos are fractions of unit incident
+/// energy (their sum is at most 1 by energy conservation); 1e-14 is about 50 ulp of 1, where the
+/// integrand's own rounding (Fresnel factors, cosines, exponentials) sets the floor.
+inline constexpr double kAlbedoAbsTol = 1e-14;
+
 struct AlbedoResult {
   double theta_i = 0.0;
   double total = 0.0;
@@ -24,7 +29,10 @@ struct AlbedoResult {
 
 /// E(θi) for θi in [−π/2, π/2]: adaptive Gauss–Kronrod over θr (split at each lobe's specular cone
 /// and tilt fold) of M_p · e_p(θd) · cos θr, the lobe energies e_p by Gauss–Legendre of
-/// energy_order nodes in γ. Throws DomainError for an invalid model or θi.
+/// energy_order nodes in γ. Each lobe meets rel_tol relative to its own value or an absolute
+/// kAlbedoAbsTol, whichever is looser, so that a lobe carrying almost no energy (R as η → 1, or
+/// every lobe but R in a strongly absorbing fibre) does not drive the integral into rounding noise:
+/// the cost stays bounded for every legal η, β and θi. Throws DomainError for an invalid model or θi.
 AlbedoResult directional_albedo(const HairModel& model, double theta_i, double rel_tol = 1e-11,
                                 int energy_order = 128);
 

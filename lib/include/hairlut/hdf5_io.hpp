@@ -24,6 +24,19 @@ class IoError : public std::runtime_error {
   explicit IoError(const std::string& message) : std::runtime_error(one_line(message)) {}
 };
 
+/// Version of the table file format, "MAJOR.MINOR", written into every file (HDF5 root attribute
+/// `hairlut_format_version`, EXR header attribute `hairlut.format_version`). A minor change only
+/// adds (attributes, tables, optional keys) and older readers of the same major version read the
+/// file; a major change may alter or remove what a reader relies on, and readers refuse a newer
+/// major version (docs/table-format.md, "Format version and compatibility").
+inline constexpr int kFormatVersionMajor = 1;
+inline constexpr int kFormatVersionMinor = 0;
+std::string format_version_text();
+
+/// Throws IoError("<name>: ...") unless `text` is "MAJOR.MINOR" (decimal) with MAJOR equal to
+/// kFormatVersionMajor; a newer major version is refused with a message that says so.
+void check_format_version(const std::string& text, const std::string& name);
+
 struct Hdf5WriteOptions {
   int deflate = 6;  ///< 0 … 9; 0 stores without deflate (shuffle and checksum stay)
 };

@@ -24,8 +24,9 @@ struct LobeSet {
 /// Domain: lobes.count in [1, 1000]. Entries in [0, 1].
 std::vector<double> lobe_energies(const AttenuationSlice& slice, LobeSet lobes, const GaussLegendreRule& rule);
 
-/// The same energies by adaptive Gauss–Kronrod to rel_tol (a slower reference); the result says
-/// whether every entry converged.
+/// The same energies by adaptive Gauss–Kronrod to rel_tol relative to max(entry, 1e-3) (a slower
+/// reference; bounded cost for every legal η, including η → 1); the result says whether every
+/// entry converged.
 AdaptiveResult lobe_energies_reference(const AttenuationSlice& slice, LobeSet lobes, double rel_tol = 1e-14);
 
 }  // namespace hairlut

@@ -1,7 +1,9 @@
 // The files of one bake: HDF5 and/or OpenEXR tables plus a JSON sidecar that describes every
 // table (schemas/hairlut-tables.schema.json). Files are written to temporary names in the output
 // directory and renamed into place only when complete, so an interrupted bake never leaves a
-// partial file at the destination.
+// partial file at the destination. The sidecar, renamed last, is the set's manifest: it records
+// each file's size and FNV-1a 64, which load_tables checks. A bake holds an exclusive lock (flock)
+// on the output directory while it writes and commits, so two bakes never interleave their files.
 #pragma once
 
 #include <atomic>
@@ -42,7 +44,13 @@ std::vector<std::filesystem::path> write_outputs(const TableSet& set, const Bake
 void remove_stale_temporaries(const BakeConfig& config);
 
 /// Loads a table file written by hairlut, choosing the reader by the file's magic bytes
-/// (HDF5 or OpenEXR). Throws IoError.
+/// (HDF5 or OpenEXR). When the file's set has a sidecar beside it that lists the file, the file
+/// must have the size and content hash recorded there (a set is read whole, never mixed with
+/// another bake's files); the directory is read under a shared lock, so a bake committing there
+/// is waited for. Throws IoError.
 TableSet load_tables(const std::filesystem::path& file);
+
+/// The file alone, without the directory lock and the sidecar check. Throws IoError.
+TableSet load_table_file(const std::filesystem::path& file);
 
 }  // namespace hairlut

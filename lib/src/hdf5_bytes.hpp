@@ -1,0 +1,34 @@
+// HDF5 files at the byte level, below the HDF5 library: screening the global heap before HDF5
+// reads it, fixing the superblock checksum of an in-memory image, writing an image to disk.
+//
+// global_heap_problem: a guard run before HDF5 reads the variable-length strings of a file: HDF5 1.10 parses a global
+// heap collection ("GCOL") with a loop that never ends when an object record has size 0, and the
+// collection carries no checksum. This scan finds every collection in the file's bytes and refuses
+// one whose records would not advance that loop or would run past the collection's end. Bytes of
+// table data that happen to spell "GCOL" are recognised only with version 1, zero reserved bytes
+// and a size that fits the file, and even then are refused only for a record HDF5 itself could not
+// walk; a file HDF5 wrote passes.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hairlut::detail {
+
+/// Empty when every global heap collection in the bytes is walkable, else a one-phrase reason.
+std::string global_heap_problem(const unsigned char* data, std::size_t size);
+
+/// The same for a file, read in blocks (no copy of the whole file).
+std::string global_heap_problem(const std::filesystem::path& file);
+
+/// HDF5 1.10's H5Fget_file_image clears the superblock's "open for writing" flags in the image but
+/// leaves the checksum computed with them set: recompute it (superblock versions 2 and 3).
+void fix_superblock_checksum(std::vector<char>& image);
+
+/// Writes `bytes` to `path` (created or truncated) and syncs it; every system error (disk full, a
+/// file-size limit, I/O) becomes an IoError naming the file and the reason.
+void write_file_bytes(const std::filesystem::path& path, const std::vector<char>& bytes);
+
+}  // namespace hairlut::detail
