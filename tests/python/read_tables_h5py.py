@@ -7,6 +7,7 @@ each dimension has exactly one attached dimension scale, named like the axis, wi
 Prints one summary line; exits non-zero on the first mismatch.
 """
 import json
+import re
 import sys
 
 import os
@@ -33,12 +34,16 @@ with h5py.File(h5_path, "r") as f:
             assert len(scales) == 1, f"{table['path']} dim {k}: {len(scales)} scales"
             assert ds.dims[k].label == "" or ds.dims[k].label == axis["name"]
             scale = scales[0]
-            assert scale.name.split("/")[-1] == axis["name"], (scale.name, axis["name"])
+            # The scale is named like the axis; its dataset too, with a suffix _2, _3, ... when one
+            # group holds different axes of the same name (the dense energy axes of normalized N_p).
+            assert list(ds.dims[k].keys()) == [axis["name"]], (table["path"], list(ds.dims[k].keys()))
+            assert re.fullmatch(re.escape(axis["name"]) + r"(_[0-9]+)?", scale.name.split("/")[-1]), (scale.name, axis["name"])
             assert scale.attrs["units"] == axis["units"]
             assert scale.attrs["long_name"] == axis["long_name"]
             assert np.array_equal(scale[()], np.array(axis["values"], dtype=np.float64)), table["path"]
         data = ds[()]
         assert np.all(np.isfinite(data)), table["path"]
-        assert table["quantity"] == "shift" or np.all(data >= 0), table["path"]  # shifts (dual scattering) are signed
+        # Shifts (dual scattering) are signed; spectral transmittance is negative out of the sRGB gamut.
+        assert table["quantity"] in ("shift", "transmittance") or np.all(data >= 0), table["path"]
         count += 1
 print(f"h5py {h5py.__version__}: {count} tables with dimension scales read from {h5_path}")

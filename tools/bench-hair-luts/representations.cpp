@@ -212,11 +212,11 @@ json np_config(const NpCase& c, std::vector<double> beta_deg, double sigma_max, 
     ax["phi"] = {{"count", c.phi}};
   } else {  // shape-cubic
     ax["beta"] = axis(c.beta, "range_deg", beta_deg, "log", "cubic");
-    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "uniform", c.sigma > 2 ? "cubic" : "");
-    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "cos", "cubic");
+    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "sqrt", c.sigma > 2 ? "cubic" : "");
+    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "uniform", "cubic");
     ax["phi"] = {{"count", c.phi}, {"interpolation", "cubic"}};
     np["normalize"] = "energy";
-    np["energy_axes"] = {{"sigma_a", axis(c.sigma > 1 ? (quick ? 64 : 128) : 1, "range", {0, sigma_max}, "uniform", c.sigma > 1 ? "geometric" : "")},
+    np["energy_axes"] = {{"sigma_a", axis(c.sigma > 1 ? (quick ? 64 : 128) : 1, "range", {0, sigma_max}, "sqrt", c.sigma > 1 ? "geometric" : "")},
                          {"theta_d", axis(quick ? 256 : 512, "range_deg", {0, 89}, "cos", "cubic")}};
   }
   if (c.sigma == 1) ax["sigma_a"] = {{"values", {0.0}}};
@@ -245,13 +245,13 @@ json bench_representations(bool quick, bool quiet) {
   };
   // The generic domain (β 2°–30°, σa 0–10, θd 0–89°, all φ; R, TT, TRT, TRRT).
   std::vector<NpCase> generic = {
-      {"multilinear", "legacy (target_error 1e-3 counts)", 19, 61, 126, 256},
-      {"multilinear", "legacy", 16, 32, 64, 128},
+      {"multilinear", "multilinear, sqrt sigma_a (what target_error 1e-3 chose before)", 19, 61, 126, 256},
+      {"multilinear", "multilinear, sqrt sigma_a", 16, 32, 64, 128},
       {"geometric-sigma", "geometric sigma_a", 16, 32, 64, 128},
-      {"shape-cubic", "shape + cubic", 8, 8, 32, 64},
-      {"shape-cubic", "shape + cubic", 12, 12, 48, 96},
-      {"shape-cubic", "shape + cubic", 16, 16, 64, 128},
-      {"shape-cubic", "shape + cubic", 16, 24, 96, 160},
+      {"shape-cubic", "shape N_p/E_p + cubic", 8, 8, 32, 64},
+      {"shape-cubic", "shape N_p/E_p + cubic", 12, 12, 48, 96},
+      {"shape-cubic", "shape N_p/E_p + cubic", 16, 16, 64, 128},
+      {"shape-cubic", "shape N_p/E_p + cubic", 16, 24, 64, 128},
   };
   if (quick) generic = {generic[1], generic[2], generic[3]};
   // Engine budgets: N_p of a white fibre (unit attenuation) over (β, θd, φ) at HDRP's 64³.
