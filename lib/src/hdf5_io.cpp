@@ -612,7 +612,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
       const GridAxis& a = t.axes[k];
       const std::string scale_name = scale_names.of(t.group, a);
       Handle scale(quiet([&] { return H5Dopen2(group.get(), scale_name.c_str(), H5P_DEFAULT); }), H5Dclose);
-      if (!scale.valid()) f.fail(tpath + ": missing dimension scale " + t.group + "/" + a.name);
+      if (!scale.valid()) f.fail(tpath + ": missing dimension scale " + t.group + "/" + scale_name);
       // The attachment itself (DIMENSION_LIST) lives in the unchecksummed global heap, so it is
       // not read here; tests check it with h5py.
       Handle sspace(quiet([&] { return H5Dget_space(scale.get()); }), H5Sclose);
@@ -630,6 +630,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
     f.fail("content checksum mismatch: the file is corrupted");
   // The visible copies of the metadata (what h5py shows) must agree with the checksummed ones.
   verify_json_attrs(f, root.get(), set.metadata, "/");
+  ScaleNames visible_scales;
   for (const Table& t : set.tables) {
     const std::string object = "/" + t.path();
     Handle ds(quiet([&] { return H5Dopen2(root.get(), t.path().c_str(), H5P_DEFAULT); }), H5Dclose);
@@ -640,7 +641,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
     verify_json_attrs(f, ds.get(), t.attributes, object);
     verify_dimension_list(f, ds.get(), t.axes.size(), object);
     for (const GridAxis& a : t.axes) {
-      const std::string scale_path = t.group + "/" + a.name;
+      const std::string scale_path = t.group + "/" + visible_scales.of(t.group, a);
       Handle scale(quiet([&] { return H5Dopen2(root.get(), scale_path.c_str(), H5P_DEFAULT); }), H5Dclose);
       f.check(scale.get(), "cannot open dimension scale /" + scale_path);
       verify_scale_attrs(f, scale.get(), a, "/" + scale_path);
