@@ -333,6 +333,7 @@ void write_representations(const json& rows, const json& machine, const std::str
         "|---|---|---|---|---|---|---|---|\n";
   auto g = [](const json& j, const char* k) { return j.contains(k) ? j.at(k).get<double>() : NAN; };
   auto f = [](double v) {
+    if (std::isnan(v)) return std::string("-");
     char b[32];
     std::snprintf(b, sizeof b, "%.2g", v);
     return std::string(b);
