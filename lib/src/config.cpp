@@ -214,7 +214,7 @@ MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeCo
   return m;
 }
 
-// ---- tables.dual_scattering and tables.engine (issue 7) ----------------------------------------
+// ---- tables.dual_scattering and tables.engine -------------------------------------------------
 
 // tables.dual_scattering: axes theta_i, beta, sigma_a; lobe_scale per lobe (lobes not listed: 1).
 DualScatteringTablesConfig parse_dual_scattering(const json& j, int lobe_count, bool residual) {
