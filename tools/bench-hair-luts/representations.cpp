@@ -180,6 +180,20 @@ double lookup_ns(const TableSet& set, const Table& t, int lookups, std::uint64_t
   return best;
 }
 
+// Per-lobe worst, p99 and worst point into a result row, and their largest over the lobes.
+void add_errors(json& row, const std::map<std::string, ErrorStats>& errors) {
+  double worst = 0.0, p99 = 0.0;
+  for (const auto& [lobe, s] : errors) {
+    row["worst"][lobe] = s.worst;
+    row["p99"][lobe] = s.p99;
+    row["worst_at"][lobe] = s.where;
+    worst = std::max(worst, s.worst);
+    p99 = std::max(p99, s.p99);
+  }
+  row["worst_all"] = worst;
+  row["p99_all"] = p99;
+}
+
 json axis(int count, const std::string& range_key, std::vector<double> range, const std::string& spacing, const std::string& interp) {
   json a = {{"count", count}, {range_key, range}, {"spacing", spacing}};
   if (!interp.empty()) a["interpolation"] = interp;
@@ -273,16 +287,7 @@ json bench_representations(bool quick, bool quiet) {
                 {"entries_total", entries},
                 {"bytes", bytes},
                 {"points_per_lobe", slabs * 4 * 16}};
-    double worst = 0.0, p99 = 0.0;
-    for (const auto& [lobe, s] : errors) {
-      row["worst"][lobe] = s.worst;
-      row["p99"][lobe] = s.p99;
-      row["worst_at"][lobe] = s.where;
-      worst = std::max(worst, s.worst);
-      p99 = std::max(p99, s.p99);
-    }
-    row["worst_all"] = worst;
-    row["p99_all"] = p99;
+    add_errors(row, errors);
     row["lookup_ns"] = lookup_ns(set, *set.find("np/TRT"), lookups, 3);
     rows.push_back(row);
   };
@@ -299,17 +304,9 @@ json bench_representations(bool quick, bool quiet) {
     const TableSet set = bake_json({{"mp", mp}}, "repr-mp");
     json row = {{"domain", "engine-mp-64^3"}, {"representation", rep}, {"label", rep + " 64^3"}, {"entries_per_lobe", 64 * 64 * 64},
                 {"bytes", set.bytes()}};
-    double worst = 0.0, p99 = 0.0;
-    for (const std::string lobe : {"R", "TT", "TRT"}) {
-      const ErrorStats s = mp_errors(*set.find("mp/" + lobe), quick ? 2000 : 20000, 5);
-      row["worst"][lobe] = s.worst;
-      row["p99"][lobe] = s.p99;
-      row["worst_at"][lobe] = s.where;
-      worst = std::max(worst, s.worst);
-      p99 = std::max(p99, s.p99);
-    }
-    row["worst_all"] = worst;
-    row["p99_all"] = p99;
+    std::map<std::string, ErrorStats> errors;
+    for (const std::string lobe : {"R", "TT", "TRT"}) errors[lobe] = mp_errors(*set.find("mp/" + lobe), quick ? 2000 : 20000, 5);
+    add_errors(row, errors);
     row["lookup_ns"] = lookup_ns(set, *set.find("mp/R"), lookups, 4);
     rows.push_back(row);
   }
