@@ -52,6 +52,18 @@ GridAxis make_axis(std::string name, std::string units, std::string long_name, S
 
 }  // namespace
 
+HairModel table_model(const RoughnessMapping& roughness, const AbsorptionMapping& absorption, double eta, AbsorptionPath path,
+                      double roughness_x, double absorption_x) {
+  const std::vector<LobeParams> lp = roughness.lobes_at(roughness_x);
+  HairModel m;
+  m.eta = eta;
+  m.path = path;
+  m.sigma_a = absorption.sigma_a(absorption_x);
+  m.lobes.assign(lp.begin(), lp.begin() + roughness.lobes);
+  if (roughness.residual) m.residual = lp.back();
+  return m;
+}
+
 std::vector<LobeParams> RoughnessMapping::lobes_at(double x) const {
   if (!std::isfinite(x)) throw_domain_error("roughness", "must be finite", x);
   const std::size_t n = static_cast<std::size_t>(lobes) + (residual ? 1 : 0);

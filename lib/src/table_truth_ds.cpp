@@ -73,13 +73,7 @@ std::optional<TableTruth> dual_scattering_truth(const TableSet& set, const Table
           const auto found = memo->points.find({group, key});
           if (found != memo->points.end()) return field(found->second);
         }
-        const std::vector<LobeParams> lp = rmap.lobes_at(x[ir]);
-        HairModel m;
-        m.eta = eta;
-        m.path = ap;
-        m.sigma_a = amap.sigma_a(x[ia]);
-        m.lobes.assign(lp.begin(), lp.begin() + rmap.lobes);
-        if (rmap.residual) m.residual = lp.back();
+        const HairModel m = table_model(rmap, amap, eta, ap, x[ir], x[ia]);
         DualScatteringOptions o;
         o.density_factor = d_b;
         const DualScatteringPoint p = dual_scattering(m, x[it], o);

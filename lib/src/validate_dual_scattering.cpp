@@ -162,13 +162,7 @@ json dual_scattering_section(const TableSet& set, const ValidationOptions& opt, 
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
       for (std::size_t n = 0; n < nodes.size(); ++n) {
         const auto [a, r, t] = nodes[n];
-        const std::vector<LobeParams> lp = rmap.lobes_at(xr[r]);
-        HairModel m;
-        m.eta = eta;
-        m.path = path;
-        m.sigma_a = amap.sigma_a(xa[a]);
-        m.lobes.assign(lp.begin(), lp.begin() + rmap.lobes);
-        if (rmap.residual) m.residual = lp.back();
+        const HairModel m = table_model(rmap, amap, eta, path, xr[r], xa[a]);
         DualScatteringOptions o;
         o.density_factor = d_b;
         ref[n] = dual_scattering(m, xt[t], o);
