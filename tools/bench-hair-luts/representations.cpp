@@ -269,8 +269,11 @@ json bench_representations(bool quick, bool quiet) {
   };
   if (quick) generic = {generic[1], generic[2], generic[3]};
   // Engine budgets: N_p of a white fibre (unit attenuation) over (β, θd, φ) at HDRP's 64³.
+  // The same budget (262 144 entries) split evenly, then allocated where the error is: few β
+  // nodes (smooth in log β), many θd and φ nodes (the caustics move with θd and narrow with β).
   std::vector<NpCase> engine = {{"uniform-multilinear", "uniform multilinear 64^3", 64, 1, 64, 64},
-                                {"shape-cubic", "hairlut shape + cubic 64^3", 64, 1, 64, 64}};
+                                {"shape-cubic", "hairlut shape + cubic 64^3", 64, 1, 64, 64},
+                                {"shape-cubic", "hairlut shape + cubic, budget allocated", 12, 1, 128, 170}};
   auto run_np = [&](const NpCase& c, const std::string& domain, std::vector<double> beta_deg, double sigma_max) {
     say(domain + ": " + c.label + " " + std::to_string(c.beta) + "x" + std::to_string(c.sigma) + "x" + std::to_string(c.theta) + "x" +
         std::to_string(c.phi));
@@ -294,15 +297,28 @@ json bench_representations(bool quick, bool quiet) {
   for (const NpCase& c : generic) run_np(c, "generic", {2, 30}, 10.0);
   for (const NpCase& c : engine) run_np(c, "engine-np-64^3", {2, 30}, 0.0);
   // Engine budgets: M_p over (β, θi, θr) at HDRP's 64³.
-  for (const std::string rep : {"uniform-multilinear", "cubic"}) {
-    say("engine-mp-64^3: " + rep);
+  // The same budget (64³ = 262 144 entries): evenly split, then allocated (12 β × 147 θi × 148 θr
+  // = 261 072: M_p is smooth in log β, while its peak, as narrow as β, moves along θr with θi).
+  struct MpCase {
+    std::string representation, label;
+    int beta, theta_i, theta_r;
+  };
+  for (const MpCase& c : std::vector<MpCase>{{"uniform-multilinear", "uniform-multilinear 64^3", 64, 64, 64},
+                                             {"cubic", "cubic 64^3", 64, 64, 64},
+                                             {"cubic", "cubic, budget allocated", 12, 147, 148}}) {
+    const std::string& rep = c.representation;
+    say("engine-mp-64^3: " + c.label);
     const bool cubic = rep == "cubic";
     json mp = {{"axes",
-                {{"beta", axis(64, "range_deg", {2, 30}, cubic ? "log" : "uniform", cubic ? "cubic" : "")},
-                 {"theta_i", axis(64, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")},
-                 {"theta_r", axis(64, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")}}}};
+                {{"beta", axis(c.beta, "range_deg", {2, 30}, cubic ? "log" : "uniform", cubic ? "cubic" : "")},
+                 {"theta_i", axis(c.theta_i, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")},
+                 {"theta_r", axis(c.theta_r, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")}}}};
     const TableSet set = bake_json({{"mp", mp}}, "repr-mp");
-    json row = {{"domain", "engine-mp-64^3"}, {"representation", rep}, {"label", rep + " 64^3"}, {"entries_per_lobe", 64 * 64 * 64},
+    json row = {{"domain", "engine-mp-64^3"},
+                {"representation", rep},
+                {"label", c.label},
+                {"counts", {{"beta", c.beta}, {"theta_i", c.theta_i}, {"theta_r", c.theta_r}}},
+                {"entries_per_lobe", c.beta * c.theta_i * c.theta_r},
                 {"bytes", set.bytes()}};
     std::map<std::string, ErrorStats> errors;
     for (const std::string lobe : {"R", "TT", "TRT"}) errors[lobe] = mp_errors(*set.find("mp/" + lobe), quick ? 2000 : 20000, 5);
