@@ -224,14 +224,18 @@ json np_config(const NpCase& c, std::vector<double> beta_deg, double sigma_max, 
     ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "uniform", "geometric");
     ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "cos", "");
     ax["phi"] = {{"count", c.phi}};
-  } else {  // shape-cubic
-    ax["beta"] = axis(c.beta, "range_deg", beta_deg, "log", "cubic");
-    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "sqrt", c.sigma > 2 ? "cubic" : "");
-    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "uniform", "cubic");
-    ax["phi"] = {{"count", c.phi}, {"interpolation", "cubic"}};
+  } else {  // shape-cubic, or shape-linear (the same axes read with linear interpolation, as a GPU filters a texture)
+    const std::string order = c.representation == "shape-linear" ? "" : "cubic";
+    ax["beta"] = axis(c.beta, "range_deg", beta_deg, "log", order);
+    ax["sigma_a"] = axis(c.sigma, "range", {0, sigma_max}, "sqrt", c.sigma > 2 ? order : "");
+    ax["theta_d"] = axis(c.theta, "range_deg", {0, 89}, "uniform", order);
+    ax["phi"] = {{"count", c.phi}};
+    if (!order.empty()) ax["phi"]["interpolation"] = order;
     np["normalize"] = "energy";
-    np["energy_axes"] = {{"sigma_a", axis(c.sigma > 1 ? (quick ? 64 : 128) : 1, "range", {0, sigma_max}, "sqrt", c.sigma > 1 ? "geometric" : "")},
-                         {"theta_d", axis(quick ? 256 : 512, "range_deg", {0, 89}, "cos", "cubic")}};
+    // The energy factor on its own dense (σa, θd) axes: uniform σa read geometrically (exact for an
+    // exponential fall in σa, which √σa spacing is not).
+    np["energy_axes"] = {{"sigma_a", axis(c.sigma > 1 ? (quick ? 64 : 200) : 1, "range", {0, sigma_max}, "uniform", c.sigma > 1 ? "geometric" : "")},
+                         {"theta_d", axis(quick ? 256 : 512, "range_deg", {0, 89}, "cos", order.empty() ? "" : "cubic")}};
   }
   if (c.sigma == 1) ax["sigma_a"] = {{"values", {0.0}}};
   np["axes"] = ax;
@@ -273,7 +277,8 @@ json bench_representations(bool quick, bool quiet) {
   // nodes (smooth in log β), many θd and φ nodes (the caustics move with θd and narrow with β).
   std::vector<NpCase> engine = {{"uniform-multilinear", "uniform multilinear 64^3", 64, 1, 64, 64},
                                 {"shape-cubic", "hairlut shape + cubic 64^3", 64, 1, 64, 64},
-                                {"shape-cubic", "hairlut shape + cubic, budget allocated", 12, 1, 128, 170}};
+                                {"shape-cubic", "hairlut shape + cubic, budget allocated", 12, 1, 128, 170},
+                                {"shape-linear", "hairlut shape + multilinear, budget allocated", 12, 1, 128, 170}};
   auto run_np = [&](const NpCase& c, const std::string& domain, std::vector<double> beta_deg, double sigma_max) {
     say(domain + ": " + c.label + " " + std::to_string(c.beta) + "x" + std::to_string(c.sigma) + "x" + std::to_string(c.theta) + "x" +
         std::to_string(c.phi));
@@ -305,12 +310,13 @@ json bench_representations(bool quick, bool quiet) {
   };
   for (const MpCase& c : std::vector<MpCase>{{"uniform-multilinear", "uniform-multilinear 64^3", 64, 64, 64},
                                              {"cubic", "cubic 64^3", 64, 64, 64},
-                                             {"cubic", "cubic, budget allocated", 12, 147, 148}}) {
+                                             {"cubic", "cubic, budget allocated", 12, 147, 148},
+                                             {"multilinear", "multilinear, budget allocated", 12, 147, 148}}) {
     const std::string& rep = c.representation;
     say("engine-mp-64^3: " + c.label);
     const bool cubic = rep == "cubic";
     json mp = {{"axes",
-                {{"beta", axis(c.beta, "range_deg", {2, 30}, cubic ? "log" : "uniform", cubic ? "cubic" : "")},
+                {{"beta", axis(c.beta, "range_deg", {2, 30}, rep == "uniform-multilinear" ? "uniform" : "log", cubic ? "cubic" : "")},
                  {"theta_i", axis(c.theta_i, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")},
                  {"theta_r", axis(c.theta_r, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")}}}};
     const TableSet set = bake_json({{"mp", mp}}, "repr-mp");
