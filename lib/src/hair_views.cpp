@@ -91,6 +91,18 @@ template sampler::HairTables<float, double> hair_tables<float, double>(const Tab
 template sampler::HairTables<double, float> hair_tables<double, float>(const TableSet&);
 template sampler::HairTables<double, double> hair_tables<double, double>(const TableSet&);
 
+int lobe_index(const TableSet& set, std::string_view lobe) {
+  const auto it = set.metadata.find("lobes");
+  std::string have;
+  if (it != set.metadata.end())
+    for (std::size_t p = 0; p < it->size(); ++p) {
+      const std::string name = (*it)[p].get<std::string>();
+      if (name == lobe) return static_cast<int>(p);
+      have += (have.empty() ? "" : ", ") + name;
+    }
+  throw DomainError("table set: no lobe " + std::string(lobe) + " (lobes: " + (have.empty() ? std::string("none") : have) + ")");
+}
+
 sampler::Fibre fibre_from_melanin(double eumelanin, double pheomelanin, double beta_m, double beta_n) {
   require_positive("beta_m", beta_m);
   require_positive("beta_n", beta_n);

@@ -3,6 +3,8 @@
 // looks values up by physical arguments without mapping axis names or attributes by hand.
 #pragma once
 
+#include <string_view>
+
 #include "hairlut/sampler_fibre.hpp"
 #include "hairlut/tables.hpp"
 
@@ -18,6 +20,10 @@ namespace hairlut {
 /// tables are not stored as T.
 template <class T, class R>
 sampler::HairTables<T, R> hair_tables(const TableSet& set);
+
+/// The index p of a lobe in hair_tables(set).np / .mp ("R" → 0, ... as the set's metadata lists
+/// them). Throws DomainError naming the lobes the set has.
+int lobe_index(const TableSet& set, std::string_view lobe);
 
 /// A fibre from d'Eon 2011's melanin model (σa = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05),
 /// melanin_sigma_a_rgb) and its roughness β_m, β_n [rad]. Throws DomainError for negative or
