@@ -10,7 +10,8 @@
 // - S(θi, θr, φ) per RGB from the default tables (sampler::FibreScattering: R, TT, TRT, TRRT and
 //   the residual) against pbrt-v4's analytic HairBxDF::f (pbrt_hair.cpp, a re-implementation),
 //   on the same directions (uniform on the sphere), in the same run, one thread; the table path
-//   is timed from the direction vectors (asin and atan2 as pbrt's f does) and from angles.
+//   is timed from the direction vectors (sampler::fibre_angles: three fast_acos; and with
+//   std::asin and two std::atan2 as pbrt's f computes its angles) and from angles.
 // Times are thread CPU time, the best of several repeats (the machine may be shared).
 #include <cmath>
 #include <cstdint>
@@ -220,7 +221,7 @@ json bench_lookup(const Settings& st) {
   const Rgb sa = melanin_sigma_a_rgb(0.8, 0.2);
   const PbrtHair::Spectrum sigma = {static_cast<float>(sa.r), static_cast<float>(sa.g), static_cast<float>(sa.b), static_cast<float>((sa.r + sa.g + sa.b) / 3.0)};
   const PbrtHair pbrt(0.3f, 1.55f, sigma, 0.3f, 0.3f, 2.0f);
-  double t_pbrt = 1e300, t_sd = 1e300, t_sf = 1e300, t_sf_angles = 1e300, t_sd_angles = 1e300;
+  double t_pbrt = 1e300, t_sd = 1e300, t_sf = 1e300, t_sf_angles = 1e300, t_sd_angles = 1e300, t_sf_std = 1e300;
   for (int r = 0; r < reps; ++r) {  // alternating, so that both see the same machine
     t_pbrt = std::min(t_pbrt, best_ns(n, 1, [&] {
                         float acc = 0.0f;
@@ -230,9 +231,8 @@ json bench_lookup(const Settings& st) {
     t_sf = std::min(t_sf, best_ns(n, 1, [&] {
                       float acc = 0.0f, rgb[3];
                       for (std::size_t i = 0; i < n; ++i) {
-                        const float ti = std::asin(wi[i].x), tr = std::asin(wo[i].x);
-                        const float phi = std::atan2(wo[i].z, wo[i].y) - std::atan2(wi[i].z, wi[i].y);
-                        sf(ti, tr, phi, rgb);
+                        const float a[3] = {wi[i].x, wi[i].y, wi[i].z}, b[3] = {wo[i].x, wo[i].y, wo[i].z};
+                        sf(a, b, rgb);  // sampler::fibre_angles, then the lookup
                         acc += rgb[1];
                       }
                       sink = acc;
@@ -240,14 +240,22 @@ json bench_lookup(const Settings& st) {
     t_sd = std::min(t_sd, best_ns(n, 1, [&] {
                       double acc = 0.0, rgb[3];
                       for (std::size_t i = 0; i < n; ++i) {
-                        const double ti = std::asin(static_cast<double>(wi[i].x)), tr = std::asin(static_cast<double>(wo[i].x));
-                        const double phi = std::atan2(static_cast<double>(wo[i].z), static_cast<double>(wo[i].y)) -
-                                           std::atan2(static_cast<double>(wi[i].z), static_cast<double>(wi[i].y));
-                        sd(ti, tr, phi, rgb);
+                        const double a[3] = {wi[i].x, wi[i].y, wi[i].z}, b[3] = {wo[i].x, wo[i].y, wo[i].z};
+                        sd(a, b, rgb);
                         acc += rgb[1];
                       }
                       sink = acc;
                     }));
+    t_sf_std = std::min(t_sf_std, best_ns(n, 1, [&] {
+                          float acc = 0.0f, rgb[3];
+                          for (std::size_t i = 0; i < n; ++i) {
+                            const float ti = std::asin(wi[i].x), tr = std::asin(wo[i].x);
+                            const float phi = std::atan2(wo[i].z, wo[i].y) - std::atan2(wi[i].z, wi[i].y);
+                            sf(ti, tr, phi, rgb);
+                            acc += rgb[1];
+                          }
+                          sink = acc;
+                        }));
     t_sf_angles = std::min(t_sf_angles, best_ns(n, 1, [&] {
                              float acc = 0.0f, rgb[3];
                              for (std::size_t i = 0; i < n; ++i) {
@@ -277,6 +285,7 @@ json bench_lookup(const Settings& st) {
             {"pbrt_f_ns", t_pbrt},
             {"tables_S_ns_float_from_vectors", t_sf},
             {"tables_S_ns_double_from_vectors", t_sd},
+            {"tables_S_ns_float_from_vectors_std_asin_atan2", t_sf_std},
             {"tables_S_ns_float_from_angles", t_sf_angles},
             {"tables_S_ns_double_from_angles", t_sd_angles},
             {"speedup_float_from_vectors", t_pbrt / t_sf},
@@ -308,6 +317,7 @@ json bench_lookup(const Settings& st) {
      << "| pbrt-v4 HairBxDF::f (re-implementation, 4 spectral samples) | " << fmt(t_pbrt) << " |\n"
      << "| tables, float, from direction vectors | " << fmt(t_sf) << " (" << fmt(t_pbrt / t_sf) << "x faster) |\n"
      << "| tables, double, from direction vectors | " << fmt(t_sd) << " (" << fmt(t_pbrt / t_sd) << "x faster) |\n"
+     << "| tables, float, from direction vectors with std::asin and two std::atan2 (as pbrt's f) | " << fmt(t_sf_std) << " (" << fmt(t_pbrt / t_sf_std) << "x faster) |\n"
      << "| tables, float, from angles | " << fmt(t_sf_angles) << " |\n"
      << "| tables, double, from angles | " << fmt(t_sd_angles) << " |\n"
      << "\nPer-fibre precompute (FibreScattering): " << fmt(t_bind_d) << " ms double, " << fmt(t_bind_f) << " ms float; "

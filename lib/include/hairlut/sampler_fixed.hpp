@@ -50,7 +50,7 @@ template <class R>
 class FixedAxis {
  public:
   FixedAxis() = default;
-  FixedAxis(const Axis& a, std::size_t stride) : prepared_(a), stride_(stride) {
+  FixedAxis(const Axis& a, std::size_t stride) : stride_(stride), prepared_(a) {
     const PreparedAxis& p = prepared_;
     n_ = a.count;
     cubic_ = a.interpolation == Interpolation::cubic && a.count >= 3 && a.spacing != Spacing::explicit_values;
@@ -61,6 +61,8 @@ class FixedAxis {
     hi_ = static_cast<R>(a.hi);
     span_ = static_cast<R>(2.0 * (a.hi - a.lo));
     simple_ = a.spacing != Spacing::explicit_values && n_ > 1;
+    wrap_ = a.wrap;
+    spacing_ = a.spacing;
     snap_ = sizeof(R) >= sizeof(double) ? static_cast<R>(1e-9) : static_cast<R>(8.0 * 1.1920928955078125e-07 * (n_ > 1 ? n_ : 1));
   }
   bool cubic() const { return cubic_; }
@@ -71,13 +73,12 @@ class FixedAxis {
   /// The continuous node index s and the cell [i0, i0 + 1] that holds it, with the wrap rule
   /// (PreparedAxis::locate, in R). Not for explicit axes (locate_explicit) nor NaN.
   HAIRLUT_SAMPLER_INLINE void locate(R x, int& i0, R& w) const {
-    const Axis& a = prepared_.axis;
     const int n = n_;
     if (n <= 1) {
       i0 = 0, w = R(0);
       return;
     }
-    if (a.wrap == Wrap::periodic) {
+    if (wrap_ == Wrap::periodic) {
       R u = (x - t0_) * scale_ / static_cast<R>(n);
       u -= std::floor(u);
       R s = u * static_cast<R>(n) + offset_;
@@ -90,17 +91,17 @@ class FixedAxis {
       i0 = static_cast<int>(fi) % n;
       return;
     }
-    if (a.wrap == Wrap::even) {
+    if (wrap_ == Wrap::even) {
       const R pi = static_cast<R>(3.14159265358979323846);
       // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
       x = std::fabs(x) <= pi ? std::fabs(x) : std::fabs(std::remainder(x, R(2) * pi));
-    } else if (a.wrap == Wrap::reflect && hi_ > lo_) {
+    } else if (wrap_ == Wrap::reflect && hi_ > lo_) {
       const R d = x - lo_;
       x = lo_ + (d >= R(0) && d <= hi_ - lo_ ? d : std::fabs(std::remainder(d, span_)));
     }
     x = x < lo_ ? lo_ : (x > hi_ ? hi_ : x);
     R t = x;
-    switch (a.spacing) {
+    switch (spacing_) {
       case Spacing::cos: t = std::cos(x); break;
       case Spacing::sin: t = std::sin(x); break;
       case Spacing::log: t = std::log(x); break;
@@ -125,7 +126,6 @@ class FixedAxis {
   /// The taps at x (NaN excluded by the caller).
   HAIRLUT_SAMPLER_INLINE FixedTaps<R> taps(R x) const {
     FixedTaps<R> r;  // NOLINT: filled below (the taps the axis uses)
-    const Axis& a = prepared_.axis;
     if (!simple_) {
       const Lerp l = prepared_.locate(static_cast<double>(x));
       set_linear(r, l.i0, l.i1, static_cast<R>(l.w));
@@ -134,7 +134,7 @@ class FixedAxis {
     int i0;
     R w;
     locate(x, i0, w);
-    const bool periodic = a.wrap == Wrap::periodic;
+    const bool periodic = wrap_ == Wrap::periodic;
     if (!cubic_) {
       set_linear(r, i0, periodic ? (i0 + 1) % n_ : i0 + 1, w);
       return r;
@@ -187,12 +187,15 @@ class FixedAxis {
     r.w[1] = w;
   }
 
-  PreparedAxis prepared_;
+  // The fields a lookup reads first, together; then the prepared axis for the rare paths.
+  R t0_ = R(0), scale_ = R(0), offset_ = R(0), lo_ = R(0), hi_ = R(1), span_ = R(2), snap_ = R(1e-9);
   std::size_t stride_ = 1;
   int n_ = 1;
+  Wrap wrap_ = Wrap::clamp;
+  Spacing spacing_ = Spacing::uniform;
   bool cubic_ = false;
   bool simple_ = false;  // mapped spacing and at least 2 nodes
-  R t0_ = R(0), scale_ = R(0), offset_ = R(0), lo_ = R(0), hi_ = R(1), span_ = R(2), snap_ = R(1e-9);
+  PreparedAxis prepared_;
 };
 
 namespace detail {
