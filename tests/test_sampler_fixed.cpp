@@ -1,5 +1,6 @@
 // Fixed-dimension sampler views (sampler_fixed.hpp) against the generic TableView: the same
-// reconstruction for every wrap, spacing, placement and interpolation, in double and in float.
+// reconstruction for every wrap, spacing (explicit nodes included), placement and interpolation,
+// in double and in float.
 #include <cmath>
 #include <hairlut/sampler_fixed.hpp>
 #include <random>
@@ -30,6 +31,16 @@ Axis random_axis(std::mt19937_64& rng) {
     default: a.lo = -1.0, a.hi = 2.0;
   }
   if (a.wrap == Wrap::even) a.spacing = Spacing::uniform, a.lo = 0.0, a.hi = kPi;
+  if (a.wrap == Wrap::clamp && a.count > 1 && u(rng) < 0.2) {
+    // Explicit nodes (linear in x): strictly increasing, kept alive for the test's duration.
+    static std::vector<std::vector<double>> pool;
+    std::vector<double> v(static_cast<std::size_t>(a.count));
+    double x = -1.0;
+    for (double& n : v) n = x += 0.05 + u(rng);
+    pool.push_back(v);
+    a.spacing = Spacing::explicit_values, a.values = pool.back().data(), a.lo = v.front(), a.hi = v.back();
+    a.interpolation = Interpolation::linear;
+  }
   return a;
 }
 

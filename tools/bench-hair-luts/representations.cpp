@@ -11,11 +11,12 @@
 // at the same (β, θi).
 // Cost: ns per lookup through sampler::FixedView (sampler_fixed.hpp: axis mappings prepared once,
 // the tensor product compiled for the table's dimension), one thread, on random points, tables in
-// cache where they fit.
+// cache where they fit; thread CPU time.
 #include "representations.hpp"
 
+#include "bench_common.hpp"
+
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -163,8 +164,8 @@ double lookup_ns_fixed(const TableSet& set, const Table& t, int lookups, std::ui
   if (f && (faxes.size() != 2 || fmap.size() != 2)) throw DomainError("table " + t.path() + ": the bench times factor tables of 2 axes");
   const sampler::FixedView<float, 2> fview(f ? f->f32.data() : nullptr, f ? faxes.data() : axes.data());
   double sink = 0.0;
-  auto run = [&] {
-    const auto t0 = std::chrono::steady_clock::now();
+  auto run = [&] {  // thread CPU time: wall time on a shared machine also counts the waits for a core
+    const double t0 = thread_cpu_seconds();
     for (int i = 0; i < lookups; ++i) {
       const double* x = &xs[static_cast<std::size_t>(i * D)];
       double v = view(x);
@@ -174,7 +175,7 @@ double lookup_ns_fixed(const TableSet& set, const Table& t, int lookups, std::ui
       }
       sink += v;
     }
-    return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count() / lookups;
+    return (thread_cpu_seconds() - t0) * 1e9 / lookups;
   };
   run();  // warm the caches
   double best = 1e300;
