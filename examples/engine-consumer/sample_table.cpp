@@ -1,17 +1,16 @@
-// Loads a baked hairlut table set and samples the N_p table of one lobe at physical arguments,
-// mapping them to the table's axes by name, as an engine's asset importer would.
+// Loads a baked hairlut table set and looks up the N_p table of one lobe at physical arguments
+// through the typed views (built once from the file's metadata), then S(θi, θr, φ) of a fibre
+// from all the tables, as an engine's asset importer and shading code would.
 //
 //   sample-table FILE LOBE THETA_D_DEG SIGMA_A BETA_DEG PHI_DEG
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <hairlut/sampler.hpp>
+#include <hairlut/hair_views.hpp>
 #include <hairlut/table_io.hpp>
-#include <hairlut/tables.hpp>
 #include <hairlut/version.hpp>
 #include <string>
-#include <vector>
 
 int main(int argc, char** argv) {
   if (argc != 7) {
@@ -20,36 +19,25 @@ int main(int argc, char** argv) {
   }
   try {
     const double deg = 3.14159265358979323846 / 180.0;
-    const hairlut::TableSet set = hairlut::load_tables(argv[1]);
-    const std::string path = std::string("np/") + argv[2];
-    const hairlut::Table* table = set.find(path);
-    if (!table) {
-      std::fprintf(stderr, "sample-table: error: %s has no table %s\n", argv[1], path.c_str());
-      return 1;
-    }
-    // Physical arguments by axis name: the engine does not need to know the axis order.
     const double theta_d = std::atof(argv[3]) * deg, sigma_a = std::atof(argv[4]), beta = std::atof(argv[5]) * deg,
                  phi = std::atof(argv[6]) * deg;
-    std::vector<hairlut::sampler::Axis> axes;
-    std::vector<double> x;
-    for (const auto& axis : table->axes) {
-      axes.push_back(axis.view());
-      if (axis.name == "theta_d") x.push_back(theta_d);
-      else if (axis.name == "sigma_a") x.push_back(sigma_a);
-      else if (axis.name == "beta") x.push_back(beta);
-      else if (axis.name == "phi") x.push_back(phi);
-      else {
-        std::fprintf(stderr, "sample-table: error: %s: unexpected axis %s\n", path.c_str(), axis.name.c_str());
-        return 1;
-      }
-    }
-    const int dims = static_cast<int>(axes.size());
-    const double value = table->precision == hairlut::Precision::float32
-                             ? hairlut::sampler::sample(table->f32.data(), axes.data(), dims, x.data())
-                             : hairlut::sampler::sample(table->f64.data(), axes.data(), dims, x.data());
-    std::printf("hairlut %s: %s(theta_d=%s deg, sigma_a=%s, beta=%s deg, phi=%s deg) = %.9g %s\n", hairlut::kVersion, path.c_str(),
-                argv[3], argv[4], argv[5], argv[6], value, table->units.c_str());
-    return std::isfinite(value) ? 0 : 1;
+    const hairlut::TableSet set = hairlut::load_tables(argv[1]);
+    // Views of every lobe's N_p (with its energy factor) and M_p, from the file's metadata.
+    const auto tables = hairlut::hair_tables<float, double>(set);
+    const int p = hairlut::lobe_index(set, argv[2]);
+    const double value = tables.np[p](beta, sigma_a, theta_d, phi);
+    std::printf("hairlut %s: np/%s(theta_d=%s deg, sigma_a=%s, beta=%s deg, phi=%s deg) = %.9g 1/rad\n", hairlut::kVersion, argv[2], argv[3],
+                argv[4], argv[5], argv[6], value);
+    // S of a fibre with this σa in every channel and β for both roughnesses, at θi = −θd, θr = θd.
+    hairlut::sampler::Fibre fibre;
+    fibre.sigma_a[0] = fibre.sigma_a[1] = fibre.sigma_a[2] = sigma_a;
+    fibre.beta_m = fibre.beta_n = beta;
+    const hairlut::sampler::FibreScattering<float, double> shade(tables, fibre);
+    double rgb[3];
+    shade(-theta_d, theta_d, phi, rgb);
+    std::printf("S(theta_i=%s deg, theta_r=%s deg, phi=%s deg) = %.9g (all lobes and the residual)\n", ("-" + std::string(argv[3])).c_str(),
+                argv[3], argv[6], rgb[0]);
+    return std::isfinite(value) && std::isfinite(rgb[0]) ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sample-table: error: %s\n", e.what());
     return 1;

@@ -29,6 +29,10 @@
 
 #include "../common/cancel.hpp"
 
+namespace bench {
+json bench_lookup(const Settings& s);  // lookup.cpp
+}
+
 namespace {
 
 using namespace hairlut;
@@ -139,9 +143,9 @@ int main(int argc, char** argv) {
                "only measure table representations: entries against sampled error and lookup ns (writes representations.*)");
   std::string only;
   app.add_option("--only", only,
-                 "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets (the full run "
+                 "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets, lookup (the full run "
                  "also writes bench.json/csv/md and pareto.svg)")
-      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets"}));
+      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup"}));
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)\n\n"
              "Exit status: 0 done, 2 bad command line (one line \"bench-hair-luts: error: ...\" on stderr).");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
@@ -174,12 +178,13 @@ int main(int argc, char** argv) {
   if (presets_only) only = "presets";
   if (!only.empty()) {
     const std::map<std::string, std::string> files = {{"presets", "presets"}, {"per-material", "per-material"}, {"end-to-end", "end-to-end"},
-                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}};
+                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}, {"lookup", "lookup"}};
     if (only == "presets") write_presets(bench_presets(st), st);
     if (only == "per-material") bench_per_material(st);
     if (only == "end-to-end") bench_end_to_end(st);
     if (only == "scaling") bench_scaling(st);
     if (only == "pbrt") bench_pbrt(st);
+    if (only == "lookup") bench_lookup(st);
     const std::string base = files.at(only);
     if (!quiet) {
       std::ostringstream md;
@@ -303,6 +308,7 @@ int main(int argc, char** argv) {
   report["per_material"] = bench_per_material(st);
   report["end_to_end"] = bench_end_to_end(st);
   report["pbrt_hair"] = bench_pbrt(st);
+  report["lookup"] = bench_lookup(st);
 
   // ---- 5. Interpolation error against resolution, per axis of the generic table.
   log(quiet, "resolution ...\n");
@@ -397,6 +403,7 @@ int main(int argc, char** argv) {
     md << "\nPer material (per-material.md):\n\n" << std::ifstream(out_dir + "/per-material.md").rdbuf();
     md << "\nEnd to end (end-to-end.md):\n\n" << std::ifstream(out_dir + "/end-to-end.md").rdbuf();
     md << "\npbrt-v4 HairBxDF::f (pbrt-hair.md):\n\n" << std::ifstream(out_dir + "/pbrt-hair.md").rdbuf();
+    md << "\nLookups and S from tables (lookup.md):\n\n" << std::ifstream(out_dir + "/lookup.md").rdbuf();
     md << "\nResolution: `" << report["resolution"]["axes"].dump() << "`\n";
     md << "\nScaling (scaling.md):\n\n" << std::ifstream(out_dir + "/scaling.md").rdbuf();
     md << "\nExport presets:\n\n" << std::ifstream(out_dir + "/presets.md").rdbuf();

@@ -9,12 +9,14 @@
 // slice at the same (β, σa, θd), floored at 1e-3 of the white fibre's (σa = 0) peak at the same
 // (β, θd) (docs/conventions.md, "Error as a renderer sees it"). M_p: relative to the peak over θr
 // at the same (β, θi).
-// Cost: ns per lookup through sampler::TableView (axis mappings prepared once), one thread, on
-// random points, tables in cache where they fit.
+// Cost: ns per lookup through sampler::FixedView (sampler_fixed.hpp: axis mappings prepared once,
+// the tensor product compiled for the table's dimension), one thread, on random points, tables in
+// cache where they fit; thread CPU time.
 #include "representations.hpp"
 
+#include "bench_common.hpp"
+
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -22,7 +24,8 @@
 #include <hairlut/bake.hpp>
 #include <hairlut/config.hpp>
 #include <hairlut/longitudinal_mp.hpp>
-#include <hairlut/sampler.hpp>
+#include <hairlut/error.hpp>
+#include <hairlut/sampler_fixed.hpp>
 #include <hairlut/svg_plot.hpp>
 #include <map>
 #include <random>
@@ -138,46 +141,53 @@ ErrorStats mp_errors(const Table& t, int points, std::uint64_t seed) {
   return stats(err, at);
 }
 
-// ns per lookup of the quantity a renderer reads (with the factor table, if any).
-double lookup_ns(const TableSet& set, const Table& t, int lookups, std::uint64_t seed) {
+// ns per lookup of the quantity a renderer reads (with the factor table, if any), through the
+// fixed-dimension views of sampler_fixed.hpp (what the typed views use), D the table's axes.
+template <int D>
+double lookup_ns_fixed(const TableSet& set, const Table& t, int lookups, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  const int dims = static_cast<int>(t.axes.size());
-  std::vector<double> xs(static_cast<std::size_t>(lookups) * static_cast<std::size_t>(dims));
+  std::vector<double> xs(static_cast<std::size_t>(lookups) * D);
   for (int i = 0; i < lookups; ++i)
-    for (int d = 0; d < dims; ++d) xs[static_cast<std::size_t>(i * dims + d)] = draw(t.axes[static_cast<std::size_t>(d)], rng);
+    for (int d = 0; d < D; ++d) xs[static_cast<std::size_t>(i * D + d)] = draw(t.axes[static_cast<std::size_t>(d)], rng);
   std::vector<sampler::Axis> axes;
   for (const GridAxis& a : t.axes) axes.push_back(a.view());
-  const sampler::TableView<float> view(t.f32.data(), axes.data(), dims);
+  const sampler::FixedView<float, D> view(t.f32.data(), axes.data());
   const Table* f = t.factor().empty() ? nullptr : set.find(t.factor());
   std::vector<sampler::Axis> faxes;
   std::vector<int> fmap;
   if (f)
     for (const GridAxis& a : f->axes) {
       faxes.push_back(a.view());
-      for (int d = 0; d < dims; ++d)
+      for (int d = 0; d < D; ++d)
         if (t.axes[static_cast<std::size_t>(d)].name == a.name) fmap.push_back(d);
     }
-  const sampler::TableView<float> fview(f ? f->f32.data() : nullptr, faxes.data(), static_cast<int>(faxes.size()));
+  if (f && (faxes.size() != 2 || fmap.size() != 2)) throw DomainError("table " + t.path() + ": the bench times factor tables of 2 axes");
+  const sampler::FixedView<float, 2> fview(f ? f->f32.data() : nullptr, f ? faxes.data() : axes.data());
   double sink = 0.0;
-  auto run = [&] {
-    const auto t0 = std::chrono::steady_clock::now();
+  auto run = [&] {  // thread CPU time: wall time on a shared machine also counts the waits for a core
+    const double t0 = thread_cpu_seconds();
     for (int i = 0; i < lookups; ++i) {
-      const double* x = &xs[static_cast<std::size_t>(i * dims)];
+      const double* x = &xs[static_cast<std::size_t>(i * D)];
       double v = view(x);
       if (f) {
-        double y[8];
-        for (std::size_t k = 0; k < fmap.size(); ++k) y[k] = x[fmap[k]];
+        const double y[2] = {x[fmap[0]], x[fmap[1]]};
         v *= fview(y);
       }
       sink += v;
     }
-    return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count() / lookups;
+    return (thread_cpu_seconds() - t0) * 1e9 / lookups;
   };
   run();  // warm the caches
   double best = 1e300;
   for (int r = 0; r < 3; ++r) best = std::min(best, run());
   if (sink == -1.0) std::printf(" ");  // keep the loop
   return best;
+}
+
+double lookup_ns(const TableSet& set, const Table& t, int lookups, std::uint64_t seed) {
+  if (t.axes.size() == 4) return lookup_ns_fixed<4>(set, t, lookups, seed);
+  if (t.axes.size() == 3) return lookup_ns_fixed<3>(set, t, lookups, seed);
+  throw DomainError("table " + t.path() + ": the bench times lookups in tables of 3 or 4 axes");
 }
 
 // Per-lobe worst, p99 and worst point into a result row, and their largest over the lobes.
