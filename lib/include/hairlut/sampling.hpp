@@ -175,6 +175,12 @@ class AxisSampler {
     n_ = a.count;
     h_ = (a.hi - a.lo) / (n_ - 1);
     lo_ = a.lo;
+    // The outer nodes of each cell's Catmull–Rom piece after the wrap rule (−1: extrapolated).
+    outer_.resize(static_cast<std::size_t>(2 * (n_ - 1)));
+    for (int k = 0; k + 1 < n_; ++k) {
+      outer_[static_cast<std::size_t>(2 * k)] = wrapped_index(a, k - 1);
+      outer_[static_cast<std::size_t>(2 * k + 1)] = wrapped_index(a, k + 2);
+    }
     if (measure_ == Measure::cosine) {
       // ∫_0^1 t^j cos(x_k + h t) dt of every cell, for the masses of whole cells.
       moments_.resize(static_cast<std::size_t>(n_ - 1) * 4);
@@ -223,15 +229,16 @@ class AxisSampler {
     // Cell polynomials, with sampler.hpp's end rules along the sampled axis.
     const Axis& a = axes_[dims_ - 1].axis;
     const bool cubic = a.interpolation == Interpolation::cubic && n_ >= 3;
-    row.coef.assign(static_cast<std::size_t>(n_ - 1) * 4, 0.0);
-    row.cum.assign(static_cast<std::size_t>(n_), 0.0);
+    row.coef.resize(static_cast<std::size_t>(n_ - 1) * 4);
+    row.cum.resize(static_cast<std::size_t>(n_));
+    row.cum[0] = 0.0;
     for (int k = 0; k + 1 < n_; ++k) {
       double* c = &row.coef[static_cast<std::size_t>(k) * 4];
       const double p1 = v[static_cast<std::size_t>(k)], p2 = v[static_cast<std::size_t>(k + 1)];
       if (!cubic) {
-        c[0] = p1, c[1] = p2 - p1;
+        c[0] = p1, c[1] = p2 - p1, c[2] = 0.0, c[3] = 0.0;
       } else {
-        const int i0 = wrapped_index(a, k - 1), i3 = wrapped_index(a, k + 2);
+        const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
         const double p0 = i0 >= 0 ? v[static_cast<std::size_t>(i0)] : 3.0 * p1 - 3.0 * p2 + v[static_cast<std::size_t>(k + 2)];
         const double p3 = i3 >= 0 ? v[static_cast<std::size_t>(i3)] : 3.0 * p2 - 3.0 * p1 + v[static_cast<std::size_t>(k - 1)];
         c[0] = p1;
@@ -239,7 +246,7 @@ class AxisSampler {
         c[2] = 0.5 * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3);
         c[3] = 0.5 * (-p0 + 3.0 * p1 - 3.0 * p2 + p3);
       }
-      row.cum[static_cast<std::size_t>(k + 1)] = row.cum[static_cast<std::size_t>(k)] + cell_mass(k, c, 1.0);
+      row.cum[static_cast<std::size_t>(k + 1)] = row.cum[static_cast<std::size_t>(k)] + whole_cell_mass(k, c);
     }
     row.total = row.cum.back() * (even_ ? 2.0 : 1.0);
     row.ok = true;
@@ -302,6 +309,18 @@ class AxisSampler {
 
  private:
   double x_of(int k, double t) const { return lo_ + (k + t) * h_; }
+  // cell_mass(k, c, 1) with the Bernstein test inline: a cell positive throughout (or nowhere)
+  // needs no root search.
+  double whole_cell_mass(int k, const double* c) const {
+    const double b0 = c[0], b1 = c[0] + c[1] / 3.0, b2 = c[0] + (2.0 * c[1] + c[2]) / 3.0, b3 = c[0] + c[1] + c[2] + c[3];
+    if (b0 > 0.0 && b1 > 0.0 && b2 > 0.0 && b3 > 0.0) {
+      if (measure_ == Measure::plain) return (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_;
+      const double* mo = &moments_[static_cast<std::size_t>(k) * 4];
+      return std::max(0.0, c[0] * mo[0] + c[1] * mo[1] + c[2] * mo[2] + c[3] * mo[3]) * h_;
+    }
+    if (b0 <= 0.0 && b1 <= 0.0 && b2 <= 0.0 && b3 <= 0.0) return 0.0;
+    return cell_mass(k, c, 1.0);
+  }
   // ∫ over t' ∈ [0, t] of cell k of max(0, p) (times cos x), in units of x.
   double cell_mass(int k, const double* c, double t) const {
     double lo[4], hi[4];
@@ -334,6 +353,7 @@ class AxisSampler {
   bool supported_ = false, even_ = false;
   int n_ = 0;
   double h_ = 0.0, lo_ = 0.0;
+  std::vector<int> outer_;
   std::vector<double> moments_;
 };
 
@@ -392,6 +412,7 @@ class HairSampler {
     AxisRow m, n;
   };
 
+  HairSampler() = default;
   HairSampler(const LobeTables<T>* lobes, int count) : count_(std::min(count, max_lobes)) {
     supported_ = count > 0 && count <= max_lobes;
     for (int p = 0; p < count_; ++p) {
@@ -560,6 +581,104 @@ class HairSampler {
   Prepared lobe_[max_lobes];
   int count_ = 0;
   bool supported_ = false;
+};
+
+/// A HairSampler for one fibre: its N_p and M_p tables blended over the fibre's own coordinates
+/// (beta, sigma_a, channel) once, so that each lookup interpolates over the angles only (16×
+/// fewer node rows per lookup for the generic tables). The values are those of the full tables
+/// up to rounding: the same tensor product of the same taps, summed in another order. A table
+/// whose fibre axes lead its angular ones and carry no geometric interpolation is reduced; any
+/// other (the energies, geometric in σa) is kept whole, as a double copy. Build one per fibre
+/// (strand, material), not per lookup; it owns its data.
+template <class T>
+class FibreSampler {
+ public:
+  FibreSampler(const LobeTables<T>* lobes, int count, const Fibre& fibre) : fibre_(fibre) {
+    count = std::max(0, std::min(count, HairSampler<double>::max_lobes));
+    for (int p = 0; p < count; ++p) {
+      LobeTables<double>& l = lobes_[p];
+      l.np = take(lobes[p].np);
+      l.mp = take(lobes[p].mp);
+      l.factor = take(lobes[p].factor);
+      l.energy = take(lobes[p].energy);
+    }
+    sampler_ = HairSampler<double>(lobes_, count);
+  }
+  FibreSampler(const FibreSampler&) = delete;
+  FibreSampler& operator=(const FibreSampler&) = delete;
+
+  const HairSampler<double>& sampler() const { return sampler_; }
+  /// The fibre it was built for: pass it to the sampler's calls.
+  const Fibre& fibre() const { return fibre_; }
+
+ private:
+  static bool angular(Coordinate c) {
+    return c == Coordinate::theta_d || c == Coordinate::theta_i || c == Coordinate::theta_r || c == Coordinate::phi;
+  }
+  TableRef<double> take(const TableRef<T>& t) {
+    TableRef<double> r;
+    if (!t.data || t.dims < 1 || t.dims > 8) return r;
+    std::size_t total = 1;
+    for (int d = 0; d < t.dims; ++d) total *= static_cast<std::size_t>(t.axes[d].count);
+    int lead = 0;  // the leading fibre axes
+    while (lead < t.dims && !angular(t.coords[lead])) ++lead;
+    bool reducible = lead > 0 && lead < t.dims;
+    for (int d = 0; d < t.dims; ++d) {
+      if (d >= lead && !angular(t.coords[d])) reducible = false;
+      if (d < lead && t.axes[d].interpolation == Interpolation::geometric && t.axes[d].count > 1) reducible = false;
+    }
+    std::vector<double>& out = data_[used_];
+    std::vector<Axis>& axes = axes_[used_];
+    ++used_;
+    if (!reducible) {
+      out.assign(t.data, t.data + total);
+      axes.assign(t.axes, t.axes + t.dims);
+      r.dims = t.dims;
+      for (int d = 0; d < t.dims; ++d) r.coords[d] = t.coords[d];
+    } else {
+      std::size_t block = 1;
+      for (int d = lead; d < t.dims; ++d) block *= static_cast<std::size_t>(t.axes[d].count);
+      Taps tp[8];
+      for (int d = 0; d < lead; ++d) {
+        const Coordinate c = t.coords[d];
+        const double x = c == Coordinate::beta ? fibre_.beta : c == Coordinate::sigma_a ? fibre_.sigma_a : c == Coordinate::channel ? fibre_.channel : 0.0;
+        tp[d] = taps(PreparedAxis(t.axes[d]), x);
+      }
+      out.assign(block, 0.0);
+      int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (;;) {
+        double w = 1.0;
+        std::size_t offset = 0;
+        for (int d = 0; d < lead; ++d) {
+          w *= tp[d].w[idx[d]];
+          offset = offset * static_cast<std::size_t>(t.axes[d].count) + static_cast<std::size_t>(tp[d].i[idx[d]]);
+        }
+        if (w != 0.0) {
+          const T* src = t.data + offset * block;
+          for (std::size_t j = 0; j < block; ++j) out[j] += w * static_cast<double>(src[j]);
+        }
+        int d = lead - 1;
+        for (; d >= 0; --d) {
+          if (++idx[d] < tp[d].n) break;
+          idx[d] = 0;
+        }
+        if (d < 0) break;
+      }
+      axes.assign(t.axes + lead, t.axes + t.dims);
+      r.dims = t.dims - lead;
+      for (int d = lead; d < t.dims; ++d) r.coords[d - lead] = t.coords[d];
+    }
+    r.data = out.data();
+    r.axes = axes.data();
+    return r;
+  }
+
+  Fibre fibre_;
+  LobeTables<double> lobes_[HairSampler<double>::max_lobes];
+  std::vector<double> data_[4 * HairSampler<double>::max_lobes];
+  std::vector<Axis> axes_[4 * HairSampler<double>::max_lobes];
+  int used_ = 0;
+  HairSampler<double> sampler_;
 };
 
 }  // namespace sampler
