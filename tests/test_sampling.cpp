@@ -405,11 +405,11 @@ double physics_furnace(const TableSet& set, const HairTables& h, const Fibre& f,
 // declares (the N_p shapes integrate to 1 and the energies are exact at the nodes; the M_p
 // tables carry the error the validator bounds).
 void furnace_case(const TableSet& set, const std::string& group, const Fibre& f, double theta_i, double sigma_a, double tolerance,
-                  unsigned seed) {
+                  unsigned seed, bool mixture) {
   const HairTables h = hair_tables(set, group);
   const int lobes = static_cast<int>(h.lobes.size());
-  const double physics = physics_furnace(set, h, f, theta_i, sigma_a);
-  for (int p = -1; p < lobes; ++p) {
+  const double physics = mixture ? physics_furnace(set, h, f, theta_i, sigma_a) : 0.0;
+  for (int p = mixture ? -1 : 0; p < (mixture ? 0 : lobes); ++p) {
     const OneGroup g = group_sampler(set, group, p, f);
     const double exact = quadrature_energy(g.sampler(), f, theta_i);
     const Estimate e = furnace(g.sampler(), f, theta_i, p < 0 ? 1000000 : 100000, seed + static_cast<unsigned>(p + 1));
@@ -431,44 +431,74 @@ double energy_tolerance(const TableSet& set) {
 }
 }  // namespace
 
-TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness", "[sampling]") {
+TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
-  furnace_case(set, "", Fibre{kGenericCases[0].beta, 0.0, 0.0}, kGenericCases[0].theta_i, 0.0, energy_tolerance(set), 1000);
+  const Case& c = kGenericCases[0];
+  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, true);
 }
-TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness", "[sampling]") {
+TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
-  furnace_case(set, "", Fibre{kGenericCases[1].beta, 0.0, 0.0}, kGenericCases[1].theta_i, 0.0, energy_tolerance(set), 2000);
+  const Case& c = kGenericCases[0];
+  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, false);
 }
-TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence", "[sampling]") {
+TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
-  furnace_case(set, "", Fibre{kGenericCases[2].beta, 0.0, 0.0}, kGenericCases[2].theta_i, 0.0, energy_tolerance(set), 3000);
+  const Case& c = kGenericCases[1];
+  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, true);
+}
+TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, each lobe", "[sampling]") {
+  const TableSet& set = default_tables();
+  const Case& c = kGenericCases[1];
+  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, false);
+}
+TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, all lobes", "[sampling]") {
+  const TableSet& set = default_tables();
+  const Case& c = kGenericCases[2];
+  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, true);
+}
+TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, each lobe", "[sampling]") {
+  const TableSet& set = default_tables();
+  const Case& c = kGenericCases[2];
+  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, false);
 }
 
-TEST_CASE("Sampling: per-material tables, chi-square fit and white furnace", "[sampling]") {
+namespace {
+void material_chi_square(const char* material, unsigned seed) {
   const TableSet& set = material_tables();
-  for (const char* material : {"blonde", "white"}) {
-    const std::string group = std::string("materials/") + material;
-    const int lobes = static_cast<int>(hair_tables(set, group).lobes.size());
-    int tests = 0;
-    for (const Case& c : kMaterialCases)
-      for (int p = -1; p < lobes; ++p) {
-        const Fibre f{0.0, 0.0, 1.0};
-        const OneGroup g = group_sampler(set, group, p, f);
-        double integral = 0.0;
-        const double pvalue = chi_square(g.sampler(), f, c.theta_i, 100000, 500u + static_cast<unsigned>(tests), &integral);
-        INFO(group << " " << c.name << " lobe " << (p < 0 ? std::string("all") : g.all.lobe_names[static_cast<std::size_t>(p)])
-                   << ": p-value " << pvalue << ", integral of pdf " << integral);
-        CHECK(std::fabs(integral - 1.0) <= 1e-3);
-        CHECK(pvalue > 0.01 / 24.0);
-        ++tests;
-      }
-  }
+  const std::string group = std::string("materials/") + material;
+  const int lobes = static_cast<int>(hair_tables(set, group).lobes.size());
+  int tests = 0;
+  for (const Case& c : kMaterialCases)
+    for (int p = -1; p < lobes; ++p) {
+      const Fibre f{0.0, 0.0, 1.0};
+      const OneGroup g = group_sampler(set, group, p, f);
+      double integral = 0.0;
+      const double pvalue = chi_square(g.sampler(), f, c.theta_i, 100000, seed + static_cast<unsigned>(tests), &integral);
+      INFO(group << " " << c.name << " lobe " << (p < 0 ? std::string("all") : g.all.lobe_names[static_cast<std::size_t>(p)])
+                 << ": p-value " << pvalue << ", integral of pdf " << integral);
+      CHECK(std::fabs(integral - 1.0) <= 1e-3);
+      CHECK(pvalue > 0.01 / 24.0);  // significance 0.01 over the 24 fits of the two materials
+      ++tests;
+    }
+}
+}  // namespace
+
+TEST_CASE("Sampling: per-material tables, chi-square fit, blonde", "[sampling]") { material_chi_square("blonde", 500); }
+TEST_CASE("Sampling: per-material tables, chi-square fit, white", "[sampling]") { material_chi_square("white", 600); }
+
+TEST_CASE("Sampling: per-material tables, white furnace through sampling", "[sampling]") {
   // The white material (σa = 0, every lobe untilted with one β, so that the M_p of all lobes are
   // one function and the energies sum to 1 under it): its furnace reaches 1, at normal and
   // grazing incidence.
+  const TableSet& set = material_tables();
   for (const Case& c : kMaterialCases) {
-    furnace_case(set, "materials/white", Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), 4000);
     const HairTables h = hair_tables(set, "materials/white");
     CHECK(std::fabs(physics_furnace(set, h, Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0) - 1.0) <= 1e-9);
+    furnace_case(set, "materials/white", Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), 4000, true);
   }
+}
+
+TEST_CASE("Sampling: per-material tables, each lobe's furnace through sampling", "[sampling]") {
+  const TableSet& set = material_tables();
+  for (const Case& c : kMaterialCases) furnace_case(set, "materials/white", Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), 5000, false);
 }

@@ -5,7 +5,8 @@
 // the residual), and writes both beside their difference as PNG. Thin: the physics and the table
 // reading live in the library.
 //
-// The picture: fibres run down the image with a gentle wave; the camera looks along −z
+// The picture: fibres run down the image, waving in the image plane and leaning towards and away
+// from the camera, which looks along −z
 // (orthographic). Each fibre is shaded by its far-field scattering function, so a fibre's colour
 // depends on its tangent only: L = L_sun · S(θl, θv, φ) + L_env · ∫ S(θv, θr, φ) dω, the
 // environment term being the directional albedo from the view direction (the environment's
@@ -268,8 +269,8 @@ int main(int argc, char** argv) {
     fs::create_directories(out_dir);
     nlohmann::ordered_json summary = {{"tables", tables.empty() ? config : tables}, {"size", width}, {"fibres", fibres},
                                       {"env_samples", env_samples}, {"accuracy_max_rel", eps}, {"images", nlohmann::ordered_json::array()}};
-    const Vec light = normalized({-0.45, 0.55, 0.7}), view = {0.0, 0.0, 1.0};
-    const double l_sun = 1.0, l_env = 0.25, exposure = 0.8;
+    const Vec light = normalized({-0.3, 0.65, 0.7}), view = {0.0, 0.0, 1.0};
+    const double l_sun = 1.5, l_env = 0.15, exposure = 1.0;
     bool within = true;
     for (Look& look : looks) {
       const hairlut::HairTables h = hairlut::hair_tables(set, look.group);
@@ -298,8 +299,11 @@ int main(int argc, char** argv) {
         std::uniform_real_distribution<double> u(0.0, 1.0);
         for (int i = 0; i < fibres; ++i)
           for (int y = 0; y < height; ++y) {
-            const double a = 0.45 * std::sin(2.0 * kPi * (1.3 * y / height + 0.37 * i)) + 0.08 * (i % 3 - 1);
-            const Vec t = {std::sin(a), -std::cos(a), 0.0};  // root (top) to tip
+            // In-plane wave a and inclination b towards the viewer: the highlight (R) and the
+            // transmitted glow move along each fibre as θv and φ change.
+            const double a = 0.3 * std::sin(2.0 * kPi * (1.1 * y / height + 0.37 * i)) + 0.06 * (i % 3 - 1);
+            const double b = 0.7 * std::sin(2.0 * kPi * (0.8 * y / height + 0.13 * i));
+            const Vec t = normalized({std::sin(a) * std::cos(b), -std::cos(a) * std::cos(b), std::sin(b)});  // root (top) to tip
             auto angles = [&](Vec d, double* theta, double* phi_of) {
               const double s = std::clamp(dot(d, t), -1.0, 1.0);
               *theta = std::asin(s);
