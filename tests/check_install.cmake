@@ -25,10 +25,10 @@ if(NOT libs)
 endif()
 list(GET libs 0 lib)
 get_filename_component(libdir ${lib} DIRECTORY)
-foreach(f include/hairlut/sampler.hpp include/hairlut/tables.hpp include/hairlut/version.hpp
+foreach(f include/hairlut/sampler.hpp include/hairlut/sampling.hpp include/hairlut/tables.hpp include/hairlut/version.hpp
           share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
           share/hairlut/configs/default.json share/doc/hairlut/LICENSE
-          bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts)
+          bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts bin/render-hair-luts)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")
   endif()

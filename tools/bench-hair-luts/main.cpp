@@ -123,6 +123,10 @@ double time_per_entry(const NpQuadratureConfig& q, std::size_t n_theta, std::siz
 
 }  // namespace
 
+namespace bench {
+json bench_sampling(const Settings& s);  // sampling.cpp
+}
+
 int main(int argc, char** argv) {
   hairlut_tools::install_cancel_handlers("bench-hair-luts");
   CLI::App app{"bench-hair-luts: run time against error of hairlut's N_p methods, bake targets, resolution and scaling"};
@@ -143,9 +147,9 @@ int main(int argc, char** argv) {
                "only measure table representations: entries against sampled error and lookup ns (writes representations.*)");
   std::string only;
   app.add_option("--only", only,
-                 "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets, lookup (the full run "
+                 "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets, lookup, sampling (the full run "
                  "also writes bench.json/csv/md and pareto.svg)")
-      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup"}));
+      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup", "sampling"}));
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)\n\n"
              "Exit status: 0 done, 2 bad command line (one line \"bench-hair-luts: error: ...\" on stderr).");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
@@ -178,13 +182,14 @@ int main(int argc, char** argv) {
   if (presets_only) only = "presets";
   if (!only.empty()) {
     const std::map<std::string, std::string> files = {{"presets", "presets"}, {"per-material", "per-material"}, {"end-to-end", "end-to-end"},
-                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}, {"lookup", "lookup"}};
+                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}, {"lookup", "lookup"}, {"sampling", "sampling"}};
     if (only == "presets") write_presets(bench_presets(st), st);
     if (only == "per-material") bench_per_material(st);
     if (only == "end-to-end") bench_end_to_end(st);
     if (only == "scaling") bench_scaling(st);
     if (only == "pbrt") bench_pbrt(st);
     if (only == "lookup") bench_lookup(st);
+    if (only == "sampling") bench_sampling(st);  // sampling.cpp
     const std::string base = files.at(only);
     if (!quiet) {
       std::ostringstream md;
@@ -309,6 +314,7 @@ int main(int argc, char** argv) {
   report["end_to_end"] = bench_end_to_end(st);
   report["pbrt_hair"] = bench_pbrt(st);
   report["lookup"] = bench_lookup(st);
+  report["sampling"] = bench_sampling(st);
 
   // ---- 5. Interpolation error against resolution, per axis of the generic table.
   log(quiet, "resolution ...\n");
@@ -404,6 +410,7 @@ int main(int argc, char** argv) {
     md << "\nEnd to end (end-to-end.md):\n\n" << std::ifstream(out_dir + "/end-to-end.md").rdbuf();
     md << "\npbrt-v4 HairBxDF::f (pbrt-hair.md):\n\n" << std::ifstream(out_dir + "/pbrt-hair.md").rdbuf();
     md << "\nLookups and S from tables (lookup.md):\n\n" << std::ifstream(out_dir + "/lookup.md").rdbuf();
+    md << "\nImportance sampling (sampling.md):\n\n" << std::ifstream(out_dir + "/sampling.md").rdbuf();
     md << "\nResolution: `" << report["resolution"]["axes"].dump() << "`\n";
     md << "\nScaling (scaling.md):\n\n" << std::ifstream(out_dir + "/scaling.md").rdbuf();
     md << "\nExport presets:\n\n" << std::ifstream(out_dir + "/presets.md").rdbuf();

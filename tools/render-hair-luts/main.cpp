@@ -1,0 +1,388 @@
+// render-hair-luts: renders a small patch of parallel hair fibres lit by a directional light and a
+// uniform environment, once from baked tables through the header-only sampler (sampling.hpp, as an
+// engine would: eval for the light, importance sampling for the environment) and once from direct
+// evaluation of the physics (d'Eon's M_p, N_p by the baker's quadrature, exact lobe energies for
+// the residual), and writes both beside their difference as PNG. Thin: the physics and the table
+// reading live in the library.
+//
+// The picture: fibres run down the image, waving in the image plane and leaning towards and away
+// from the camera, which looks along −z
+// (orthographic). Each fibre is shaded by its far-field scattering function, so a fibre's colour
+// depends on its tangent only: L = L_sun · S(θl, θv, φ) + L_env · ∫ S(θv, θr, φ) dω, the
+// environment term being the directional albedo from the view direction (the environment's
+// radiance scattered towards the viewer for a reciprocal S; with tilted lobes it stands in for it).
+// The tables' image estimates that integral from samples drawn by the tables' sampler; the direct
+// image uses the same directions with the physics' S, so sampling noise cancels in the difference
+// and what remains is interpolation error.
+//
+// Bound: per pixel, |L_table − L_direct| ≤ L_sun B(θl, θv, φ) + L_env Σ_k B(θv, θk, φk)/pdf_k / K,
+// with B = Σ_p ε (peak M̃_p/(1 − ε) · Ñ_p + (M̃_p + ε peak M̃_p/(1 − ε)) · d_p), where ε is the
+// accuracy the validator enforces on these tables (validate.thresholds.accuracy_max_rel of their
+// config, twice for N_p stored as shape × energy: shape and energy each carry it) and d_p the
+// validator's denominator for N_p (peak over φ of the slice, floored at 1e-3 of the white fibre's),
+// both estimated from the tables (their peak divided by 1 − ε bounds the exact peak).
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <hairlut/attenuation.hpp>
+#include <hairlut/bake.hpp>
+#include <hairlut/config.hpp>
+#include <hairlut/error.hpp>
+#include <hairlut/hdf5_io.hpp>
+#include <hairlut/lobe_energy.hpp>
+#include <hairlut/longitudinal_mp.hpp>
+#include <hairlut/melanin.hpp>
+#include <hairlut/np_point.hpp>
+#include <hairlut/table_io.hpp>
+#include <hairlut/table_sampling.hpp>
+#include <hairlut/validate.hpp>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hairlut::sampler::AxisRow;
+using hairlut::sampler::AxisSampler;
+using hairlut::sampler::Fibre;
+using hairlut::sampler::HairSampler;
+constexpr double kPi = 3.14159265358979323846;
+
+struct Vec {
+  double x, y, z;
+};
+Vec operator-(Vec a, Vec b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec operator*(double s, Vec a) { return {s * a.x, s * a.y, s * a.z}; }
+double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec cross(Vec a, Vec b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+Vec normalized(Vec a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
+
+// One look: the lobes of a table group and, per channel, the fibre coordinates and physics.
+struct Look {
+  std::string name;
+  std::string group;  // "" generic, "materials/<name>"
+  Fibre fibre[3];
+  double sigma_a[3];
+  std::vector<double> beta_n, beta_m, alpha;  // per lobe, for the direct evaluation
+};
+
+// The physics' S of all lobes (explicit lobes by the baker's N_p quadrature, the residual as its
+// exact energy spread uniformly in φ).
+double direct_s(const Look& look, int channel, double eta, hairlut::AbsorptionPath path, double ti, double tr, double phi) {
+  const double td = 0.5 * (tr - ti);
+  const int lobes = static_cast<int>(look.alpha.size());
+  double s = 0.0;
+  for (int p = 0; p < lobes; ++p) {
+    const double bm = look.beta_m[static_cast<std::size_t>(p)];
+    const double m = hairlut::longitudinal_deon_tilted(bm * bm, look.alpha[static_cast<std::size_t>(p)], ti, tr);
+    if (!(m > 1e-300)) continue;
+    double n;
+    if (p == lobes - 1) {
+      const hairlut::AttenuationSlice slice(eta, std::fabs(td), look.sigma_a[channel], path);
+      n = hairlut::lobe_energies_reference(slice, {lobes - 1, true}, 1e-10).value.back() / (2.0 * kPi);
+    } else {
+      n = hairlut::baker_np(eta, path, std::fabs(td), look.sigma_a[channel], p, look.beta_n[static_cast<std::size_t>(p)], phi, 1e-10).value;
+    }
+    s += m * n;
+  }
+  return s;
+}
+
+// The bound B on |S_table − S_direct| at one direction (see the top of this file).
+struct Bounder {
+  const hairlut::HairTables* h;
+  std::vector<AxisSampler<float>> mp, np;
+  double eps_m = 0.0, eps_n = 0.0, eps_e = 0.0;
+  double operator()(const Fibre& f, double ti, double tr, double phi, AxisRow& row) const {
+    double b = 0.0;
+    for (std::size_t p = 0; p < h->lobes.size(); ++p) {
+      const auto& l = h->lobes[p];
+      double x[8];
+      auto fill = [&](const hairlut::sampler::TableRef<float>& t, double sigma) {
+        for (int d = 0; d < t.dims; ++d) {
+          switch (t.coords[d]) {
+            case hairlut::sampler::Coordinate::beta: x[d] = f.beta; break;
+            case hairlut::sampler::Coordinate::sigma_a: x[d] = sigma; break;
+            case hairlut::sampler::Coordinate::channel: x[d] = f.channel; break;
+            case hairlut::sampler::Coordinate::theta_d: x[d] = 0.5 * (tr - ti); break;
+            case hairlut::sampler::Coordinate::theta_i: x[d] = ti; break;
+            case hairlut::sampler::Coordinate::theta_r: x[d] = tr; break;
+            case hairlut::sampler::Coordinate::phi: x[d] = phi; break;
+            default: x[d] = 0.0;
+          }
+        }
+      };
+      auto peak = [&](const AxisSampler<float>& a, int cells, double lo, double hi) {
+        double m = 0.0;
+        for (int k = 0; k <= 4 * cells; ++k) m = std::max(m, a.value(row, lo + (hi - lo) * k / (4.0 * cells)));
+        return m;
+      };
+      fill(l.mp, f.sigma_a);
+      const hairlut::sampler::TableView<float> mv(l.mp.data, l.mp.axes, l.mp.dims);
+      const double m = std::max(0.0, mv(x));
+      mp[p].blend(x, row);
+      const double peak_m = peak(mp[p], l.mp.axes[l.mp.dims - 1].count, -0.5 * kPi, 0.5 * kPi) / (1.0 - eps_m);
+      const hairlut::sampler::TableView<float> nv(l.np.data, l.np.axes, l.np.dims);
+      double factor = 1.0, white_factor = 1.0;
+      if (l.factor.data) {
+        const hairlut::sampler::TableView<float> fv(l.factor.data, l.factor.axes, l.factor.dims);
+        fill(l.factor, f.sigma_a);
+        factor = std::max(0.0, fv(x));
+        fill(l.factor, 0.0);
+        white_factor = std::max(0.0, fv(x));
+      }
+      fill(l.np, f.sigma_a);
+      const double n = std::max(0.0, nv(x)) * factor;
+      double d;  // the validator's denominator for this N_p, bounded from the tables
+      const bool has_phi = l.np.coords[l.np.dims - 1] == hairlut::sampler::Coordinate::phi;
+      const double eps = l.factor.data ? eps_n + eps_e * (1.0 + eps_n) : eps_n;
+      if (!has_phi) {
+        d = n / (1.0 - eps_e);  // residual: relative error of the value itself
+        b += eps_m * peak_m * n + (m + eps_m * peak_m) * eps_e * d;
+        continue;
+      }
+      np[p].blend(x, row);
+      const double peak_n = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * factor;
+      fill(l.np, 0.0);
+      if (l.np.coords[0] == hairlut::sampler::Coordinate::channel) x[0] = f.channel;  // per-material: white is not in the table
+      np[p].blend(x, row);
+      const double peak_white = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * white_factor;
+      d = std::max(peak_n, 1e-3 * peak_white) / (1.0 - eps);
+      b += eps_m * peak_m * n + (m + eps_m * peak_m) * eps * d;
+    }
+    return b;
+  }
+};
+
+void write_png(const fs::path& file, int w, int h, const std::vector<unsigned char>& rgb) {
+  const fs::path tmp = file.string() + ".tmp";
+  FILE* out = std::fopen(tmp.c_str(), "wb");
+  if (!out) throw hairlut::IoError(file.string() + ": cannot write");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(out);
+    fs::remove(tmp);
+    throw hairlut::IoError(file.string() + ": libpng failed");
+  }
+  png_init_io(png, out);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(w), static_cast<png_uint_32>(h), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < h; ++y) png_write_row(png, rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w) * 3);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (std::fclose(out) != 0) throw hairlut::IoError(file.string() + ": cannot write");
+  fs::rename(tmp, file);
+}
+
+unsigned char srgb8(double v) {
+  v = std::clamp(v, 0.0, 1.0);
+  const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+  return static_cast<unsigned char>(std::lround(255.0 * e));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"render-hair-luts: a patch of hair fibres from baked tables (through the sampler) beside direct evaluation"};
+  std::string tables, config, out_dir = ".";
+  int width = 96, height = 96, fibres = 12, env_samples = 16;
+  double gain = 10.0;
+  bool check = false;
+  app.add_option("--tables", tables, "a table file (HDF5 or EXR) written by bake-hair-luts");
+  app.add_option("--config", config, "a config to bake in memory instead (e.g. a per-material scene config)");
+  app.add_option("--output-dir", out_dir, "where the PNGs and render.json go")->capture_default_str();
+  app.add_option("--size", width, "panel width and height in pixels")->check(CLI::Range(8, 1024))->capture_default_str();
+  app.add_option("--fibres", fibres, "fibres across the patch")->check(CLI::Range(1, 256))->capture_default_str();
+  app.add_option("--env-samples", env_samples, "environment samples per shading point")->check(CLI::Range(1, 4096))->capture_default_str();
+  app.add_option("--diff-gain", gain, "the difference panel shows |tables - direct| times this")->capture_default_str();
+  app.add_flag("--check", check, "exit 1 when a pixel's difference exceeds its bound from the validator's accuracy");
+  app.footer("Example: render-hair-luts --tables tables/default/hairlut-default.h5 --output-dir docs/images\n\n"
+             "Exit status: 0 done, 1 error or (with --check) a difference above its bound, 2 bad command line.");
+  if (const auto rc = hairlut::tools::parse_command_line(app, "render-hair-luts", argc, argv)) return *rc;
+  height = width;
+  if (tables.empty() == config.empty()) {
+    hairlut::tools::print_error("render-hair-luts", "give exactly one of --tables and --config (see --help)");
+    return 2;
+  }
+  try {
+    hairlut::TableSet set;
+    if (!tables.empty()) set = hairlut::load_tables(tables);
+    else {
+      hairlut::BakeOptions opt;
+      set = hairlut::bake(hairlut::load_config(config), opt);
+    }
+    const double eta = set.metadata.at("eta").get<double>();
+    const hairlut::AbsorptionPath path = hairlut::parse_absorption_path(set.metadata.at("absorption_path").get<std::string>());
+    hairlut::ValidationThresholds thresholds;
+    const auto& cfg = set.metadata.contains("config") ? set.metadata["config"] : nlohmann::ordered_json::object();
+    if (cfg.contains("validate") && cfg["validate"].contains("thresholds")) {
+      const auto& t = cfg["validate"]["thresholds"];
+      thresholds.accuracy_max_rel = t.value("accuracy_max_rel", thresholds.accuracy_max_rel);
+      thresholds.mp_table_energy = t.value("mp_table_energy", thresholds.mp_table_energy);
+    }
+    const double eps = thresholds.accuracy_max_rel;
+
+    // The looks: generic tables at three melanin settings, or every material of the set.
+    std::vector<Look> looks;
+    std::vector<std::string> groups;
+    for (const auto& t : set.tables)
+      if (t.group.rfind("materials/", 0) == 0 && std::find(groups.begin(), groups.end(), t.group) == groups.end()) groups.push_back(t.group);
+    if (groups.empty()) {
+      const hairlut::Table* mel = set.find("melanin/sigma_a_deon");
+      struct Setting {
+        const char* name;
+        double eu, pheo, beta_deg;
+      };
+      for (const Setting& st : {Setting{"blonde", 0.3, 0.15, 6.0}, Setting{"auburn", 0.9, 0.6, 8.0}, Setting{"brown", 1.6, 0.1, 10.0}}) {
+        Look l{st.name, "", {}, {}, {}, {}, {}};
+        for (int c = 0; c < 3; ++c) {
+          // σa through the melanin table as an engine reads it (the direct image uses d'Eon's
+          // linear formula, which the cubic table reproduces exactly).
+          const double s = mel ? set.sample_value(*mel, {st.eu, st.pheo, static_cast<double>(c)}) : 0.0;
+          const hairlut::Rgb d = hairlut::melanin_sigma_a_rgb(st.eu, st.pheo);
+          l.sigma_a[c] = c == 0 ? d.r : c == 1 ? d.g : d.b;
+          l.fibre[c] = Fibre{st.beta_deg * kPi / 180.0, s, 0.0};
+        }
+        looks.push_back(l);
+      }
+    } else {
+      for (const std::string& g : groups) {
+        Look l{g.substr(10), g, {}, {}, {}, {}, {}};
+        const hairlut::Table* np0 = set.find(g + "/np_R");
+        if (!np0) throw hairlut::DomainError(g + "/np_R: missing");
+        const auto sig = np0->attributes.at("sigma_a").get<std::vector<double>>();
+        for (int c = 0; c < 3; ++c) l.sigma_a[c] = sig.at(static_cast<std::size_t>(c)), l.fibre[c] = Fibre{0.0, 0.0, static_cast<double>(c)};
+        looks.push_back(l);
+      }
+    }
+
+    fs::create_directories(out_dir);
+    nlohmann::ordered_json summary = {{"tables", tables.empty() ? config : tables}, {"size", width}, {"fibres", fibres},
+                                      {"env_samples", env_samples}, {"accuracy_max_rel", eps}, {"images", nlohmann::ordered_json::array()}};
+    const Vec light = normalized({-0.3, 0.65, 0.7}), view = {0.0, 0.0, 1.0};
+    const double l_sun = 1.5, l_env = 0.15, exposure = 1.0;
+    bool within = true;
+    for (Look& look : looks) {
+      const hairlut::HairTables h = hairlut::hair_tables(set, look.group);
+      // Per-lobe physics parameters from the tables' attributes.
+      for (std::size_t p = 0; p < h.lobes.size(); ++p) {
+        const std::string& lobe = h.lobe_names[p];
+        const hairlut::Table* mp = set.find(look.group.empty() ? "mp/" + lobe : look.group + "/mp_" + lobe);
+        const hairlut::Table* np = set.find(look.group.empty() ? "np/" + lobe : look.group + "/np_" + lobe);
+        look.alpha.push_back(mp->attributes.value("alpha", 0.0));
+        look.beta_m.push_back(mp->attributes.contains("beta") ? mp->attributes["beta"].get<double>() : look.fibre[0].beta);
+        look.beta_n.push_back(np->attributes.contains("beta") ? np->attributes["beta"].get<double>() : look.fibre[0].beta);
+      }
+      Bounder bound{&h, {}, {}, eps, eps, eps};
+      for (const auto& l : h.lobes) {
+        bound.mp.emplace_back(l.mp.data, l.mp.axes, l.mp.dims, hairlut::sampler::Measure::plain);
+        bound.np.emplace_back(l.np.data, l.np.axes, l.np.dims, hairlut::sampler::Measure::plain);
+      }
+      // Shade every (fibre, row): the tangent is the same across a fibre's width.
+      std::vector<double> table_px(static_cast<std::size_t>(fibres * height * 3)), direct_px(table_px.size()), bound_px(table_px.size());
+      for (int c = 0; c < 3; ++c) {
+        const hairlut::sampler::FibreSampler<float> fibre(h.lobes.data(), static_cast<int>(h.lobes.size()), look.fibre[c]);
+        const HairSampler<double>& smp = fibre.sampler();
+        HairSampler<double>::Workspace ws;
+        AxisRow row;
+        std::mt19937_64 rng(12345u + static_cast<unsigned>(c));
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        for (int i = 0; i < fibres; ++i)
+          for (int y = 0; y < height; ++y) {
+            // In-plane wave a and inclination b towards the viewer: the highlight (R) and the
+            // transmitted glow move along each fibre as θv and φ change.
+            const double a = 0.3 * std::sin(2.0 * kPi * (1.1 * y / height + 0.37 * i)) + 0.06 * (i % 3 - 1);
+            const double b = 0.7 * std::sin(2.0 * kPi * (0.8 * y / height + 0.13 * i));
+            const Vec t = normalized({std::sin(a) * std::cos(b), -std::cos(a) * std::cos(b), std::sin(b)});  // root (top) to tip
+            auto angles = [&](Vec d, double* theta, double* phi_of) {
+              const double s = std::clamp(dot(d, t), -1.0, 1.0);
+              *theta = std::asin(s);
+              const Vec perp = d - s * t;
+              const Vec w = normalized(view - dot(view, t) * t), v = cross(t, w);
+              *phi_of = std::atan2(dot(perp, v), dot(perp, w));
+            };
+            double tl, pl, tv, pv;
+            angles(light, &tl, &pl);
+            angles(view, &tv, &pv);
+            double phi = pv - pl;
+            phi = std::remainder(phi, 2.0 * kPi);
+            const Fibre& f = look.fibre[c];
+            double lt = l_sun * smp.eval(f, tl, tv, phi), ld = l_sun * direct_s(look, c, eta, path, tl, tv, phi);
+            double lb = l_sun * bound(f, tl, tv, phi, row);
+            double et = 0.0, ed = 0.0, eb = 0.0;
+            for (int k = 0; k < env_samples; ++k) {
+              const auto s = smp.sample(f, tv, u(rng), u(rng), u(rng), ws);
+              if (!(s.pdf > 0.0)) continue;
+              et += s.value / s.pdf;
+              ed += direct_s(look, c, eta, path, tv, s.theta_r, s.phi) / s.pdf;
+              eb += bound(f, tv, s.theta_r, s.phi, row) / s.pdf;
+            }
+            lt += l_env * et / env_samples, ld += l_env * ed / env_samples, lb += l_env * eb / env_samples;
+            const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);
+            table_px[at] = lt, direct_px[at] = ld, bound_px[at] = lb;
+          }
+      }
+      // Compose: tables | direct | |difference| × gain; gaps between fibres are black.
+      const int w3 = 3 * width;
+      std::vector<unsigned char> rgb(static_cast<std::size_t>(w3 * height * 3), 0);
+      double max_diff = 0.0, max_ratio = 0.0, max_value = 0.0, sum2 = 0.0;
+      int count = 0;
+      for (int i = 0; i < fibres; ++i)
+        for (int y = 0; y < height; ++y)
+          for (int c = 0; c < 3; ++c) {
+            const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);
+            const double d = std::fabs(table_px[at] - direct_px[at]);
+            max_diff = std::max(max_diff, d);
+            max_value = std::max(max_value, direct_px[at]);
+            if (bound_px[at] > 0.0) max_ratio = std::max(max_ratio, d / bound_px[at]);
+            else if (d > 0.0) max_ratio = std::max(max_ratio, 1e300);
+            sum2 += d * d, ++count;
+          }
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          const double fx = (x + 0.5) * fibres / width;
+          const int i = std::min(fibres - 1, static_cast<int>(fx));
+          const double hoff = 2.0 * (fx - i) - 1.0;  // offset across the fibre
+          if (std::fabs(hoff) > 0.85) continue;
+          for (int c = 0; c < 3; ++c) {
+            const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);
+            const std::size_t row0 = static_cast<std::size_t>(y * w3 * 3);
+            rgb[row0 + static_cast<std::size_t>(x * 3 + c)] = srgb8(exposure * table_px[at]);
+            rgb[row0 + static_cast<std::size_t>((x + width) * 3 + c)] = srgb8(exposure * direct_px[at]);
+            rgb[row0 + static_cast<std::size_t>((x + 2 * width) * 3 + c)] = srgb8(exposure * gain * std::fabs(table_px[at] - direct_px[at]));
+          }
+        }
+      const std::string file = "render-" + look.name + ".png";
+      write_png(fs::path(out_dir) / file, w3, height, rgb);
+      const double rms = std::sqrt(sum2 / std::max(1, count));
+      std::printf("%s: max |tables - direct| %.3g (%.3g of the brightest pixel), rms %.3g, max difference / bound %.3g -> %s\n",
+                  look.name.c_str(), max_diff, max_diff / std::max(max_value, 1e-300), rms, max_ratio, file.c_str());
+      summary["images"].push_back({{"look", look.name}, {"file", file}, {"max_abs_difference", max_diff},
+                                   {"max_relative_to_brightest", max_diff / std::max(max_value, 1e-300)}, {"rms_difference", rms},
+                                   {"max_difference_over_bound", max_ratio}, {"brightest", max_value}});
+      if (max_ratio > 1.0) within = false;
+    }
+    std::FILE* js = std::fopen((fs::path(out_dir) / "render.json").c_str(), "w");
+    if (!js) throw hairlut::IoError(out_dir + "/render.json: cannot write");
+    std::fputs((summary.dump(2) + "\n").c_str(), js);
+    std::fclose(js);
+    if (check && !within) {
+      hairlut::tools::print_error("render-hair-luts", "a pixel differs from direct evaluation by more than its bound");
+      return 1;
+    }
+  } catch (const std::exception& e) {
+    hairlut::tools::print_error("render-hair-luts", e.what());
+    return 1;
+  }
+  return 0;
+}
