@@ -34,7 +34,7 @@ BakeEstimate estimate_bake(const BakeConfig& config);
 
 /// Memory a bake takes beyond its tables, slabs and file image: the program, HDF5's caches and
 /// one deflated chunk (≤ 4 MiB) per buffer, the threads' scratch. A fixed allowance.
-inline constexpr std::uint64_t kBakeOverheadBytes = std::uint64_t{96} << 20;
+inline constexpr std::uint64_t kBakeOverheadBytes = std::uint64_t{48} << 20;
 
 /// How a bake stays within a memory budget.
 struct MemoryPlan {
