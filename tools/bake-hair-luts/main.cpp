@@ -110,9 +110,11 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   const std::uint64_t budget = budget_mib > 0.0 ? static_cast<std::uint64_t>(budget_mib * mib) : physical / 2;
   const hairlut::MemoryPlan plan = hairlut::plan_memory(size, budget);
   if (!plan.refused.empty()) {
-    std::fprintf(stderr, "bake-hair-luts: error: %s: %s (%llu values)%s\n", config_path.c_str(), plan.refused.c_str(),
-                 static_cast<unsigned long long>(size.values),
-                 plan.peak_bytes > physical ? ", more than this machine has" : "; raise --memory-budget");
+    const std::string way = plan.minimum_bytes > physical
+                                ? "it needs at least " + std::to_string(plan.minimum_bytes >> 20) + " MiB, more than this machine has"
+                                : "raise --memory-budget to at least " + std::to_string((plan.minimum_bytes >> 20) + 1);
+    std::fprintf(stderr, "bake-hair-luts: error: %s: %s (%llu values); %s\n", config_path.c_str(), plan.refused.c_str(),
+                 static_cast<unsigned long long>(size.values), way.c_str());
     return 1;
   }
   if (const auto free_bytes = free_disk_bytes(config.output.directory); free_bytes && size.disk_bytes > *free_bytes) {

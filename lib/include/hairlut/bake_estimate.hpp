@@ -18,6 +18,8 @@ struct BakeEstimate {
   /// Of those, the values of the tables bake() can produce slab by slab (SlabbedTables): the
   /// generic N_p over (β, σa, θd, φ) and the generic M_p over (β, θi, θr) of a d'Eon config.
   std::uint64_t slabbable_values = 0;
+  /// Values of the largest leading-axis row (one β) of those tables: the smallest slab possible.
+  std::uint64_t slabbable_row_values = 0;
   /// Bytes per stored value (4 for float32 HDF5, 8 for float64).
   std::uint64_t value_bytes = 4;
   /// Bytes of memory at the peak when everything is held whole: the tables at their stored
@@ -42,11 +44,13 @@ struct MemoryPlan {
   std::uint64_t slab_bytes = 0;  ///< largest slab when slabbed (two are in memory at once)
   std::uint64_t peak_bytes = 0;  ///< estimated peak: tables held whole (+ image, or + two slabs) + kBakeOverheadBytes
   std::string refused;           ///< non-empty: the bake cannot stay within the budget, and why (one phrase)
+  std::uint64_t minimum_bytes = 0;  ///< when refused: the smallest budget the bake could stay within
 };
 
 /// The plan for a budget in bytes (0: no budget, everything held whole). Held whole when the
 /// whole estimate fits; else slabbed with the largest slabs the rest of the budget allows
-/// (at least 4 MiB, one HDF5 chunk; at most 256 MiB, beyond which larger slabs gain nothing).
+/// (at least 4 MiB, one HDF5 chunk, and at least one β row of the slabbed tables; at most 256 MiB,
+/// beyond which larger slabs gain nothing).
 MemoryPlan plan_memory(const BakeEstimate& estimate, std::uint64_t budget_bytes);
 
 }  // namespace hairlut
