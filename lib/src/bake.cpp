@@ -73,6 +73,28 @@ std::vector<double> max_lobe_energies(const BakeConfig& c, const std::vector<dou
   return best;
 }
 
+// N_p stored as its shape N_p / E_p when `energy` holds the lobe energies at the (σa, θd) nodes
+// (lobe-major), else N_p itself.
+double np_shape(const std::vector<double>& energy, int p, std::size_t ns, std::size_t nt, std::size_t is, std::size_t it, double v) {
+  if (energy.empty()) return v;
+  const double e = energy[(static_cast<std::size_t>(p) * ns + is) * nt + it];
+  return e > 1e-300 ? v / e : 0.0;  // a lobe absorbed to nothing has no shape
+}
+
+// Producer of lobe p's generic N_p rows (β indices) for slab-by-slab baking: the whole-grid
+// request restricted to the rows asked for, so every entry gets the same method and rules as in
+// the whole bake (bit-identical values).
+std::function<void(std::size_t, std::size_t, Table&)> np_rows(NpGridRequest request, int p, std::shared_ptr<const std::vector<double>> energy,
+                                                               BakeOptions opt) {
+  return [request = std::move(request), p, energy = std::move(energy), opt = std::move(opt)](std::size_t row0, std::size_t rows, Table& out) mutable {
+    const std::size_t ns = request.sigmas.size(), nt = request.thetas.size(), nphi = request.phis.size();
+    request.only = NpGridRequest::Subset{p, row0, row0 + rows};
+    bake_np_grid(request, opt, "N_p slab", [&](int, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+      out.set((((ib - row0) * ns + is) * nt + it) * nphi + ip, np_shape(*energy, p, ns, nt, is, it, v));
+    });
+  };
+}
+
 }  // namespace
 
 std::vector<GridAxis> restricted_np_axes(const BakeConfig& c, std::vector<std::string>* notes) {
@@ -468,30 +490,16 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
       report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
     if (slabbed) {
-      // Rows of the leading β axis on demand, one lobe at a time; the same request (and so the same
-      // method per entry) as the whole-grid bake below, restricted to the slab's entries.
       const auto energy = std::make_shared<const std::vector<double>>(std::move(node_energy));
-      for (int p = 0; p < s.lobes; ++p) {
-        NpGridRequest request{c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [betas](int) { return betas; }, rules, {}};
-        slabbed->tables.push_back({first + static_cast<std::size_t>(p), [request, energy, opt, p, ns, nt, nphi](std::size_t row0, std::size_t rows, Table& out) mutable {
-                                     request.only = NpGridRequest::Subset{p, row0, row0 + rows};
-                                     bake_np_grid(request, opt, "N_p slab", [&](int, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
-                                       if (!energy->empty()) {
-                                         const double e = (*energy)[(static_cast<std::size_t>(p) * ns + is) * nt + it];
-                                         v = e > 1e-300 ? v / e : 0.0;
-                                       }
-                                       out.set((((ib - row0) * ns + is) * nt + it) * nphi + ip, v);
-                                     });
-                                   }});
-      }
+      for (int p = 0; p < s.lobes; ++p)
+        slabbed->tables.push_back({first + static_cast<std::size_t>(p),
+                                   np_rows({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [betas](int) { return betas; }, rules, {}},
+                                           p, energy, opt)});
     } else {
       unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules, {}}, opt, "N_p",
                                   [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
-                                    if (!node_energy.empty()) {
-                                      const double e = node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it];
-                                      v = e > 1e-300 ? v / e : 0.0;  // a lobe absorbed to nothing has no shape
-                                    }
-                                    set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip, v);
+                                    set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip,
+                                                                                        np_shape(node_energy, p, ns, nt, is, it, v));
                                   });
     }
     const std::size_t ent = energy_thetas.size();
