@@ -14,12 +14,15 @@ plus the in-memory file image, over 4 times the budget). Checks that
   - the slabbed file holds exactly the whole bake's values in every dataset, and the same
     checksum, metadata, table index and per-table descriptions (h5py, bit for bit); the whole
     bake's checksum is computed from the tables in memory, the slabbed one while streaming;
-  - EXR output is refused under a budget the tables exceed: one line, exit 1, no file.
+  - EXR output is refused under a budget the tables exceed: one line, exit 1, no file;
+  - a full disk (a file-size limit) in the middle of the slabs: one line, exit 1, no file left.
 """
 import filecmp
 import json
 import os
+import resource
 import shutil
+import signal
 import sys
 
 import h5py
@@ -55,10 +58,13 @@ def write_config(path, doc):
         json.dump(doc, f)
 
 
-def peak_mib_of(args):
+def peak_mib_of(args, file_size_limit=None):
     """Runs a tool and returns (rc, stdout, stderr, peak RSS MiB) from getrusage of the child alone."""
     pid = os.fork()
     if pid == 0:
+        if file_size_limit is not None:  # a full disk: writes past the limit fail with EFBIG
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (file_size_limit, file_size_limit))
         fd = os.open(os.path.join(WORK, "stdout.txt"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
         fe = os.open(os.path.join(WORK, "stderr.txt"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
         os.dup2(fd, 1)
@@ -144,6 +150,16 @@ def main():
         fail("EXR output of a slabbed table: expected one line naming output.exr and exit 1, got rc %d: %s" % (rc, err))
     if os.path.exists(os.path.join(WORK, "exr")) and os.listdir(os.path.join(WORK, "exr")):
         fail("EXR refusal left files: %s" % os.listdir(os.path.join(WORK, "exr")))
+
+    # A full disk in the middle of the slabs: one line, exit 1, nothing left behind.
+    write_config(cfg, config(os.path.join(WORK, "full")))
+    rc, out, err, _ = peak_mib_of([BAKE, "--config", cfg, "--quiet"] + budget, file_size_limit=20 << 20)
+    left = os.listdir(os.path.join(WORK, "full")) if os.path.isdir(os.path.join(WORK, "full")) else []
+    if rc != 1 or "cannot write" not in err or err.count("\n") != 1 or left:
+        fail("slabbed bake onto a full disk: expected one line 'cannot write' and exit 1 with no file left, got rc %d, files %s: %s" %
+             (rc, left, err))
+    else:
+        print("full disk during the slabs: exit 1, %s" % err.strip()[:160])
 
     if failures:
         return
