@@ -18,6 +18,7 @@
 #include "hairlut/error.hpp"
 #include "hairlut/hash.hpp"
 #include "hdf5_bytes.hpp"
+#include "slab_queue.hpp"
 
 namespace hairlut {
 namespace {
@@ -416,69 +417,12 @@ void check_format_version(const std::string& text, const std::string& name) {
 
 namespace {
 
-// Hands the slabs of slabbed tables from the baking thread to the writing thread: two buffers,
-// one baked while the other is written (so at most two slabs are in memory).
-class SlabQueue {
- public:
-  struct Item {
-    Table* values = nullptr;
-    std::size_t row0 = 0, rows = 0;
-  };
-  SlabQueue() {
-    for (Table& b : buffers_) empty_.push_back(&b);
-  }
-  // Baking side: a buffer to fill, or nullptr once the writer has stopped.
-  Table* take_empty() {
-    std::unique_lock lock(mutex_);
-    changed_.wait(lock, [&] { return closed_ || !empty_.empty(); });
-    if (closed_) return nullptr;
-    Table* b = empty_.front();
-    empty_.pop_front();
-    return b;
-  }
-  void put_full(const Item& item) {
-    std::lock_guard lock(mutex_);
-    full_.push_back(item);
-    changed_.notify_all();
-  }
-  // Writing side: the next baked slab, or false once the baker has stopped.
-  bool take_full(Item& item) {
-    std::unique_lock lock(mutex_);
-    changed_.wait(lock, [&] { return closed_ || !full_.empty(); });
-    if (full_.empty()) return false;
-    item = full_.front();
-    full_.pop_front();
-    return true;
-  }
-  void put_empty(Table* b) {
-    std::lock_guard lock(mutex_);
-    empty_.push_back(b);
-    changed_.notify_all();
-  }
-  // Either side stops the other (error or cancellation); the writer still drains baked slabs
-  // only when it was not closed.
-  void close() {
-    std::lock_guard lock(mutex_);
-    closed_ = true;
-    full_.clear();
-    changed_.notify_all();
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  bool closed_ = false;
-  std::array<Table, 2> buffers_;
-  std::deque<Table*> empty_;
-  std::deque<Item> full_;
-};
-
 // Leading-axis row ranges [row0, row0 + rows) of each slabbed table (empty for tables held whole).
 using SlabRanges = std::vector<std::vector<std::pair<std::size_t, std::size_t>>>;
 
 struct SlabFeed {
   const SlabRanges* ranges;
-  SlabQueue* queue;
+  detail::SlabQueue* queue;
 };
 
 struct WriterStopped {};  // the baking side stopped: unwind the writer quietly
@@ -535,7 +479,7 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     } else {
       // Each slab as a hyperslab of whole leading-axis rows (chunk-aligned by SlabRanges).
       for (const auto& [row0, rows] : (*feed->ranges)[i]) {
-        SlabQueue::Item item;
+        detail::SlabQueue::Item item;
         if (!feed->queue->take_full(item)) throw WriterStopped{};
         if (item.row0 != row0 || item.rows != rows) f.fail("internal: slab of " + t.path() + " out of order");
         const Table& v = *item.values;
@@ -632,7 +576,7 @@ void write_hdf5_slabbed(const TableSet& set, const SlabbedTables& slabbed, const
   }
   std::sort(order.begin(), order.end(), [](const SlabbedTable* a, const SlabbedTable* b) { return a->table < b->table; });
 
-  SlabQueue queue;
+  detail::SlabQueue queue;
   SlabFeed feed{&ranges, &queue};
   std::exception_ptr writer_error;
   std::thread writer([&] {
