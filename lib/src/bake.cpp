@@ -73,6 +73,28 @@ std::vector<double> max_lobe_energies(const BakeConfig& c, const std::vector<dou
   return best;
 }
 
+// N_p stored as its shape N_p / E_p when `energy` holds the lobe energies at the (σa, θd) nodes
+// (lobe-major), else N_p itself.
+double np_shape(const std::vector<double>& energy, int p, std::size_t ns, std::size_t nt, std::size_t is, std::size_t it, double v) {
+  if (energy.empty()) return v;
+  const double e = energy[(static_cast<std::size_t>(p) * ns + is) * nt + it];
+  return e > 1e-300 ? v / e : 0.0;  // a lobe absorbed to nothing has no shape
+}
+
+// Producer of lobe p's generic N_p rows (β indices) for slab-by-slab baking: the whole-grid
+// request restricted to the rows asked for, so every entry gets the same method and rules as in
+// the whole bake (bit-identical values).
+std::function<void(std::size_t, std::size_t, Table&)> np_rows(NpGridRequest request, int p, std::shared_ptr<const std::vector<double>> energy,
+                                                               BakeOptions opt) {
+  return [request = std::move(request), p, energy = std::move(energy), opt = std::move(opt)](std::size_t row0, std::size_t rows, Table& out) mutable {
+    const std::size_t ns = request.sigmas.size(), nt = request.thetas.size(), nphi = request.phis.size();
+    request.only = NpGridRequest::Subset{p, row0, row0 + rows};
+    bake_np_grid(request, opt, "N_p slab", [&](int, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+      out.set((((ib - row0) * ns + is) * nt + it) * nphi + ip, np_shape(*energy, p, ns, nt, is, it, v));
+    });
+  };
+}
+
 }  // namespace
 
 std::vector<GridAxis> restricted_np_axes(const BakeConfig& c, std::vector<std::string>* notes) {
@@ -123,6 +145,9 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
   std::size_t unconverged = 0;
   const std::size_t ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
   std::mutex mutex;
+  // Entries this call evaluates (all of them unless r.only restricts to one lobe's β range).
+  auto wanted_lobe = [&](int p) { return !r.only || r.only->p == p; };
+  auto wanted = [&](int p, std::size_t b) { return !r.only || (r.only->p == p && b >= r.only->b0 && b < r.only->b1); };
   if (q.method == NpQuadratureConfig::Method::fourier) {
     // Per (θd, lobe): the β list splits into the narrowest detectors, evaluated by spreading
     // Gaussians onto the periodic φ grid, and the rest, evaluated from Fourier coefficients,
@@ -185,6 +210,7 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
       for (int p = 0; p < r.lobes; ++p) {
         const auto betas = betas_of(p);
         for (std::size_t b : plans[t * L + static_cast<std::size_t>(p)].spread) {
+          if (!wanted(p, b)) continue;
           spread_lobes.push_back({p, betas[b]});
           spread_index.emplace_back(p, b);
         }
@@ -199,10 +225,13 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
       for (int p = 0; p < r.lobes; ++p) {
         const Plan& plan = plans[t * L + static_cast<std::size_t>(p)];
         const auto betas = betas_of(p);
-        if (plan.fourier.empty()) continue;
+        if (plan.fourier.empty() || !wanted_lobe(p) ||
+            std::none_of(plan.fourier.begin(), plan.fourier.end(), [&](std::size_t b) { return wanted(p, b); }))
+          continue;
         const int N = plan.terms;
         fourier_coefficients(*fourier_nodes_t, g, p, sigmas, N, C);
         for (std::size_t b : plan.fourier) {
+          if (!wanted(p, b)) continue;
           const int Nb = std::min(N, fourier_terms(betas[b], q.tolerance));
           // Weights (2 − δ_n0) e^{−n²β²/2} / 2π of the detector's Fourier series.
           std::vector<double> weight(static_cast<std::size_t>(Nb) + 1);
@@ -225,14 +254,16 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
     const AttenuationSlice slice(r.eta, thetas[t], sigmas[k], r.path);
     std::size_t local_unconverged = 0;
     for (int p = 0; p < r.lobes; ++p) {
+      if (!wanted_lobe(p)) continue;
       const auto betas = betas_of(p);
       if (q.method == NpQuadratureConfig::Method::gauss_legendre) {
         const NpQuadratureSlab slab(slice, p, rule, q.variable);
         for (std::size_t b = 0; b < betas.size(); ++b)
-          for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, slab(betas[b], phis[j]));
+          if (wanted(p, b))
+            for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, slab(betas[b], phis[j]));
       } else {
         for (std::size_t b = 0; b < betas.size(); ++b)
-          for (std::size_t j = 0; j < nphi; ++j) {
+          for (std::size_t j = 0; j < nphi && wanted(p, b); ++j) {
             const AdaptiveResult ar = azimuthal_np_reference(slice, p, betas[b], phis[j], q.tolerance);
             if (!ar.converged) ++local_unconverged;
             out(p, k, t, b, j, ar.value[0]);
@@ -294,7 +325,17 @@ void append_melanin_tables(const BakeConfig& c, Precision precision, TableSet& s
 
 }  // namespace detail
 
-TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_out) {
+TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_out, SlabbedTables* slabbed) {
+  if (slabbed) {
+    // Slab by slab needs every checksummed note before the first slab is written.
+    if (c.marschner) throw DomainError("model marschner2003: tables larger than the memory budget cannot be baked slab by slab (raise --memory-budget)");
+    if (c.np_target_error)
+      throw DomainError("tables.np.target_error: the achieved error is measured on whole tables; tables larger than the memory budget "
+                        "cannot use it (raise --memory-budget or give the axes' counts)");
+    if (c.np_axes && c.quadrature.method == NpQuadratureConfig::Method::adaptive)
+      throw DomainError("tables.np.quadrature.method adaptive: tables larger than the memory budget are baked slab by slab, which needs "
+                        "the fourier or gauss-legendre method (or raise --memory-budget)");
+  }
   if (c.marschner) return bake_marschner(c, opt, report_out);
   const auto t0 = std::chrono::steady_clock::now();
   BakeReport report;
@@ -411,7 +452,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       Table t = make_table("np", lobe, "N_p", "1/rad",
                            normalize_energy ? "shape N_p / E_p of lobe " + lobe + " (N_p = this x np/energy_" + lobe + ")"
                                                  : "azimuthal scattering function N_p of lobe " + lobe,
-                           np_axes, precision);
+                           np_axes, precision, !slabbed);
       t.attributes = {{"lobe", lobe}, {"p", p}};
       if (normalize_energy) t.attributes["factor"] = "np/energy_" + lobe;
       set.tables.push_back(std::move(t));
@@ -448,14 +489,19 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     const std::size_t nb = betas.size(), nphi = phis.size();
     if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
       report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
-    unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules}, opt, "N_p",
-                                [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
-                                  if (!node_energy.empty()) {
-                                    const double e = node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it];
-                                    v = e > 1e-300 ? v / e : 0.0;  // a lobe absorbed to nothing has no shape
-                                  }
-                                  set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip, v);
-                                });
+    if (slabbed) {
+      const auto energy = std::make_shared<const std::vector<double>>(std::move(node_energy));
+      for (int p = 0; p < s.lobes; ++p)
+        slabbed->tables.push_back({first + static_cast<std::size_t>(p),
+                                   np_rows({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [betas](int) { return betas; }, rules, {}},
+                                           p, energy, opt)});
+    } else {
+      unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules, {}}, opt, "N_p",
+                                  [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+                                    set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip,
+                                                                                        np_shape(node_energy, p, ns, nt, is, it, v));
+                                  });
+    }
     const std::size_t ent = energy_thetas.size();
     bake_energies(s, lobe_set, energy_sigmas, energy_thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
       for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * ent + it, e[p]);
@@ -517,7 +563,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       } else {
         unconverged += bake_np_grid(
             {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
-             [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules},
+             [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules, {}},
             opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
               set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
             });
@@ -562,20 +608,32 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       for (int p = 0; p < n_mp; ++p) {
         Table t = make_table("mp", lobe_of(p), "M_p", "1/rad",
                              "d'Eon longitudinal function M(beta^2, theta_i, theta_r - alpha) of lobe " + lobe_of(p), *c.mp_axes,
-                             precision);
+                             precision, !slabbed);
         t.attributes = {{"lobe", lobe_of(p)}, {"p", p}, {"alpha", tilt_of(p)}};
         set.tables.push_back(std::move(t));
       }
       const std::size_t nb = betas.size();
-      parallel_for(nb * ni, opt, "M_p", nr * static_cast<std::size_t>(n_mp), [&](std::size_t k) {
-        const std::size_t ib = k / ni, ii = k % ni;
-        const double v = betas[ib] * betas[ib];
-        for (int p = 0; p < n_mp; ++p) {
-          Table& t = set.tables[first + static_cast<std::size_t>(p)];
-          for (std::size_t ir = 0; ir < nr; ++ir)
-            t.set((ib * ni + ii) * nr + ir, longitudinal_deon_tilted(v, tilt_of(p), tis[ii], trs[ir]));
-        }
-      });
+      if (slabbed) {
+        for (int p = 0; p < n_mp; ++p)
+          slabbed->tables.push_back({first + static_cast<std::size_t>(p), [betas, tis, trs, opt, alpha = tilt_of(p)](std::size_t row0, std::size_t rows, Table& out) {
+                                       const std::size_t n_i = tis.size(), n_r = trs.size();
+                                       parallel_for(rows * n_i, opt, "M_p slab", n_r, [&](std::size_t k) {
+                                         const std::size_t ib = row0 + k / n_i, ii = k % n_i;
+                                         for (std::size_t ir = 0; ir < n_r; ++ir)
+                                           out.set(k * n_r + ir, longitudinal_deon_tilted(betas[ib] * betas[ib], alpha, tis[ii], trs[ir]));
+                                       });
+                                     }});
+      } else {
+        parallel_for(nb * ni, opt, "M_p", nr * static_cast<std::size_t>(n_mp), [&](std::size_t k) {
+          const std::size_t ib = k / ni, ii = k % ni;
+          const double v = betas[ib] * betas[ib];
+          for (int p = 0; p < n_mp; ++p) {
+            Table& t = set.tables[first + static_cast<std::size_t>(p)];
+            for (std::size_t ir = 0; ir < nr; ++ir)
+              t.set((ib * ni + ii) * nr + ir, longitudinal_deon_tilted(v, tilt_of(p), tis[ii], trs[ir]));
+          }
+        });
+      }
       report.entries += nb * ni * nr * static_cast<std::size_t>(n_mp);
     } else {
       for (const MaterialConfig& m : c.scene->materials) {

@@ -49,7 +49,7 @@ void parallel_for(std::size_t n, const BakeOptions& opt, std::string_view stage,
 }
 
 inline Table make_table(std::string group, std::string name, std::string quantity, std::string units, std::string long_name,
-                 std::vector<GridAxis> axes, Precision precision) {
+                 std::vector<GridAxis> axes, Precision precision, bool allocate = true) {
   Table t;
   t.group = std::move(group);
   t.name = std::move(name);
@@ -57,7 +57,8 @@ inline Table make_table(std::string group, std::string name, std::string quantit
   t.units = std::move(units);
   t.long_name = std::move(long_name);
   t.axes = std::move(axes);
-  t.allocate(precision);
+  if (allocate) t.allocate(precision);
+  else t.precision = precision;  // values produced slab by slab (SlabbedTables)
   return t;
 }
 

@@ -103,6 +103,17 @@ void write_file_bytes(const std::filesystem::path& path, const std::vector<char>
   if (::close(fd) != 0) throw IoError(path.string() + ": cannot write (" + std::strerror(errno) + ")");
 }
 
+void sync_file(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw IoError(path.string() + ": cannot write (" + std::strerror(errno) + ")");
+  if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
+    const int err = errno;
+    ::close(fd);
+    throw IoError(path.string() + ": cannot write (" + std::strerror(err) + ")");
+  }
+  ::close(fd);
+}
+
 // Superblock versions 2 and 3: 12 bytes, four addresses, then the lookup3 checksum.
 void fix_superblock_checksum(std::vector<char>& image) {
   auto* b = reinterpret_cast<unsigned char*>(image.data());

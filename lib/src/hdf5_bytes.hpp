@@ -31,4 +31,7 @@ void fix_superblock_checksum(std::vector<char>& image);
 /// file-size limit, I/O) becomes an IoError naming the file and the reason.
 void write_file_bytes(const std::filesystem::path& path, const std::vector<char>& bytes);
 
+// Flushes a written file to disk (fsync); throws IoError("<file>: cannot write (<reason>)").
+void sync_file(const std::filesystem::path& path);
+
 }  // namespace hairlut::detail

@@ -179,7 +179,10 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
 }
 
 std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, const BakeReport& report,
-                                    const std::atomic<bool>* cancel) {
+                                    const std::atomic<bool>* cancel, const SlabbedTables* slabbed) {
+  if (slabbed && !slabbed->empty() && c.output.exr)
+    throw DomainError("output.exr: tables larger than the memory budget are baked slab by slab into HDF5 only (EXR files hold "
+                      "engine-sized textures); set output.exr to false or raise --memory-budget");
   const OutputPaths paths = output_paths(c);
   std::error_code ec;
   fs::create_directories(c.output.directory, ec);
@@ -192,7 +195,8 @@ std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, co
   if (c.output.hdf5) {
     const fs::path t = temporary_for(paths.hdf5);
     temps.paths.push_back(t);
-    write_hdf5(set, t, {c.output.hdf5_deflate});
+    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, {c.output.hdf5_deflate});
+    else write_hdf5(set, t, {c.output.hdf5_deflate});
     written.emplace_back("hdf5", t);
   }
   if (c.output.exr) {

@@ -2,6 +2,7 @@
 // Thin: parsing, baking and writing live in the hairlut library; this file handles the command
 // line, progress display, signals and exit codes.
 #include <malloc.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include "common/cli.hpp"
@@ -9,12 +10,14 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <hairlut/bake.hpp>
 #include <hairlut/bake_estimate.hpp>
 #include <hairlut/error.hpp>
 #include <hairlut/config.hpp>
 #include <hairlut/table_io.hpp>
 #include <hairlut/version.hpp>
+#include <optional>
 #include <string>
 
 #include "../common/cancel.hpp"
@@ -44,6 +47,16 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_, last_{};
 };
 
+// Bytes free for this user on the file system of `dir` (or of its nearest existing parent).
+std::optional<std::uint64_t> free_disk_bytes(std::filesystem::path dir) {
+  std::error_code ec;
+  dir = std::filesystem::absolute(dir.empty() ? "." : dir, ec);
+  while (!dir.empty() && !std::filesystem::exists(dir, ec) && dir != dir.parent_path()) dir = dir.parent_path();
+  struct statvfs fs {};
+  if (::statvfs(dir.c_str(), &fs) != 0) return std::nullopt;
+  return static_cast<std::uint64_t>(fs.f_bavail) * static_cast<std::uint64_t>(fs.f_frsize);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -63,9 +76,14 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   std::string config_path, output_dir;
   bool force = false, quiet = false, check = false;
   int threads = 0;
+  double budget_mib = 0.0;
   app.add_option("--config", config_path, "bake configuration (JSON)")->required();
   app.add_option("--output-dir", output_dir, "write here instead of the config's output.directory");
   app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(0, 4096));
+  app.add_option("--memory-budget", budget_mib,
+                 "memory to stay within, in MiB (default: half of the machine's memory); larger generic N_p and M_p "
+                 "tables are baked and written slab by slab")
+      ->check(CLI::Range(64.0, 1e12));
   app.add_flag("--force", force, "bake even if the outputs are up to date");
   app.add_flag("--quiet,-q", quiet, "no progress display and no summary");
   app.add_flag("--check", check, "validate the config and exit");
@@ -74,7 +92,11 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   // The HDF5 deflate filter allocates and frees its buffers for every dataset; without a trim
   // threshold glibc hands the freed top of the heap back each time and the next dataset faults it
   // in again (system time of a per-material bake went from ~0.2 s to ~0.05 s for 16 materials).
+  // Setting the trim threshold also fixes glibc's mmap threshold at its 128 KiB default, which
+  // would give every HDF5 chunk buffer (up to 4 MiB, one per chunk written) fresh pages from
+  // mmap, faulted in and unmapped again: below 64 MiB they come from the heap and are reused.
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
 
   hairlut::BakeConfig config;
   try {
@@ -84,22 +106,45 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     return 2;
   }
   if (!output_dir.empty()) config.output.directory = output_dir;
-  // Size up front: refuse what cannot fit in memory before any work.
+  // Size up front: refuse what cannot fit in memory or on disk before any work; tables over the
+  // memory budget are baked slab by slab.
   const hairlut::BakeEstimate size = hairlut::estimate_bake(config);
   const double mib = 1024.0 * 1024.0;
   const auto physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
-  if (size.memory_bytes > physical) {
-    std::fprintf(stderr, "bake-hair-luts: error: %s: the tables need about %.0f MiB of memory (%llu values), more than this machine has (%.0f MiB)\n",
-                 config_path.c_str(), static_cast<double>(size.memory_bytes) / mib, static_cast<unsigned long long>(size.values),
-                 static_cast<double>(physical) / mib);
+  const std::uint64_t budget = budget_mib > 0.0 ? static_cast<std::uint64_t>(budget_mib * mib) : physical / 2;
+  const hairlut::MemoryPlan plan = hairlut::plan_memory(size, budget);
+  if (!plan.refused.empty()) {
+    const std::string way = plan.minimum_bytes > physical
+                                ? "it needs at least " + std::to_string(plan.minimum_bytes >> 20) + " MiB, more than this machine has"
+                                : "raise --memory-budget to at least " + std::to_string((plan.minimum_bytes >> 20) + 1);
+    std::fprintf(stderr, "bake-hair-luts: error: %s: %s (%llu values); %s\n", config_path.c_str(), plan.refused.c_str(),
+                 static_cast<unsigned long long>(size.values), way.c_str());
+    return 1;
+  }
+  if (const auto free_bytes = free_disk_bytes(config.output.directory); free_bytes && size.disk_bytes > *free_bytes) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s: the files need about %.0f MiB on disk before compression (%llu values), more than this machine has free in %s (%.0f MiB)\n",
+                 config_path.c_str(), static_cast<double>(size.disk_bytes) / mib, static_cast<unsigned long long>(size.values),
+                 config.output.directory.string().c_str(), static_cast<double>(*free_bytes) / mib);
+    return 1;
+  }
+  if (plan.slabbed && config.output.exr) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s: output.exr: the tables exceed the memory budget of %.0f MiB and are baked slab by slab "
+                 "into HDF5 only (EXR files hold engine-sized textures); set output.exr to false or raise --memory-budget\n",
+                 config_path.c_str(), static_cast<double>(budget) / mib);
     return 1;
   }
   if (check) {
     if (!quiet) {
       std::printf("%s: valid (config hash %s)\n", config_path.c_str(), config.hash.c_str());
-      std::printf("estimate: %llu values, about %.1f MiB of memory, at most %.1f MiB on disk before compression\n",
-                  static_cast<unsigned long long>(size.values), static_cast<double>(size.memory_bytes) / mib,
+      std::printf("estimate: %llu values, at most %.1f MiB on disk before compression\n", static_cast<unsigned long long>(size.values),
                   static_cast<double>(size.disk_bytes) / mib);
+      if (plan.slabbed)
+        std::printf("memory: peak about %.1f MiB within the budget of %.0f MiB: generic N_p and M_p baked and written slab by slab "
+                    "(slabs of at most %.1f MiB, two in memory)\n",
+                    static_cast<double>(plan.peak_bytes) / mib, static_cast<double>(budget) / mib, static_cast<double>(plan.slab_bytes) / mib);
+      else
+        std::printf("memory: peak about %.1f MiB (tables held whole; budget %.0f MiB)\n", static_cast<double>(plan.peak_bytes) / mib,
+                    static_cast<double>(budget) / mib);
     }
     return 0;
   }
@@ -118,15 +163,19 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   try {
     hairlut::remove_stale_temporaries(config);
     hairlut::BakeReport report;
-    const hairlut::TableSet set = hairlut::bake(config, options, &report);
-    const auto files = hairlut::write_outputs(set, config, report, hairlut_tools::cancel_pointer());
+    hairlut::SlabbedTables slabbed;
+    slabbed.slab_bytes = plan.slab_bytes;
+    const auto start = std::chrono::steady_clock::now();
+    const hairlut::TableSet set = hairlut::bake(config, options, &report, plan.slabbed ? &slabbed : nullptr);
+    const auto files = hairlut::write_outputs(set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr);
+    if (plan.slabbed) report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!quiet) {
       for (const auto& f : report.folded)
         std::printf("folded lobe %s into the residual (largest energy %.3g < fold_below %.3g)\n", f.lobe.c_str(), f.max_energy,
                     config.fold_below);
       for (const auto& n : report.notes) std::printf("note: %s\n", n.c_str());
-      std::printf("baked %zu values in %zu tables in %.2f s (config hash %s)\n", report.entries, set.tables.size(), report.seconds,
-                  config.hash.c_str());
+      std::printf("baked %zu values in %zu tables in %.2f s%s (config hash %s)\n", report.entries, set.tables.size(), report.seconds,
+                  plan.slabbed ? " slab by slab" : "", config.hash.c_str());
       for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
     }
   } catch (const hairlut::BakeCancelled&) {

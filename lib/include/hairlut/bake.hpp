@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -16,6 +17,7 @@
 
 #include "hairlut/config.hpp"
 #include "hairlut/quadrature.hpp"
+#include "hairlut/slab_stream.hpp"
 #include "hairlut/tables.hpp"
 
 namespace hairlut {
@@ -57,6 +59,14 @@ struct NpGridRequest {
   std::function<std::vector<double>(int p)> betas_of;
   /// Rules shared across calls (optional; a private cache is used when null).
   std::shared_ptr<GaussLegendreCache> rules;
+  /// When set, only lobe `p` at β indices [b0, b1) is evaluated and passed to the output. The
+  /// methods and rules are still chosen for the whole grid, so these values are bit-identical to
+  /// the same entries of a whole-grid call (what slab-by-slab baking relies on).
+  struct Subset {
+    int p = 0;
+    std::size_t b0 = 0, b1 = 0;
+  };
+  std::optional<Subset> only;
 };
 /// Receives every value: out(p, k, t, b, j, N_p). Called concurrently for distinct entries.
 using NpGridOutput = std::function<void(int p, std::size_t k, std::size_t t, std::size_t b, std::size_t j, double value)>;
@@ -66,7 +76,12 @@ using NpGridOutput = std::function<void(int p, std::size_t k, std::size_t t, std
 std::size_t bake_np_grid(const NpGridRequest& request, const BakeOptions& options, const std::string& stage, const NpGridOutput& out);
 
 /// Bakes every table of the config (either model). Throws BakeCancelled or DomainError.
-TableSet bake(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr);
+/// With `slabbed`, the generic N_p tables (over β, σa, θd, φ) and the generic M_p tables (over β,
+/// θi, θr) of a d'Eon config are left without values and listed there with their producers, for
+/// write_hdf5_slabbed to bake and write slab by slab; everything else (metadata and checksummed
+/// notes included) is final when bake returns. Refused (DomainError) for what needs those tables
+/// whole: the adaptive N_p method, tables.np.target_error and the Marschner model.
+TableSet bake(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr, SlabbedTables* slabbed = nullptr);
 
 /// The tables of a model "marschner2003" config (bake() calls it for such configs): N_R, N_TT,
 /// N_TRT over (sigma_a, theta_d, [phi_h,] phi) with their energies, Gaussian M_p over

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "hairlut/error.hpp"
+#include "hairlut/slab_stream.hpp"
 #include "hairlut/tables.hpp"
 
 namespace hairlut {
@@ -43,6 +44,16 @@ struct Hdf5WriteOptions {
 
 /// Writes the tables to `file` (created or truncated). Throws IoError.
 void write_hdf5(const TableSet& set, const std::filesystem::path& file, const Hdf5WriteOptions& options = {});
+
+/// The same for a set whose `slabbed` tables hold no values: their producers are called on this
+/// thread for chunk-aligned ranges of leading-axis rows (at most slabbed.slab_bytes each), while
+/// one writer thread writes the previous slab as an HDF5 hyperslab, so at most two slabs are in
+/// memory. The file is written to disk directly (not from a memory image). Values and checksum
+/// equal those write_hdf5 stores for the same tables held whole; the file's bytes differ only in
+/// layout (the checksum attribute is written last). Throws IoError, DomainError (a leading-axis
+/// row larger than a slab) or what a producer throws (BakeCancelled).
+void write_hdf5_slabbed(const TableSet& set, const SlabbedTables& slabbed, const std::filesystem::path& file,
+                        const Hdf5WriteOptions& options = {});
 
 /// Reads a file written by write_hdf5 back into memory, exactly as stored. Rejects files that are
 /// not hairlut tables, are truncated or corrupted, or lack metadata, with an IoError.

@@ -36,9 +36,11 @@ nlohmann::ordered_json sidecar_json(const TableSet& set, const BakeConfig& confi
 
 /// Writes every requested format and the sidecar (temporary names, then rename). Before each
 /// rename it checks `cancel`; if raised, it removes the temporaries and throws BakeCancelled.
-/// Returns the final paths written. Throws IoError.
+/// Returns the final paths written. Throws IoError. With `slabbed` (bake's slabbed tables), the
+/// HDF5 file is baked and written slab by slab (write_hdf5_slabbed); EXR output is refused then
+/// (DomainError), and the producers' exceptions (BakeCancelled) pass through.
 std::vector<std::filesystem::path> write_outputs(const TableSet& set, const BakeConfig& config, const BakeReport& report,
-                                                 const std::atomic<bool>* cancel = nullptr);
+                                                 const std::atomic<bool>* cancel = nullptr, const SlabbedTables* slabbed = nullptr);
 
 /// Removes temporary files a killed bake of this config may have left in the output directory.
 void remove_stale_temporaries(const BakeConfig& config);
