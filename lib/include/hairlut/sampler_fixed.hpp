@@ -63,9 +63,23 @@ class FixedAxis {
     simple_ = a.spacing != Spacing::explicit_values && n_ > 1;
     wrap_ = a.wrap;
     spacing_ = a.spacing;
+    top_ = static_cast<R>(n_ > 1 ? n_ - 1 : 0);
+    step_ = n_ > 1 ? static_cast<std::ptrdiff_t>(stride) : 0;
     snap_ = sizeof(R) >= sizeof(double) ? static_cast<R>(1e-9) : static_cast<R>(8.0 * 1.1920928955078125e-07 * (n_ > 1 ? n_ : 1));
   }
   bool cubic() const { return cubic_; }
+  /// Whether cell(x) applies: a mapped axis (not explicit nodes), or a single node.
+  bool direct() const { return simple_ || n_ <= 1; }
+
+  /// The cell of x for two-tap (linear) interpolation, as offsets: the first node's (i0 · stride)
+  /// and the step to the second (stride; across a periodic end, back to node 0; 0 for a single
+  /// node), and the weight w of the second. For direct() axes; x not NaN.
+  HAIRLUT_SAMPLER_INLINE void cell(R x, std::size_t& off, std::ptrdiff_t& step, R& w) const {
+    int i0;
+    locate(x, i0, w);
+    off = static_cast<std::size_t>(i0) * stride_;
+    step = wrap_ == Wrap::periodic && i0 == n_ - 1 ? -static_cast<std::ptrdiff_t>(i0) * static_cast<std::ptrdiff_t>(stride_) : step_;
+  }
   bool geometric() const { return prepared_.axis.interpolation == Interpolation::geometric; }
   int count() const { return n_; }
   const Axis& axis() const { return prepared_.axis; }
@@ -79,25 +93,17 @@ class FixedAxis {
       return;
     }
     if (wrap_ == Wrap::periodic) {
-      R u = (x - t0_) * scale_ / static_cast<R>(n);
-      u -= std::floor(u);
-      R s = u * static_cast<R>(n) + offset_;
-      const R nearest = std::floor(s + R(0.5));
-      if (std::fabs(s - nearest) < snap()) s = nearest;
-      if (s < R(0)) s += static_cast<R>(n);
-      if (s >= static_cast<R>(n)) s -= static_cast<R>(n);
-      const R fi = std::floor(s);
-      w = s - fi;
-      i0 = static_cast<int>(fi) % n;
+      locate_periodic(x, i0, w);
       return;
     }
     if (wrap_ == Wrap::even) {
-      const R pi = static_cast<R>(3.14159265358979323846);
       // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
-      x = std::fabs(x) <= pi ? std::fabs(x) : std::fabs(std::remainder(x, R(2) * pi));
+      const R pi = static_cast<R>(3.14159265358979323846);
+      x = std::fabs(x);
+      if (x > pi) x = std::fabs(std::remainder(x, R(2) * pi));
     } else if (wrap_ == Wrap::reflect && hi_ > lo_) {
       const R d = x - lo_;
-      x = lo_ + (d >= R(0) && d <= hi_ - lo_ ? d : std::fabs(std::remainder(d, span_)));
+      if (!(d >= R(0) && d <= hi_ - lo_)) x = lo_ + std::fabs(std::remainder(d, span_));
     }
     x = x < lo_ ? lo_ : (x > hi_ ? hi_ : x);
     R t = x;
@@ -111,13 +117,13 @@ class FixedAxis {
     R s = (t - t0_) * scale_ + offset_;
     // Clamp, then snap to a node within rounding of it, so that sampling at a node returns its
     // value. The same as TableView's snap-then-clamp (the bounds are nodes); s − i and 1 − w are
-    // exact (Sterbenz), so the snapping decisions are TableView's too.
-    const R top = static_cast<R>(n - 1);
-    s = s < R(0) ? R(0) : (s > top ? top : s);
+    // exact (Sterbenz), so the snapping decisions are TableView's too. Branches, not selects:
+    // they are predicted (rarely taken), and a select would lengthen the dependency chain.
+    s = s < R(0) ? R(0) : (s > top_ ? top_ : s);
     int i = static_cast<int>(s);
     R f = s - static_cast<R>(i);
-    if (f < snap()) f = R(0);
-    else if (R(1) - f < snap()) f = R(0), ++i;
+    if (f < snap_) f = R(0);
+    else if (R(1) - f < snap_) f = R(0), ++i;
     if (i >= n - 1) i = n - 2, f = R(1);
     i0 = i;
     w = f;
@@ -177,6 +183,19 @@ class FixedAxis {
     }
     for (int k = 0; k < 4; ++k) r.off[k] = static_cast<std::size_t>(idx[k]) * stride_;
   }
+  HAIRLUT_SAMPLER_INLINE void locate_periodic(R x, int& i0, R& w) const {
+    const int n = n_;
+    R u = (x - t0_) * scale_ / static_cast<R>(n);
+    u -= std::floor(u);
+    R s = u * static_cast<R>(n) + offset_;
+    const R nearest = std::floor(s + R(0.5));
+    if (std::fabs(s - nearest) < snap()) s = nearest;
+    if (s < R(0)) s += static_cast<R>(n);
+    if (s >= static_cast<R>(n)) s -= static_cast<R>(n);
+    const R fi = std::floor(s);
+    w = s - fi;
+    i0 = static_cast<int>(fi) % n;
+  }
   // Snapping distance in node units: TableView's 1e-9 in double; in float, a few ulps of the
   // largest index (the rounding of the mapped coordinate itself).
   R snap() const { return snap_; }
@@ -188,8 +207,9 @@ class FixedAxis {
   }
 
   // The fields a lookup reads first, together; then the prepared axis for the rare paths.
-  R t0_ = R(0), scale_ = R(0), offset_ = R(0), lo_ = R(0), hi_ = R(1), span_ = R(2), snap_ = R(1e-9);
+  R t0_ = R(0), scale_ = R(0), offset_ = R(0), lo_ = R(0), hi_ = R(1), top_ = R(0), span_ = R(2), snap_ = R(1e-9);
   std::size_t stride_ = 1;
+  std::ptrdiff_t step_ = 0;
   int n_ = 1;
   Wrap wrap_ = Wrap::clamp;
   Spacing spacing_ = Spacing::uniform;
@@ -211,6 +231,18 @@ inline R fixed_product(const T* p, const FixedTaps<R>* tp) {
     R s = tp->w[0] * fixed_product<T, R, Rest...>(p + tp->off[0], tp + 1);
     for (int k = 1; k < N; ++k) s += tp->w[k] * fixed_product<T, R, Rest...>(p + tp->off[k], tp + 1);
     return s;
+  }
+}
+
+// The multilinear interpolation of the cell at p: the last axis first, each as a + w (b − a).
+template <class T, class R, int N>
+HAIRLUT_SAMPLER_INLINE R lerp_cell(const T* p, const std::ptrdiff_t* step, const R* w) {
+  if constexpr (N == 1) {
+    const R a = static_cast<R>(p[0]), b = static_cast<R>(p[step[0]]);
+    return a + w[0] * (b - a);
+  } else {
+    const R a = lerp_cell<T, R, N - 1>(p, step + 1, w + 1), b = lerp_cell<T, R, N - 1>(p + step[0], step + 1, w + 1);
+    return a + w[0] * (b - a);
   }
 }
 
@@ -256,12 +288,32 @@ class FixedView {
       if (axes_[d].geometric() && axes[d].count > 1) geometric_ = d;
     }
     kernel_ = detail::pick_kernel<T, R, D>(mask, std::make_index_sequence<(1 << D)>{});
+    linear_ = mask == 0 && geometric_ < 0;
+    for (int d = 0; d < D; ++d) linear_ = linear_ && axes_[d].direct();
   }
   const FixedAxis<R>& axis(int d) const { return axes_[d]; }
   const T* data() const { return data_; }
 
   /// The interpolated value at x[0 … D−1]; NaN when a coordinate of an axis of 2 or more nodes is NaN.
   R operator()(const R* x) const {
+    if (linear_) {
+      // Every axis linear over mapped nodes: the cell's corner and steps, then 2^D values
+      // combined as nested lerps. One NaN test for all coordinates (a sum of infinities of
+      // both signs takes the general path, which tells them apart).
+      R sum = x[0];
+      for (int d = 1; d < D; ++d) sum += x[d];
+      if (sum == sum) {
+        std::size_t off = 0;
+        std::ptrdiff_t step[D];
+        R w[D];
+        for (int d = 0; d < D; ++d) {
+          std::size_t o;
+          axes_[d].cell(x[d], o, step[d], w[d]);
+          off += o;
+        }
+        return detail::lerp_cell<T, R, D>(data_ + off, step, w);
+      }
+    }
     FixedTaps<R> tp[D];
     for (int d = 0; d < D; ++d) {
       if (!(x[d] == x[d]) && axes_[d].count() > 1) return x[d];
@@ -289,6 +341,7 @@ class FixedView {
   const T* data_ = nullptr;
   FixedAxis<R> axes_[D];
   int geometric_ = -1;
+  bool linear_ = false;  // every axis linear and direct(): the nested-lerp path
   detail::FixedKernel<T, R, D> kernel_ = nullptr;
 };
 
