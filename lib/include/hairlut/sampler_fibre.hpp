@@ -45,28 +45,43 @@ R fold_phi(R phi, const Axis& a) {
 /// 5e-8 in double against std::acos). A few multiplications and one square root, against the
 /// tens of nanoseconds of std::acos/std::atan2; table lookups need no more than that accuracy.
 template <class R>
-R fast_acos(R x) {
+HAIRLUT_SAMPLER_INLINE R fast_acos(R x) {
   const R a = std::fabs(x) < R(1) ? std::fabs(x) : R(1);
-  const R p = R(1.5707963050) +
-              a * (R(-0.2145988016) +
-                   a * (R(0.0889789874) +
-                        a * (R(-0.0501743046) + a * (R(0.0308918810) + a * (R(-0.0170881256) + a * (R(0.0066700901) + a * R(-0.0012624911)))))));
+  // The polynomial by Estrin's scheme (pairs, then a², a⁴): a shorter dependency chain than
+  // Horner's, the same terms.
+  const R a2 = a * a, a4 = a2 * a2;
+  const R p01 = R(1.5707963050) + a * R(-0.2145988016), p23 = R(0.0889789874) + a * R(-0.0501743046);
+  const R p45 = R(0.0308918810) + a * R(-0.0170881256), p67 = R(0.0066700901) + a * R(-0.0012624911);
+  const R p = (p01 + a2 * p23) + a4 * (p45 + a2 * p67);
   const R r = std::sqrt(R(1) - a) * p;
   return x < R(0) ? static_cast<R>(3.14159265358979323846) - r : r;
 }
 
-/// The arguments of S from unit vectors in the fibre frame (x along the fibre root to tip, y–z
-/// the normal plane; pbrt's hair frame): θ = asin x = π/2 − acos x, and φ ∈ [0, π] the angle
-/// between the normal-plane projections (N_p is even in φ, so its sign is not needed); φ = 0
-/// when a direction lies along the fibre. Uses fast_acos (≤ 2e-8 rad).
+/// atan x for x ∈ [0, 1] by Abramowitz & Stegun 4.4.49: x times a degree-8 polynomial in x²,
+/// absolute error ≤ 2e-8 rad before rounding in R; evaluated by Estrin's scheme.
 template <class R>
-void fibre_angles(const R* wi, const R* wo, R& theta_i, R& theta_r, R& phi) {
+HAIRLUT_SAMPLER_INLINE R fast_atan01(R x) {
+  const R z = x * x, z2 = z * z, z4 = z2 * z2;
+  const R q01 = R(1) + z * R(-0.3333314528), q23 = R(0.1999355085) + z * R(-0.1420889944);
+  const R q45 = R(0.1065626393) + z * R(-0.0752896400), q67 = R(0.0429096138) + z * R(-0.0161657367);
+  return x * (((q01 + z2 * q23) + z4 * (q45 + z2 * q67)) + (z4 * z4) * R(0.0028662257));
+}
+
+/// The arguments of S from unit vectors in the fibre frame (x along the fibre root to tip, y–z
+/// the normal plane; pbrt's hair frame): θ = asin x = π/2 − acos x (fast_acos, ≤ 2e-8 rad), and
+/// φ ∈ [0, π] the angle between the normal-plane projections, atan2(|cross|, dot) of the two
+/// projections by fast_atan01 on the octant (≤ 2e-8 rad, and no loss of accuracy near 0 and π);
+/// N_p is even in φ, so its sign is not needed. φ = 0 when a direction lies along the fibre.
+template <class R>
+HAIRLUT_SAMPLER_INLINE void fibre_angles(const R* wi, const R* wo, R& theta_i, R& theta_r, R& phi) {
   const R half_pi = static_cast<R>(1.57079632679489661923);
   theta_i = half_pi - fast_acos(wi[0]);
   theta_r = half_pi - fast_acos(wo[0]);
-  const R li = wi[1] * wi[1] + wi[2] * wi[2], lo = wo[1] * wo[1] + wo[2] * wo[2];
-  const R d = std::sqrt(li * lo);
-  phi = d > R(0) ? fast_acos((wi[1] * wo[1] + wi[2] * wo[2]) / d) : R(0);
+  const R y = std::fabs(wi[1] * wo[2] - wi[2] * wo[1]), x = wi[1] * wo[1] + wi[2] * wo[2], ax = std::fabs(x);
+  const R lo = y < ax ? y : ax, hi = y < ax ? ax : y;
+  R t = fast_atan01(hi > R(0) ? lo / hi : R(0));
+  t = y > ax ? half_pi - t : t;
+  phi = x < R(0) ? R(2) * half_pi - t : t;
   if (!(wi[0] == wi[0]) || !(wo[0] == wo[0])) phi = wi[0] + wo[0];  // NaN stays NaN
 }
 
@@ -309,29 +324,28 @@ class FibreScattering {
     return t;
   }
   // out[0 … B) = Σ_i a.w[i] Σ_j b.w[j] p[a.off[i] + b.off[j] + k].
+  // out[0 … B) = Σ_i a.w[i] Σ_j b.w[j] p[a.off[i] + b.off[j] + k], the four terms of each sum
+  // added pairwise (a shorter dependency chain than a running sum).
   template <int B>
-  static void accumulate2(const R* p, const FixedTaps<R>& a, const FixedTaps<R>& b, R* out) {
-    for (int k = 0; k < B; ++k) out[k] = R(0);
+  static HAIRLUT_SAMPLER_INLINE void accumulate2(const R* p, const FixedTaps<R>& a, const FixedTaps<R>& b, R* out) {
+    R row[4][B];
     for (int i = 0; i < 4; ++i) {
-      R row[B];
-      for (int k = 0; k < B; ++k) row[k] = R(0);
       const R* q = p + a.off[i];
-      for (int j = 0; j < 4; ++j) {
-        const R w = b.w[j];
-        const R* v = q + b.off[j];
-        for (int k = 0; k < B; ++k) row[k] += w * v[k];
-      }
-      for (int k = 0; k < B; ++k) out[k] += a.w[i] * row[k];
+      const R* v0 = q + b.off[0];
+      const R* v1 = q + b.off[1];
+      const R* v2 = q + b.off[2];
+      const R* v3 = q + b.off[3];
+      for (int k = 0; k < B; ++k) row[i][k] = a.w[i] * ((b.w[0] * v0[k] + b.w[1] * v1[k]) + (b.w[2] * v2[k] + b.w[3] * v3[k]));
     }
+    for (int k = 0; k < B; ++k) out[k] = (row[0][k] + row[1][k]) + (row[2][k] + row[3][k]);
   }
   template <int B>
-  static void accumulate1(const R* p, const FixedTaps<R>& a, R* out) {
-    for (int k = 0; k < B; ++k) out[k] = R(0);
-    for (int i = 0; i < 4; ++i) {
-      const R w = a.w[i];
-      const R* q = p + a.off[i];
-      for (int k = 0; k < B; ++k) out[k] += w * q[k];
-    }
+  static HAIRLUT_SAMPLER_INLINE void accumulate1(const R* p, const FixedTaps<R>& a, R* out) {
+    const R* q0 = p + a.off[0];
+    const R* q1 = p + a.off[1];
+    const R* q2 = p + a.off[2];
+    const R* q3 = p + a.off[3];
+    for (int k = 0; k < B; ++k) out[k] = (a.w[0] * q0[k] + a.w[1] * q1[k]) + (a.w[2] * q2[k] + a.w[3] * q3[k]);
   }
 
   Eval eval_ = nullptr;
