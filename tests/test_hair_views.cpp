@@ -214,7 +214,7 @@ TEST_CASE("S of a fibre from the tables matches direct evaluation within the tab
   }
 }
 
-TEST_CASE("fast_acos is within 2e-8 of acos, and fibre_angles gives the angles of S from direction vectors", "[sampler][views]") {
+TEST_CASE("fast_acos and fast_atan01 are within 2e-8 of acos and atan, and fibre_angles gives the angles of S from direction vectors", "[sampler][views]") {
   double worst = 0.0, worst_float = 0.0;
   for (int i = -20000; i <= 20000; ++i) {
     const double x = i / 20000.0;
@@ -223,6 +223,14 @@ TEST_CASE("fast_acos is within 2e-8 of acos, and fibre_angles gives the angles o
   }
   CHECK(worst < 5e-8);        // A&S 4.4.46: 2e-8, plus the rounding of the coefficients as printed
   CHECK(worst_float < 1e-6);  // plus float rounding: 4 ulps of π (2.4e-7 each)
+  double worst_atan = 0.0, worst_atan_float = 0.0;
+  for (int i = 0; i <= 20000; ++i) {
+    const double x = i / 20000.0;
+    worst_atan = std::max(worst_atan, std::abs(sampler::fast_atan01(x) - std::atan(x)));
+    worst_atan_float = std::max(worst_atan_float, std::abs(static_cast<double>(sampler::fast_atan01(static_cast<float>(x))) - std::atan(static_cast<double>(static_cast<float>(x)))));
+  }
+  CHECK(worst_atan < 5e-8);        // A&S 4.4.49: 2e-8, plus the rounding of the coefficients as printed
+  CHECK(worst_atan_float < 5e-7);  // plus float rounding: a few ulps of π/4
   std::mt19937_64 rng(5);
   for (int i = 0; i < 1000; ++i) {
     const double ti = draw(rng, -1.5, 1.5), tr = draw(rng, -1.5, 1.5), pi_ = draw(rng, -kPi, kPi), pr = draw(rng, -kPi, kPi);

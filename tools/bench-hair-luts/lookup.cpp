@@ -15,6 +15,7 @@
 // Times are thread CPU time, the best of several repeats (the machine may be shared).
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <hairlut/angles.hpp>
 #include <hairlut/hair_views.hpp>
 #include <hairlut/melanin.hpp>
@@ -151,10 +152,20 @@ std::vector<PbrtVec3> directions(std::size_t n, std::uint64_t seed) {
   return d;
 }
 
+// The 1-, 5- and 15-minute load averages (/proc/loadavg), or "" where there is none: the machine
+// may be shared, and thread CPU time still grows with what other processes take from the caches.
+std::string load_average() {
+  std::ifstream f("/proc/loadavg");
+  std::string a, b, c;
+  if (!(f >> a >> b >> c)) return "";
+  return a + " " + b + " " + c;
+}
+
 }  // namespace
 
 json bench_lookup(const Settings& st) {
   log(st.quiet, "lookup: fixed views, typed N_p, S from tables against pbrt-v4 HairBxDF::f ...\n");
+  const std::string load_before = load_average();
   json rows = json::array();
   for (Interp interp : {Interp::linear, Interp::cubic_last, Interp::cubic}) {
     rows.push_back(time_table<4>("4D N_p axes", "small", np_axes({6, 6, 8, 16}, interp), interp, true, st.quick));
@@ -293,7 +304,10 @@ json bench_lookup(const Settings& st) {
             {"tables_S_ns_double_from_angles", t_sd_angles},
             {"speedup_float_from_vectors", t_pbrt / t_sf},
             {"speedup_double_from_vectors", t_pbrt / t_sd}};
+  const std::string load_after = load_average();
   json result = {{"machine", st.machine},
+                 {"load_average_before", load_before},
+                 {"load_average_after", load_after},
                  {"code", "lib/include/hairlut/sampler_fixed.hpp (FixedView), sampler.hpp (TableView), sampler_fibre.hpp (NpLobe, "
                           "FibreScattering), tools/bench-hair-luts/lookup.cpp"},
                  {"timing", "thread CPU time, best of repeats, one thread; values stored as float32"},
@@ -302,6 +316,7 @@ json bench_lookup(const Settings& st) {
                  {"typed_np", typed},
                  {"S", s}};
   std::ostringstream md, csv;
+  if (!load_before.empty()) md << "Load average (1, 5, 15 min) before: " << load_before << "; after: " << load_after << ".\n\n";
   md << "| axes | table | interpolation | points | double | float | generic TableView |\n|---|---|---|---|---|---|---|\n";
   csv << "table,size,counts,entries,interpolation,cache,ns_double,ns_float,ns_generic_tableview\n";
   for (const json& r : rows) {
