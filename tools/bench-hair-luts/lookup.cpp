@@ -10,7 +10,7 @@
 // - S(θi, θr, φ) per RGB from the default tables (sampler::FibreScattering: R, TT, TRT, TRRT and
 //   the residual) against pbrt-v4's analytic HairBxDF::f (pbrt_hair.cpp, a re-implementation),
 //   on the same directions (uniform on the sphere), in the same run, one thread; the table path
-//   is timed from the direction vectors (sampler::fibre_angles: three fast_acos; and with
+//   is timed from the direction vectors (sampler::fibre_angles: two fast_acos and one fast_atan01; and with
 //   std::asin and two std::atan2 as pbrt's f computes its angles) and from angles.
 // Times are thread CPU time, the best of several repeats (the machine may be shared).
 #include <cmath>
