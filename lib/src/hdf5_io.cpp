@@ -18,6 +18,9 @@
 #include "hairlut/error.hpp"
 #include "hairlut/hash.hpp"
 #include "hdf5_bytes.hpp"
+#include "hdf5_layout.hpp"
+#include "axis_identity.hpp"
+#include "table_checksum.hpp"
 #include "slab_queue.hpp"
 
 namespace hairlut {
@@ -248,9 +251,17 @@ std::vector<hsize_t> chunk_dims(const std::vector<hsize_t>& dims, std::size_t el
   return chunk;
 }
 
-Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std::size_t element, int deflate) {
+Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std::size_t element, int deflate, bool whole = true) {
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_obj_track_times(dcpl.get(), 0);
+  // Datasets written whole: compact or contiguous when small or unfiltered (hdf5_layout.hpp).
+  f.check_status(detail::keep_attributes_compact(dcpl.get()), "cannot set attribute storage");
+  std::size_t bytes = element;
+  for (const hsize_t d : dims) bytes *= static_cast<std::size_t>(d);
+  if (const detail::Hdf5Layout layout = detail::whole_dataset_layout(bytes, deflate); whole && layout != detail::Hdf5Layout::chunked) {
+    f.check_status(detail::set_unfiltered_layout(dcpl.get(), layout), "cannot set the dataset layout");
+    return dcpl;
+  }
   std::vector<hsize_t> chunk = chunk_dims(dims, element);
   f.check_status(H5Pset_chunk(dcpl.get(), static_cast<int>(dims.size()), chunk.data()), "cannot set chunking");
   H5Pset_fletcher32(dcpl.get());
@@ -358,7 +369,7 @@ void verify_dimension_list(const File& f, hid_t ds, std::size_t rank, const std:
     f.fail(where + " does not list one scale per dimension (metadata altered)");
 }
 
-bool same_axis(const GridAxis& a, const GridAxis& b) { return a.to_json() == b.to_json(); }
+bool same_axis(const GridAxis& a, const GridAxis& b) { return detail::identical_axes(a, b) || a.to_json() == b.to_json(); }  // quick test first
 
 // The dataset name of an axis's dimension scale in its group: the axis's name, or name_2, name_3,
 // ... for further, different axes of the same name in the group (the energy tables of a
@@ -441,7 +452,10 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
   for (const Table& t : set.tables) index.push_back(t.path());
   write_fixed_string_attr(f, root.get(), "hairlut_tables", index.dump());
   Fnv1a64 hash;
-  if (!feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", content_checksum(set));
+  // Each table's description, dumped once for the checksum and its hairlut_table attribute.
+  std::vector<std::string> described;
+  for (const Table& t : set.tables) described.push_back(t.describe().dump());
+  if (!feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", detail::content_checksum_of(set, described));
   else hash.update(set.metadata.dump());
 
   // Dimension scales per group, then the tables.
@@ -464,14 +478,14 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     const bool dbl = t.precision == Precision::float64;
     const hid_t mem_type = dbl ? H5T_NATIVE_DOUBLE : H5T_NATIVE_FLOAT;
     Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
-    Handle dcpl = dataset_create_plist(f, dims, dbl ? 8 : 4, options.deflate);
+    Handle dcpl = dataset_create_plist(f, dims, dbl ? 8 : 4, options.deflate, !slabbed);
     Handle ds(quiet([&] {
                 return H5Dcreate2(g.get(), t.name.c_str(), dbl ? H5T_IEEE_F64LE : H5T_IEEE_F32LE, space.get(), H5P_DEFAULT,
                                   dcpl.get(), H5P_DEFAULT);
               }),
               H5Dclose);
     f.check(ds.get(), "cannot create dataset " + t.path());
-    if (feed) hash.update(t.describe().dump());
+    if (feed) hash.update(described[i]);
     if (!slabbed) {
       const void* data = dbl ? static_cast<const void*>(t.f64.data()) : static_cast<const void*>(t.f32.data());
       f.check_status(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "cannot write dataset " + t.path());
@@ -504,7 +518,7 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     write_string_attr(f, ds.get(), "units", t.units);
     write_string_attr(f, ds.get(), "long_name", t.long_name);
     write_json_attrs(f, ds.get(), t.attributes);
-    write_fixed_string_attr(f, ds.get(), "hairlut_table", t.describe().dump());
+    write_fixed_string_attr(f, ds.get(), "hairlut_table", described[i]);
   }
   if (feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", hash.hex());
 }

@@ -3,8 +3,10 @@
 // Layout: one group per table group ("np", "mp", "melanin", "materials/<name>"); in each group one
 // dataset per table and one dimension scale (H5DS) per axis, named like the axis ("theta_d",
 // "phi", "sigma_a", "beta", ...) with `units` and `long_name` attributes, so that h5py, xarray and
-// netCDF tools see real coordinates. Datasets are chunked with shuffle + deflate and a Fletcher-32
-// checksum; the file uses the HDF5 1.10 format (superblock v3, checksummed metadata, compact chunk indexes) and records no
+// netCDF tools see real coordinates. Datasets of at most 4 KiB (axes, energies, M_p of a
+// material) are compact (stored in their checksummed object header, unfiltered); larger ones are
+// chunked with shuffle + deflate and a Fletcher-32 checksum, or, with deflate 0, compact up to
+// 60 KiB and contiguous beyond (unfiltered; hairlut_checksum covers their values). The file uses the HDF5 1.10 format (superblock v3, checksummed metadata, compact chunk indexes) and records no
 // time stamps, so the same tables give the same bytes. The root carries the provenance
 // (version, model, eta, lobes, quadrature, config text and hash) as attributes.
 #pragma once
@@ -39,7 +41,7 @@ std::string format_version_text();
 void check_format_version(const std::string& text, const std::string& name);
 
 struct Hdf5WriteOptions {
-  int deflate = 6;  ///< 0 … 9; 0 stores without deflate (shuffle and checksum stay)
+  int deflate = 6;  ///< 0 … 9; 0 stores unfiltered (compact or contiguous; tables written slab by slab stay chunked with shuffle and Fletcher-32)
 };
 
 /// Writes the tables to `file` (created or truncated). Throws IoError.
