@@ -80,7 +80,7 @@ TEST_CASE("mirror lo_end: exact for f linear in sigma_a, closer than extrapolati
   }
 }
 
-TEST_CASE("mirror lo_end: away from the lower end nothing changes; refused off sqrt axes from 0", "[sampler][mirror]") {
+TEST_CASE("mirror lo_end: away from the lower end nothing changes, refused off sqrt axes from 0", "[sampler][mirror]") {
   const Axis m = sqrt_axis(8, 4.0, Placement::edges, End::mirror), e = sqrt_axis(8, 4.0, Placement::edges, End::extrapolate);
   const std::vector<double> v = sampled(m, absorbed);
   const TableView<double> vm(v.data(), &m, 1), ve(v.data(), &e, 1);
