@@ -15,6 +15,7 @@
 #include "hairlut/azimuthal_fourier.hpp"
 #include "hairlut/azimuthal_np.hpp"
 #include "hairlut/bake_engine.hpp"
+#include "hairlut/beta_bands.hpp"
 #include "hairlut/error.hpp"
 #include "hairlut/hair_model.hpp"
 #include "hairlut/lobe_energy.hpp"
@@ -508,6 +509,8 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       if (c.residual) set.tables[residual_index].set(is * ent + it, e.back() / kTwoPi);
     });
     report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt + static_cast<std::size_t>(lobe_set.size()) * energy_sigmas.size() * ent;
+    // β bands 1 … n − 1 (beta_bands.cpp); the tables above are band 0.
+    if (!c.np_beta_bands.empty()) append_beta_band_tables(c, s.lobes, normalize_energy, precision, opt, set, report);
   }
 
   // ---- Per-material RGB tables over (channel, θd, φ).

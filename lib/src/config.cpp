@@ -112,6 +112,7 @@ GridAxis make_axis(const json& j, const std::string& path, const std::string& na
   }
   if (j.contains("interpolation"))
     a.interpolation = parse_interpolation(j.at("interpolation").get<std::string>(), path + ".interpolation");
+  if (j.contains("lo_end")) a.lo_end = parse_end(j.at("lo_end").get<std::string>(), path + ".lo_end");  // cubic end rule at lo
   // N_p depends on θd through cos θd only: the axis folds a signed θd to |θd| (and a cubic
   // interpolation mirrors its neighbours across θd = 0).
   if (name == "theta_d") a.wrap = Wrap::even;
@@ -394,6 +395,23 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
       c.np_energy_axes = std::vector<GridAxis>{es, et};
       checked([&] { validate_interpolation(*c.np_energy_axes, "tables.np.energy_axes"); });
     }
+    if (np.contains("beta_bands")) {  // β bands (beta_bands.cpp): band 0 becomes the N_p axes
+      if (c.marschner || doc.contains("scene") || c.np_target_error)
+        fail("tables.np.beta_bands", "applies to generic deon2011 N_p tables without a scene or target_error");
+      checked([&] {
+        c.np_beta_bands = parse_beta_bands(np.at("beta_bands"), ax, [&](const json& bx, const std::string& bp) {
+          std::vector<GridAxis> b{make_axis(bx.at("beta"), bp + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)"),
+                                  make_axis(bx.at("sigma_a"), bp + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius"),
+                                  make_axis(bx.at("theta_d"), bp + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad", "longitudinal difference angle theta_d = (theta_r - theta_i)/2"),
+                                  make_phi_axis(bx.at("phi"), bp + "phi")};
+          validate_interpolation(b, bp.substr(0, bp.size() - 1));
+          return b;
+        });
+      });
+      if (std::abs(c.np_beta_bands.front().lo() - beta_axis.lo) > 1e-12 || std::abs(c.np_beta_bands.back().hi() - beta_axis.hi) > 1e-12)
+        fail("tables.np.beta_bands", "must cover tables.np.axes.beta's range from its first band's lo to its last band's hi");
+      c.np_axes = c.np_beta_bands.front().axes;
+    }
   }
   if (tables.contains("mp")) {
     const json& ax = tables.at("mp").at("axes");
@@ -528,6 +546,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
     if (c.np_normalize_energy) t["np"]["normalize"] = "energy";
     if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);
+    if (!c.np_beta_bands.empty()) t["np"]["beta_bands"] = beta_bands_json(c.np_beta_bands);
   }
   if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
   if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};
