@@ -15,11 +15,11 @@
 // Times are thread CPU time, the best of several repeats (the machine may be shared).
 #include <cmath>
 #include <cstdint>
-#include <hairlut/angles.hpp>
-#include <hairlut/hair_views.hpp>
-#include <hairlut/melanin.hpp>
-#include <hairlut/sampler_fixed.hpp>
-#include <hairlut/table_io.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/tables/hair_views.hpp>
+#include <hairlut/physics/melanin.hpp>
+#include <hairlut/sampler/sampler_fixed.hpp>
+#include <hairlut/io/table_io.hpp>
 #include <random>
 #include <sstream>
 
@@ -294,7 +294,7 @@ json bench_lookup(const Settings& st) {
             {"speedup_float_from_vectors", t_pbrt / t_sf},
             {"speedup_double_from_vectors", t_pbrt / t_sd}};
   json result = {{"machine", st.machine},
-                 {"code", "lib/include/hairlut/sampler_fixed.hpp (FixedView), sampler.hpp (TableView), sampler_fibre.hpp (NpLobe, "
+                 {"code", "lib/include/hairlut/sampler/sampler_fixed.hpp (FixedView), sampler.hpp (TableView), sampler_fibre.hpp (NpLobe, "
                           "FibreScattering), tools/bench-hair-luts/lookup.cpp"},
                  {"timing", "thread CPU time, best of repeats, one thread; values stored as float32"},
                  {"lookups", rows},
