@@ -5,15 +5,15 @@
 // estimated through sampling, for every lobe of the default tables and of per-material tables.
 #include <algorithm>
 #include <cmath>
-#include <hairlut/attenuation.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/lobe_energy.hpp>
-#include <hairlut/longitudinal_mp.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/sampling.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/table_sampling.hpp>
-#include <hairlut/validate.hpp>
+#include <hairlut/physics/attenuation.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/physics/lobe_energy.hpp>
+#include <hairlut/physics/longitudinal_mp.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/sampler/sampling.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/tables/table_sampling.hpp>
+#include <hairlut/report/validate.hpp>
 #include <map>
 #include <random>
 #include <string>

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "hairlut/table_io.hpp"
-#include "hairlut/table_sampling.hpp"
+#include "hairlut/io/table_io.hpp"
+#include "hairlut/tables/table_sampling.hpp"
 
 namespace bench {
 
