@@ -31,6 +31,7 @@ Axis random_axis(std::mt19937_64& rng) {
     default: a.lo = -1.0, a.hi = 2.0;
   }
   if (a.wrap == Wrap::even) a.spacing = Spacing::uniform, a.lo = 0.0, a.hi = kPi;
+  if (a.spacing == Spacing::sqrt && a.wrap == Wrap::clamp && u(rng) < 0.5) a.lo_end = End::mirror;
   if (a.wrap == Wrap::clamp && a.count > 1 && u(rng) < 0.2) {
     // Explicit nodes (linear in x): strictly increasing, kept alive for the test's duration.
     static std::vector<std::vector<double>> pool;

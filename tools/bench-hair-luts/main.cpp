@@ -125,6 +125,7 @@ double time_per_entry(const NpQuadratureConfig& q, std::size_t n_theta, std::siz
 
 namespace bench {
 json bench_sampling(const Settings& s);  // sampling.cpp
+json bench_bands(const Settings& s);  // bands.cpp
 }
 
 int main(int argc, char** argv) {
@@ -149,7 +150,7 @@ int main(int argc, char** argv) {
   app.add_option("--only", only,
                  "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets, lookup, sampling (the full run "
                  "also writes bench.json/csv/md and pareto.svg)")
-      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup", "sampling"}));
+      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup", "sampling", "bands"}));
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)\n\n"
              "Exit status: 0 done, 2 bad command line (one line \"bench-hair-luts: error: ...\" on stderr).");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
@@ -182,7 +183,7 @@ int main(int argc, char** argv) {
   if (presets_only) only = "presets";
   if (!only.empty()) {
     const std::map<std::string, std::string> files = {{"presets", "presets"}, {"per-material", "per-material"}, {"end-to-end", "end-to-end"},
-                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}, {"lookup", "lookup"}, {"sampling", "sampling"}};
+                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}, {"lookup", "lookup"}, {"sampling", "sampling"}, {"bands", "bands"}};
     if (only == "presets") write_presets(bench_presets(st), st);
     if (only == "per-material") bench_per_material(st);
     if (only == "end-to-end") bench_end_to_end(st);
@@ -190,6 +191,7 @@ int main(int argc, char** argv) {
     if (only == "pbrt") bench_pbrt(st);
     if (only == "lookup") bench_lookup(st);
     if (only == "sampling") bench_sampling(st);  // sampling.cpp
+    if (only == "bands") bench_bands(st);  // bands.cpp
     const std::string base = files.at(only);
     if (!quiet) {
       std::ostringstream md;

@@ -12,6 +12,7 @@
 #include "bake_internal.hpp"
 #include "bake_stages.hpp"
 #include "hairlut/bake/resolution.hpp"
+#include "hairlut/tables/beta_bands.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
@@ -346,75 +347,77 @@ void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
   const LobeSet lobe_set{s.lobes, c.residual};
   const std::shared_ptr<GaussLegendreCache>& rules = run.rules;
   std::size_t& unconverged = run.unconverged;
-const std::vector<double> betas = axis_named(np_axes, "beta").nodes(), sigmas = axis_named(np_axes, "sigma_a").nodes(),
-                          thetas = axis_named(np_axes, "theta_d").nodes(), phis = axis_named(np_axes, "phi").nodes();
-// The energy and residual tables live on their own (σa, θd) axes when the config gives them
-// (they are small, so they may be denser than N_p's).
-std::vector<GridAxis> st_axes = {axis_named(np_axes, "sigma_a"), axis_named(np_axes, "theta_d")};
-if (energy_axes) st_axes = *energy_axes;
-const std::vector<double> energy_sigmas = st_axes[0].nodes(), energy_thetas = st_axes[1].nodes();
-const std::size_t first = set.tables.size();
-for (int p = 0; p < s.lobes; ++p) {
-  const std::string lobe = lobe_name(p);
-  Table t = make_table("np", lobe, "N_p", "1/rad",
-                       normalize_energy ? "shape N_p / E_p of lobe " + lobe + " (N_p = this x np/energy_" + lobe + ")"
-                                             : "azimuthal scattering function N_p of lobe " + lobe,
-                       np_axes, precision, !slabbed);
-  t.attributes = {{"lobe", lobe}, {"p", p}};
-  if (normalize_energy) t.attributes["factor"] = "np/energy_" + lobe;
-  set.tables.push_back(std::move(t));
-}
-// normalize "energy": every N_p value is divided by its lobe's energy at the same (σa, θd)
-// node (the shape integrates to 1 over φ and changes slowly where the energy falls fast).
-const std::size_t ns = sigmas.size(), nt = thetas.size();
-std::vector<double> node_energy;
-if (normalize_energy) {
-  node_energy.assign(static_cast<std::size_t>(s.lobes) * ns * nt, 0.0);
-  bake_energies(s, LobeSet{s.lobes, false}, sigmas, thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
-    for (int p = 0; p < s.lobes; ++p) node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it] = e[static_cast<std::size_t>(p)];
+  const std::vector<double> betas = axis_named(np_axes, "beta").nodes(), sigmas = axis_named(np_axes, "sigma_a").nodes(),
+                            thetas = axis_named(np_axes, "theta_d").nodes(), phis = axis_named(np_axes, "phi").nodes();
+  // The energy and residual tables live on their own (σa, θd) axes when the config gives them
+  // (they are small, so they may be denser than N_p's).
+  std::vector<GridAxis> st_axes = {axis_named(np_axes, "sigma_a"), axis_named(np_axes, "theta_d")};
+  if (energy_axes) st_axes = *energy_axes;
+  const std::vector<double> energy_sigmas = st_axes[0].nodes(), energy_thetas = st_axes[1].nodes();
+  const std::size_t first = set.tables.size();
+  for (int p = 0; p < s.lobes; ++p) {
+    const std::string lobe = lobe_name(p);
+    Table t = make_table("np", lobe, "N_p", "1/rad",
+                         normalize_energy ? "shape N_p / E_p of lobe " + lobe + " (N_p = this x np/energy_" + lobe + ")"
+                                               : "azimuthal scattering function N_p of lobe " + lobe,
+                         np_axes, precision, !slabbed);
+    t.attributes = {{"lobe", lobe}, {"p", p}};
+    if (normalize_energy) t.attributes["factor"] = "np/energy_" + lobe;
+    set.tables.push_back(std::move(t));
+  }
+  // normalize "energy": every N_p value is divided by its lobe's energy at the same (σa, θd)
+  // node (the shape integrates to 1 over φ and changes slowly where the energy falls fast).
+  const std::size_t ns = sigmas.size(), nt = thetas.size();
+  std::vector<double> node_energy;
+  if (normalize_energy) {
+    node_energy.assign(static_cast<std::size_t>(s.lobes) * ns * nt, 0.0);
+    bake_energies(s, LobeSet{s.lobes, false}, sigmas, thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
+      for (int p = 0; p < s.lobes; ++p) node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it] = e[static_cast<std::size_t>(p)];
+    });
+  }
+  const std::size_t energy_first = set.tables.size();
+  for (int p = 0; p < lobe_set.size(); ++p) {
+    const bool res = p == s.lobes;
+    const std::string lobe = res ? "residual" : lobe_name(p);
+    Table t = make_table("np", "energy_" + lobe, "energy", "1",
+                         "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : ""),
+                         st_axes, precision);
+    t.attributes = {{"lobe", lobe}, {"p", p}};
+    set.tables.push_back(std::move(t));
+  }
+  std::size_t residual_index = 0;
+  if (c.residual) {
+    Table t = make_table("np", "residual", "N_p", "1/rad",
+                         "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)",
+                         st_axes, precision);
+    t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
+    residual_index = set.tables.size();
+    set.tables.push_back(std::move(t));
+  }
+  const std::size_t nb = betas.size(), nphi = phis.size();
+  if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
+    report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
+  if (slabbed) {
+    const auto energy = std::make_shared<const std::vector<double>>(std::move(node_energy));
+    for (int p = 0; p < s.lobes; ++p)
+      slabbed->tables.push_back({first + static_cast<std::size_t>(p),
+                                 np_rows({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [betas](int) { return betas; }, rules, {}},
+                                         p, energy, opt)});
+  } else {
+    unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules, {}}, opt, "N_p",
+                                [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+                                  set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip,
+                                                                                      np_shape(node_energy, p, ns, nt, is, it, v));
+                                });
+  }
+  const std::size_t ent = energy_thetas.size();
+  bake_energies(s, lobe_set, energy_sigmas, energy_thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
+    for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * ent + it, e[p]);
+    if (c.residual) set.tables[residual_index].set(is * ent + it, e.back() / kTwoPi);
   });
-}
-const std::size_t energy_first = set.tables.size();
-for (int p = 0; p < lobe_set.size(); ++p) {
-  const bool res = p == s.lobes;
-  const std::string lobe = res ? "residual" : lobe_name(p);
-  Table t = make_table("np", "energy_" + lobe, "energy", "1",
-                       "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : ""),
-                       st_axes, precision);
-  t.attributes = {{"lobe", lobe}, {"p", p}};
-  set.tables.push_back(std::move(t));
-}
-std::size_t residual_index = 0;
-if (c.residual) {
-  Table t = make_table("np", "residual", "N_p", "1/rad",
-                       "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)",
-                       st_axes, precision);
-  t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
-  residual_index = set.tables.size();
-  set.tables.push_back(std::move(t));
-}
-const std::size_t nb = betas.size(), nphi = phis.size();
-if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
-  report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
-if (slabbed) {
-  const auto energy = std::make_shared<const std::vector<double>>(std::move(node_energy));
-  for (int p = 0; p < s.lobes; ++p)
-    slabbed->tables.push_back({first + static_cast<std::size_t>(p),
-                               np_rows({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [betas](int) { return betas; }, rules, {}},
-                                       p, energy, opt)});
-} else {
-  unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules, {}}, opt, "N_p",
-                              [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
-                                set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip,
-                                                                                    np_shape(node_energy, p, ns, nt, is, it, v));
-                              });
-}
-const std::size_t ent = energy_thetas.size();
-bake_energies(s, lobe_set, energy_sigmas, energy_thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
-  for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * ent + it, e[p]);
-  if (c.residual) set.tables[residual_index].set(is * ent + it, e.back() / kTwoPi);
-});
-report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt + static_cast<std::size_t>(lobe_set.size()) * energy_sigmas.size() * ent;
+  report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt + static_cast<std::size_t>(lobe_set.size()) * energy_sigmas.size() * ent;
+  // β bands 1 … n − 1 (beta_bands.cpp); the tables above are band 0.
+  if (!c.np_beta_bands.empty()) append_beta_band_tables(c, s.lobes, normalize_energy, precision, opt, set, report);
 }
 
 }  // namespace detail

@@ -138,6 +138,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
     if (c.np_normalize_energy) t["np"]["normalize"] = "energy";
     if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);
+    if (!c.np_beta_bands.empty()) t["np"]["beta_bands"] = beta_bands_json(c.np_beta_bands);
   }
   if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
   if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};

@@ -70,6 +70,7 @@ GridAxis make_axis(const json& j, const std::string& path, const std::string& na
   }
   if (j.contains("interpolation"))
     a.interpolation = parse_interpolation(j.at("interpolation").get<std::string>(), path + ".interpolation");
+  if (j.contains("lo_end")) a.lo_end = parse_end(j.at("lo_end").get<std::string>(), path + ".lo_end");  // cubic end rule at lo
   // N_p depends on θd through cos θd only: the axis folds a signed θd to |θd| (and a cubic
   // interpolation mirrors its neighbours across θd = 0).
   if (name == "theta_d") a.wrap = Wrap::even;

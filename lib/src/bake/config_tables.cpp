@@ -81,6 +81,23 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
     c.np_energy_axes = std::vector<GridAxis>{es, et};
     checked([&] { validate_interpolation(*c.np_energy_axes, "tables.np.energy_axes"); });
   }
+  if (np.contains("beta_bands")) {  // β bands (beta_bands.cpp): band 0 becomes the N_p axes
+    if (c.marschner || doc.contains("scene") || c.np_target_error)
+      fail("tables.np.beta_bands", "applies to generic deon2011 N_p tables without a scene or target_error");
+    checked([&] {
+      c.np_beta_bands = parse_beta_bands(np.at("beta_bands"), ax, [&](const json& bx, const std::string& bp) {
+        std::vector<GridAxis> b{make_axis(bx.at("beta"), bp + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)"),
+                                make_axis(bx.at("sigma_a"), bp + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius"),
+                                make_axis(bx.at("theta_d"), bp + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad", "longitudinal difference angle theta_d = (theta_r - theta_i)/2"),
+                                make_phi_axis(bx.at("phi"), bp + "phi")};
+        validate_interpolation(b, bp.substr(0, bp.size() - 1));
+        return b;
+      });
+    });
+    if (std::abs(c.np_beta_bands.front().lo() - beta_axis.lo) > 1e-12 || std::abs(c.np_beta_bands.back().hi() - beta_axis.hi) > 1e-12)
+      fail("tables.np.beta_bands", "must cover tables.np.axes.beta's range from its first band's lo to its last band's hi");
+    c.np_axes = c.np_beta_bands.front().axes;
+  }
 }
 
 void parse_mp_tables(const json& doc, const json& tables, BakeConfig& c) {

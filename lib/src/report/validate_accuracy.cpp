@@ -102,6 +102,7 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
     check_cancel(opt);
     json tj = {{"path", t.path()}, {"quantity", t.quantity}, {"kind", kind}, {"denominator", r.denominator}, {"dims", json::array()}};
     for (const GridAxis& a : t.axes) tj["dims"].push_back(a.name);
+    if (t.attributes.contains("beta_band")) tj["beta_band"] = t.attributes["beta_band"];  // N_p in β bands (beta_bands.hpp)
     tj["off_node"] = error_stats(r.error);
     tj["off_node_half"] = error_stats(r.half);
     json at = json::object();

@@ -29,6 +29,8 @@ constexpr std::pair<std::string_view, Wrap> kWraps[] = {
 constexpr std::pair<std::string_view, Interpolation> kInterpolations[] = {
     {"linear", Interpolation::linear}, {"cubic", Interpolation::cubic}, {"geometric", Interpolation::geometric}};
 
+constexpr std::pair<std::string_view, End> kEnds[] = {{"extrapolate", End::extrapolate}, {"mirror", End::mirror}};
+
 template <class E, std::size_t N>
 std::string_view name_of(E value, const std::pair<std::string_view, E> (&names)[N]) {
   for (const auto& [name, v] : names)
@@ -47,6 +49,9 @@ Wrap parse_wrap(std::string_view text, std::string_view what) { return parse_enu
 std::string_view to_string(Interpolation i) { return name_of(i, kInterpolations); }
 Interpolation parse_interpolation(std::string_view text, std::string_view what) { return parse_enum(text, what, kInterpolations); }
 
+std::string_view to_string(End e) { return name_of(e, kEnds); }
+End parse_end(std::string_view text, std::string_view what) { return parse_enum(text, what, kEnds); }
+
 sampler::Axis GridAxis::view() const {
   sampler::Axis a;
   a.spacing = spacing;
@@ -57,6 +62,7 @@ sampler::Axis GridAxis::view() const {
   a.count = count;
   a.values = values.empty() ? nullptr : values.data();
   a.interpolation = interpolation;
+  a.lo_end = lo_end;
   return a;
 }
 
@@ -70,6 +76,10 @@ std::vector<double> GridAxis::nodes() const {
 void GridAxis::validate(const std::string& where) const {
   if (interpolation == Interpolation::cubic && spacing == Spacing::explicit_values)
     throw DomainError(where + ".interpolation cubic needs a mapped spacing, not explicit values");
+  // A mirror lower end says the function is even about lo in the mapped coordinate: what f(t²)
+  // is in t = √x at x = 0.
+  if (lo_end == End::mirror && !(spacing == Spacing::sqrt && lo == 0.0 && wrap == Wrap::clamp))
+    throw DomainError(where + ".lo_end mirror needs sqrt spacing from 0 with wrap clamp");
   if (count < 1) throw_domain_error(where + ".count", "must be >= 1", static_cast<long long>(count));
   if (count > (1 << 20)) throw_domain_error(where + ".count", "must be <= 1048576", static_cast<long long>(count));
   if (spacing == Spacing::explicit_values) {
@@ -125,6 +135,7 @@ nlohmann::ordered_json GridAxis::to_json() const {
   j["wrap"] = to_string(wrap);
   j["range"] = {lo, hi};
   j["interpolation"] = to_string(interpolation);
+  if (lo_end != End::extrapolate) j["lo_end"] = to_string(lo_end);  // absent: extrapolate (older files)
   j["values"] = nodes();
   if (!labels.empty()) j["labels"] = labels;
   return j;
@@ -151,6 +162,7 @@ GridAxis GridAxis::from_json(const nlohmann::json& j, const std::string& where) 
     if (a.spacing == Spacing::explicit_values) a.values = field("values").get<std::vector<double>>();
     if (j.contains("interpolation"))
       a.interpolation = parse_interpolation(j.at("interpolation").get<std::string>(), where + ".interpolation");
+    if (j.contains("lo_end")) a.lo_end = parse_end(j.at("lo_end").get<std::string>(), where + ".lo_end");
     if (j.contains("labels")) a.labels = j.at("labels").get<std::vector<std::string>>();
   } catch (const nlohmann::json::exception& e) {
     throw DomainError(where + ": malformed axis description (" + std::string(e.what()) + ")");

@@ -6,6 +6,7 @@
 
 #include "hairlut/util/error.hpp"
 #include "hairlut/physics/melanin.hpp"
+#include "hairlut/tables/beta_bands.hpp"
 
 namespace hairlut {
 namespace {
@@ -65,6 +66,22 @@ sampler::HairTables<T, R> hair_tables(const TableSet& set) {
     const Table* e = factor_of<T>(set, n);
     if (e) axes_of<T>(*e, ea);
     h.np[p] = sampler::NpLobe<T, R>(values<T>(n), na, e ? values<T>(*e) : nullptr, e ? ea : nullptr);
+    // β bands (beta_bands.hpp): band k ≥ 1 is np/<lobe>_band<k>.
+    const auto bands = set.metadata.find("np_beta_bands");
+    const int nb = bands != set.metadata.end() && bands->is_array() ? static_cast<int>(bands->size()) : 1;
+    if (nb > h.kMaxBetaBands || nb < 1)
+      throw DomainError("table set: " + std::to_string(nb) + " beta bands, the typed views read 1 to " + std::to_string(h.kMaxBetaBands));
+    h.beta_bands = nb;
+    for (int k = 0; k < nb; ++k) {
+      const Table& b = k == 0 ? n : require<T>(set, "np/" + lobe + beta_band_suffix(k), {"beta", "sigma_a", "theta_d", "phi"});
+      h.band_hi[k] = b.axes[0].hi;
+      if (k == 0) continue;
+      sampler::Axis ba[4], bea[2];
+      axes_of<T>(b, ba);
+      const Table* be = factor_of<T>(set, b);
+      if (be) axes_of<T>(*be, bea);
+      h.np_band[k - 1][p] = sampler::NpLobe<T, R>(values<T>(b), ba, be ? values<T>(*be) : nullptr, be ? bea : nullptr);
+    }
     const Table& m = require<T>(set, "mp/" + lobe, {"beta", "theta_i", "theta_r"});
     sampler::Axis ma[3];
     axes_of<T>(m, ma);

@@ -14,6 +14,7 @@
 #include "hairlut/physics/attenuation.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
 #include "hairlut/bake/engine_presets.hpp"
+#include "hairlut/tables/beta_bands.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/util/hash.hpp"
@@ -109,6 +110,8 @@ struct BakeConfig {
   bool np_normalize_energy = false;
   /// tables.np.energy_axes: sigma_a, theta_d of the energy and residual tables (default: the N_p axes).
   std::optional<std::vector<GridAxis>> np_energy_axes;
+  /// tables.np.beta_bands (beta_bands.hpp): N_p per β band; band 0's axes are np_axes.
+  std::vector<BetaBand> np_beta_bands;
   std::optional<std::vector<GridAxis>> mp_axes;       ///< beta (β_R for marschner2003), theta_i, theta_r
   std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
   double melanin_path_length = 2.0;

@@ -33,7 +33,7 @@ class IoError : public std::runtime_error {
 /// file; a major change may alter or remove what a reader relies on, and readers refuse a newer
 /// major version (docs/table-format.md, "Format version and compatibility").
 inline constexpr int kFormatVersionMajor = 1;
-inline constexpr int kFormatVersionMinor = 0;
+inline constexpr int kFormatVersionMinor = 1;
 std::string format_version_text();
 
 /// Throws IoError("<name>: ...") unless `text` is "MAJOR.MINOR" (decimal) with MAJOR equal to

@@ -25,6 +25,11 @@
 //       v₀^(1−w) v₁^w, i.e. linear in log v, for quantities that fall exponentially along the
 //       axis such as N_p along σa; linear where either value is ≤ 0). A table has at most one
 //       geometric axis; it is combined last, after the tensor product over the other axes.
+//   - `lo_end` (absent: extrapolate): mirror makes the lower end a mirror end for cubic
+//       interpolation, as across an even end: the missing node beyond lo is the mirror node
+//       (about node 0 for edges, about lo for centers) instead of the quadratic extrapolation.
+//       For a sqrt axis starting at 0, e.g. σa: f(σa) = f(t²) is even in t = √σa, so the mirror
+//       node is exact, and a cubic reconstruction has slope 0 in t at σa = 0 as f has.
 //   - Data are stored row-major: the last axis varies fastest.
 #pragma once
 
@@ -39,6 +44,8 @@ enum class Spacing : int { uniform = 0, cos = 1, sin = 2, log = 3, sqrt = 4, exp
 enum class Placement : int { edges = 0, centers = 1 };
 enum class Wrap : int { clamp = 0, periodic = 1, even = 2, reflect = 3 };
 enum class Interpolation : int { linear = 0, cubic = 1, geometric = 2 };
+/// The rule for a cubic tap beyond the lower end of a clamped axis.
+enum class End : int { extrapolate = 0, mirror = 1 };
 
 struct Axis {
   Spacing spacing = Spacing::uniform;
@@ -49,6 +56,7 @@ struct Axis {
   int count = 1;
   const double* values = nullptr;  ///< the `count` nodes, for Spacing::explicit_values only
   Interpolation interpolation = Interpolation::linear;
+  End lo_end = End::extrapolate;  ///< mirror: the node beyond lo is the mirror node (sqrt axes from 0)
 };
 
 /// Two neighbouring nodes and the weight of the second: value = (1 − w) v[i0] + w v[i1].
@@ -192,7 +200,9 @@ inline int wrapped_index(const Axis& a, int i) {
   // Even azimuths are symmetric about 0 and π, reflect axes about both ends of their range:
   // mirror about the end node (edges) or the end of the range (centers).
   const double pi = 3.14159265358979323846;
-  const bool mirror = a.wrap == Wrap::reflect || (a.wrap == Wrap::even && (i < 0 ? a.lo == 0.0 : a.hi == pi));
+  // A mirror lower end (lo_end) is mirrored the same way.
+  const bool mirror = a.wrap == Wrap::reflect || (a.wrap == Wrap::even && (i < 0 ? a.lo == 0.0 : a.hi == pi)) ||
+                      (i < 0 && a.lo_end == End::mirror);
   if (!mirror) return -1;
   const bool centers = a.placement == Placement::centers;
   if (i < 0) i = centers ? -1 - i : -i;
@@ -229,7 +239,8 @@ inline Taps taps(const PreparedAxis& p, double x) {
   int idx[4] = {l.i0 - 1, l.i0, l.i1, l.i1 + 1};
   if (a.wrap == Wrap::periodic) idx[2] = l.i0 + 1;  // l.i1 may already be wrapped
   for (int k = 0; k < 4; ++k) idx[k] = wrapped_index(a, idx[k]);
-  // Beyond a clamped end: the quadratic extrapolation v₋₁ = 3v₀ − 3v₁ + v₂ (and its mirror).
+  // Beyond a clamped end (not a mirror lo_end): the quadratic extrapolation v₋₁ = 3v₀ − 3v₁ + v₂
+  // (and its mirror).
   if (idx[0] < 0) {
     idx[0] = idx[1];
     const double g = w[0];

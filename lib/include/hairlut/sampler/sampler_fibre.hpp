@@ -168,13 +168,34 @@ class NpResidual {
 template <class T, class R = double>
 struct HairTables {
   static constexpr int kMaxLobes = 8;
+  static constexpr int kMaxBetaBands = 4;
   int lobes = 0;           ///< explicit lobes p = 0 … lobes − 1 (R, TT, TRT, ...)
   double eta = 0.0;        ///< the fibre's refractive index the tables were baked for
-  NpLobe<T, R> np[kMaxLobes];
+  NpLobe<T, R> np[kMaxLobes];  ///< N_p (β band 0 of a set baked in β bands)
+  /// β bands (docs/table-format.md): band 0 is np, band k ≥ 1 np_band[k − 1]; band_hi[k] is the
+  /// upper end of band k's β range. A set without bands has beta_bands = 1.
+  int beta_bands = 1;
+  double band_hi[kMaxBetaBands] = {};
+  NpLobe<T, R> np_band[kMaxBetaBands - 1][kMaxLobes];
   MpLobe<T, R> mp[kMaxLobes];
   bool has_residual = false;
   NpResidual<T, R> np_residual;
   MpLobe<T, R> mp_residual;
+
+  /// The band that serves β: the first whose upper end is ≥ β (a shared edge reads the lower
+  /// band), the last band above the last end.
+  int band_of(R beta) const {
+    int k = 0;
+    while (k + 1 < beta_bands && beta > static_cast<R>(band_hi[k])) ++k;
+    return k;
+  }
+  /// The N_p views of every lobe in the band that serves β.
+  const NpLobe<T, R>* np_at(R beta) const {
+    const int k = band_of(beta);
+    return k == 0 ? np : np_band[k - 1];
+  }
+  /// N_p of lobe p [1/rad] at β, σa, θd, φ, from the band that serves β.
+  R np_value(int p, R beta, R sigma_a, R theta_d, R phi) const { return np_at(beta)[p](beta, sigma_a, theta_d, phi); }
 };
 
 /// One fibre: absorption per channel (per unit radius; e.g. from melanin), the longitudinal
@@ -219,7 +240,8 @@ class FibreScattering {
     // Blocks padded to multiples of 4 values (whole SIMD registers; the padding holds zeros).
     const auto bn = static_cast<std::size_t>(pad(3 * lobes_)), be = static_cast<std::size_t>(pad(3 * L_)), bm = static_cast<std::size_t>(pad(L_));
     // N_p: [θd node][φ node][lobe][channel].
-    const auto& n0 = t.np[0].table();
+    const NpLobe<T, R>* np = t.np_at(static_cast<R>(f.beta_n));  // the β band of the fibre
+    const auto& n0 = np[0].table();
     np_axes_[0] = n0.axis(2).axis(), np_axes_[1] = n0.axis(3).axis();
     const int nt = np_axes_[0].count, nf = np_axes_[1].count;
     np_theta_ = FixedAxis<R>(np_axes_[0], static_cast<std::size_t>(nf) * bn);
@@ -231,11 +253,11 @@ class FibreScattering {
           for (int c = 0; c < 3; ++c) {
             const R x[4] = {static_cast<R>(f.beta_n), static_cast<R>(f.sigma_a[c]), static_cast<R>(node(np_axes_[0], k)),
                             static_cast<R>(node(np_axes_[1], j))};
-            np_[static_cast<std::size_t>(k * nf + j) * bn + static_cast<std::size_t>(3 * p + c)] = t.np[p].table()(x);
+            np_[static_cast<std::size_t>(k * nf + j) * bn + static_cast<std::size_t>(3 * p + c)] = np[p].table()(x);
           }
     // Energies and the residual: [θd node][lobe][channel] (1 for a lobe that stores N_p itself).
-    has_energy_ = t.np[0].has_energy();
-    e_axis_ = has_energy_ ? t.np[0].energy().axis(1).axis() : np_axes_[0];
+    has_energy_ = np[0].has_energy();
+    e_axis_ = has_energy_ ? np[0].energy().axis(1).axis() : np_axes_[0];
     const int ne = e_axis_.count;
     e_theta_ = FixedAxis<R>(e_axis_, be);
     e_.assign(static_cast<std::size_t>(ne) * be, R(0));
@@ -243,7 +265,7 @@ class FibreScattering {
       const R th = static_cast<R>(node(e_axis_, k));
       for (int c = 0; c < 3; ++c) {
         const R sa = static_cast<R>(f.sigma_a[c]);
-        for (int p = 0; p < lobes_; ++p) e_[static_cast<std::size_t>(k) * be + static_cast<std::size_t>(3 * p + c)] = t.np[p].energy(sa, th);
+        for (int p = 0; p < lobes_; ++p) e_[static_cast<std::size_t>(k) * be + static_cast<std::size_t>(3 * p + c)] = np[p].energy(sa, th);
         if (residual_) e_[static_cast<std::size_t>(k) * be + static_cast<std::size_t>(3 * lobes_ + c)] = t.np_residual(sa, th);
       }
     }

@@ -171,8 +171,8 @@ class FixedAxis {
   // The cubic taps of the cell [i0, i0 + 1] next to an end, weights r.w already Catmull–Rom's.
   void end_taps(int i0, FixedTaps<R>& r) const {
     const Axis& a = prepared_.axis;
-    // Next to an end: the wrapped or mirrored node, or the quadratic extrapolation beyond a
-    // clamped end (sampler.hpp's taps()).
+    // Next to an end: the wrapped or mirrored node (an even or reflect end, a mirror lo_end), or
+    // the quadratic extrapolation beyond a clamped end (sampler.hpp's taps()).
     int idx[4] = {i0 - 1, i0, i0 + 1, i0 + 2};
     for (int k = 0; k < 4; ++k) idx[k] = wrapped_index(a, idx[k]);
     if (idx[0] < 0) {

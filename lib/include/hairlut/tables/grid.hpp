@@ -16,6 +16,7 @@ using sampler::Placement;
 using sampler::Spacing;
 using sampler::Wrap;
 using sampler::Interpolation;
+using sampler::End;
 
 std::string_view to_string(Spacing s);
 std::string_view to_string(Placement p);
@@ -26,6 +27,8 @@ Placement parse_placement(std::string_view text, std::string_view what);
 Wrap parse_wrap(std::string_view text, std::string_view what);
 std::string_view to_string(Interpolation i);
 Interpolation parse_interpolation(std::string_view text, std::string_view what);
+std::string_view to_string(End e);
+End parse_end(std::string_view text, std::string_view what);
 
 /// One axis of a table.
 struct GridAxis {
@@ -36,6 +39,7 @@ struct GridAxis {
   Placement placement = Placement::edges;
   Wrap wrap = Wrap::clamp;
   Interpolation interpolation = Interpolation::linear;  ///< along this axis (see sampler.hpp)
+  End lo_end = End::extrapolate;  ///< mirror: cubic taps beyond lo mirror (sqrt axes from 0 only)
   double lo = 0.0, hi = 1.0;
   int count = 1;
   std::vector<double> values;  ///< explicit nodes (Spacing::explicit_values only)

@@ -25,8 +25,10 @@ struct HairTables {
 };
 
 /// The lobes of `group`: "" for the generic tables (groups np and mp), or "materials/<name>".
+/// Generic tables baked in β bands: the N_p tables of band `beta_band` (its attribute
+/// `beta_band.index`; docs/table-format.md), which serve fibres whose β lies in that band.
 /// Throws DomainError when a table is missing, is not float32, or cannot be sampled.
-inline HairTables hair_tables(const TableSet& set, const std::string& group) {
+inline HairTables hair_tables(const TableSet& set, const std::string& group, int beta_band = 0) {
   HairTables h;
   auto ref = [&](const Table* t) {
     sampler::TableRef<float> r;
@@ -44,6 +46,7 @@ inline HairTables hair_tables(const TableSet& set, const std::string& group) {
   for (const Table& t : set.tables) {
     if (t.quantity != "N_p") continue;
     if (generic ? t.group != "np" : (t.group != group || t.name.rfind("np_", 0) != 0)) continue;
+    if (t.attributes.contains("beta_band") ? t.attributes["beta_band"].value("index", 0) != beta_band : beta_band != 0) continue;
     const std::string lobe = t.attributes.value("lobe", std::string());
     const std::string mp = generic ? "mp/" + lobe : group + "/mp_" + lobe;
     const std::string energy = generic ? "np/energy_" + lobe : group + "/energy_" + lobe;
