@@ -275,12 +275,65 @@ class HairSampler {
     r.theta_r = theta_r;
     r.phi = phi;
     r.lobe = p;
-    r.value = eval(f, theta_i, theta_r, phi);
-    r.pdf = pdf(f, theta_i, theta_r, phi, ws);
+    // Value and mixture pdf in one pass over the lobes (the lobe probabilities are those above).
+    double value = 0.0, pdf_sum = 0.0;
+    for (int k = 0; k < count_; ++k) {
+      double v, pd;
+      value_pdf_lobe(k, f, theta_i, theta_r, phi, prob[k] > 0.0, ws, v, pd);
+      value += v;
+      if (prob[k] > 0.0) pdf_sum += prob[k] * pd;
+    }
+    r.value = value;
+    r.pdf = pdf_sum;
     return r;
   }
 
  private:
+  // eval_lobe and (when with_pdf) pdf_lobe of lobe p at once: where the mixture fast path holds
+  // the lookups that give M̃ and Ñ also give their normalisations; else as the two calls do.
+  void value_pdf_lobe(int p, const Fibre& f, double theta_i, double theta_r, double phi, bool with_pdf, Workspace& ws, double& value,
+                      double& pdf) const {
+    const Prepared& q = lobe_[p];
+    value = 0.0, pdf = 0.0;
+    double x[8];
+    const double theta_d = 0.5 * (theta_r - theta_i);
+    typename AxisSampler<T>::Mix mx;
+    fill(q.t.mp, f, theta_i, theta_r, theta_d, phi, x);
+    double m, pm = 0.0;
+    if (q.mp_axis.mix(x, mx)) {
+      m = q.mp_axis.mix_value(mx, theta_r);
+      if (mx.total > 0.0) pm = m / mx.total;
+    } else {
+      m = std::max(0.0, q.mp(x));
+      if (with_pdf && m > 0.0) {
+        q.mp_axis.blend(x, ws.m);
+        if (ws.m.total > 0.0) pm = q.mp_axis.value(ws.m, theta_r) / ws.m.total;
+      }
+    }
+    if (!(m > 0.0)) return;
+    fill(q.t.np, f, theta_i, theta_r, theta_d, phi, x);
+    double n, pn = 0.0;
+    if (!q.has_phi) {
+      n = std::max(0.0, q.np(x));
+      pn = 1.0 / (2.0 * 3.14159265358979323846);
+    } else if (q.np_axis.mix(x, mx)) {
+      n = q.np_axis.mix_value(mx, phi);
+      if (mx.total > 0.0) pn = n / mx.total;
+    } else {
+      n = std::max(0.0, q.np(x));
+      if (with_pdf && pm > 0.0) {
+        q.np_axis.blend(x, ws.n);
+        pn = q.np_axis.pdf(ws.n, phi);
+      }
+    }
+    pdf = pm * pn;
+    if (q.t.factor.data && n > 0.0) {
+      fill(q.t.factor, f, theta_i, theta_r, theta_d, phi, x);
+      n *= std::max(0.0, q.factor(x));
+    }
+    value = m * n;
+  }
+
   struct Prepared {
     LobeTables<T> t;
     TableView<T> np, factor, energy, mp;
