@@ -7,6 +7,17 @@
 // one polynomial per cell with sampler.hpp's end rules (linear or Catmull–Rom), cuts each at its
 // roots where the clamp at 0 applies, and sums the cells' masses; sample() inverts the cumulative
 // exactly (binary search over cells, then safeguarded Newton within the cell to rounding).
+//
+// The mixture fast path (mix(), mix_value(), sample_mix()): where the other axes are linear (their
+// weights are ≥ 0) and every node slice that a lookup touches is ≥ 0 along the sampled axis (its
+// own interpolant, Catmull–Rom included, checked once per slice at preparation), the clamp at 0
+// never applies and the density is the weight-mixture Σ w_c s_c of the slices' densities. Then
+// drawing a slice with probability w_c E_c / Σ w E (E_c its mass) and inverting that slice's
+// CDF (prefix sums of its exact cell masses, computed once) samples the interpolant exactly, and
+// the normalisation is Σ w_c E_c: no row is blended. mix() says per lookup whether this holds;
+// where it does not (cubic or geometric other axes with a negative weight, a slice dipping below
+// 0) the caller takes the general path above. Both are exact for the same density; they differ
+// only in which u maps to which x.
 #pragma once
 
 #include <algorithm>
@@ -48,6 +59,24 @@ inline const double* gl8_weights() {
   static const double w[8] = {0.05061426814518813, 0.11119051722668724, 0.15685332293894363, 0.18134189168918100,
                               0.18134189168918100, 0.15685332293894363, 0.11119051722668724, 0.05061426814518813};
   return w;
+}
+// min over t ∈ [0, 1] of the cubic ≥ 0: at the ends and at the critical points inside.
+inline bool nonnegative_on_cell(const double* c) {
+  if (!(c[0] >= 0.0) || !(poly(c, 1.0) >= 0.0)) return false;
+  const double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1];
+  if (A != 0.0) {
+    const double disc = B * B - 4.0 * A * C;
+    if (disc > 0.0) {
+      const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+      const double r0 = q / A, r1 = q != 0.0 ? C / q : 0.0;
+      if (r0 > 0.0 && r0 < 1.0 && !(poly(c, r0) >= 0.0)) return false;
+      if (r1 > 0.0 && r1 < 1.0 && !(poly(c, r1) >= 0.0)) return false;
+    }
+  } else if (B != 0.0) {
+    const double r = -C / B;
+    if (r > 0.0 && r < 1.0 && !(poly(c, r) >= 0.0)) return false;
+  }
+  return true;
 }
 // The intervals of [0, 1] where the cubic is positive (at most 3 roots, so at most 4 pieces).
 inline int positive_intervals(const double* c, double* lo, double* hi) {
@@ -145,6 +174,7 @@ class AxisSampler {
     if (!supported_) return;
     even_ = even;
     n_ = a.count;
+    cubic_ = a.interpolation == Interpolation::cubic && n_ >= 3;
     h_ = (a.hi - a.lo) / (n_ - 1);
     lo_ = a.lo;
     // The outer nodes of each cell's Catmull–Rom piece after the wrap rule (−1: extrapolated).
@@ -162,6 +192,7 @@ class AxisSampler {
           for (int j = 0; j < 4; ++j) moments_[static_cast<std::size_t>(k) * 4 + j] += w * std::pow(t, j);
         }
     }
+    prepare_mixture();
   }
 
   bool supported() const { return supported_; }
@@ -199,25 +230,12 @@ class AxisSampler {
       if (d < 0) break;
     }
     // Cell polynomials, with sampler.hpp's end rules along the sampled axis.
-    const Axis& a = axes_[dims_ - 1].axis;
-    const bool cubic = a.interpolation == Interpolation::cubic && n_ >= 3;
     row.coef.resize(static_cast<std::size_t>(n_ - 1) * 4);
     row.cum.resize(static_cast<std::size_t>(n_));
     row.cum[0] = 0.0;
     for (int k = 0; k + 1 < n_; ++k) {
       double* c = &row.coef[static_cast<std::size_t>(k) * 4];
-      const double p1 = v[static_cast<std::size_t>(k)], p2 = v[static_cast<std::size_t>(k + 1)];
-      if (!cubic) {
-        c[0] = p1, c[1] = p2 - p1, c[2] = 0.0, c[3] = 0.0;
-      } else {
-        const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
-        const double p0 = i0 >= 0 ? v[static_cast<std::size_t>(i0)] : 3.0 * p1 - 3.0 * p2 + v[static_cast<std::size_t>(k + 2)];
-        const double p3 = i3 >= 0 ? v[static_cast<std::size_t>(i3)] : 3.0 * p2 - 3.0 * p1 + v[static_cast<std::size_t>(k - 1)];
-        c[0] = p1;
-        c[1] = 0.5 * (p2 - p0);
-        c[2] = 0.5 * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3);
-        c[3] = 0.5 * (-p0 + 3.0 * p1 - 3.0 * p2 + p3);
-      }
+      cell_coef(v.data(), k, c);
       row.cum[static_cast<std::size_t>(k + 1)] = row.cum[static_cast<std::size_t>(k)] + whole_cell_mass(k, c);
     }
     row.total = row.cum.back() * (even_ ? 2.0 : 1.0);
@@ -240,6 +258,108 @@ class AxisSampler {
   }
   /// density / total: the probability density of sample() (0 where total is 0).
   double pdf(const AxisRow& row, double x) const { return row.total > 0.0 ? density(row, x) / row.total : 0.0; }
+
+  /// The mixture fast path at one lookup (see the top of this file): the node slices the other
+  /// axes' taps touch, their weights (all > 0) and Σ w_c E_c.
+  struct Mix {
+    static constexpr int max_corners = 16;
+    int count = 0;
+    int slice[max_corners] = {};
+    double w[max_corners] = {};
+    double total = 0.0;
+  };
+  /// True when the fast path is exact at the other coordinates x[0 … dims − 2]: every weight ≥ 0
+  /// and every touched slice ≥ 0 along the sampled axis. False otherwise (then use blend()).
+  bool mix(const double* x, Mix& m) const {
+    m.count = 0;
+    m.total = 0.0;
+    if (!mixture_) return false;
+    Taps tp[8];
+    for (int d = 0; d + 1 < dims_; ++d) {
+      if (!(x[d] == x[d]) && axes_[d].axis.count > 1) return false;
+      tp[d] = taps(axes_[d], x[d]);
+      if (tp[d].n > 2) return false;
+    }
+    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (;;) {
+      double w = 1.0;
+      std::size_t offset = 0;
+      for (int d = 0; d + 1 < dims_; ++d) {
+        w *= tp[d].w[idx[d]];
+        offset += static_cast<std::size_t>(tp[d].i[idx[d]]) * stride_[d];
+      }
+      if (w < 0.0) return false;
+      if (w > 0.0) {
+        const std::size_t s = offset / static_cast<std::size_t>(n_);
+        if (!positive_[s] || m.count == Mix::max_corners) return false;
+        m.slice[m.count] = static_cast<int>(s);
+        m.w[m.count] = w;
+        ++m.count;
+        m.total += w * mass_[s];
+      }
+      int d = dims_ - 2;
+      for (; d >= 0; --d) {
+        if (++idx[d] < tp[d].n) break;
+        idx[d] = 0;
+      }
+      if (d < 0) break;
+    }
+    return m.count > 0;
+  }
+  /// The interpolated value at x along the sampled axis (without the measure's cos x; 0 outside
+  /// a clamped axis): Σ w_c s_c(x), each s_c ≥ 0, so no clamp applies.
+  double mix_value(const Mix& m, double x) const {
+    if (!(x == x)) return 0.0;
+    const Axis& a = axes_[dims_ - 1].axis;
+    if (!even_ && (x < a.lo || x > a.hi)) return 0.0;
+    const Lerp l = axes_[dims_ - 1].locate(x);
+    double sum = 0.0;
+    for (int j = 0; j < m.count; ++j) {
+      double c[4];
+      cell_coef(data_ + static_cast<std::size_t>(m.slice[j]) * static_cast<std::size_t>(n_), l.i0, c);
+      sum += m.w[j] * detail::poly(c, l.w);
+    }
+    return std::max(0.0, sum);
+  }
+  /// Draws x from the mixture with one u ∈ [0, 1): the slice c with probability w_c E_c / Σ w E,
+  /// then the inverse of that slice's CDF (its prefix sums, then Newton within the cell); NaN
+  /// when the mixture has no mass.
+  double sample_mix(const Mix& m, double u) const {
+    if (!(m.total > 0.0)) return std::nan("");
+    double sign = 1.0;
+    if (even_) {
+      if (u < 0.5) sign = -1.0, u = 1.0 - 2.0 * u;
+      else u = 2.0 * u - 1.0;
+    }
+    u = std::min(std::max(u, 0.0), 1.0);
+    // The slice: the last one whose share is positive where u falls beyond the others.
+    const double target = u * m.total;
+    double acc = 0.0, before = 0.0;
+    int j = -1;
+    for (int k = 0; k < m.count; ++k) {
+      const double share = m.w[k] * mass_[static_cast<std::size_t>(m.slice[k])];
+      if (!(share > 0.0)) continue;
+      j = k;
+      before = acc;
+      acc += share;
+      if (target < acc) break;
+    }
+    acc = before;
+    if (j < 0) return std::nan("");
+    const std::size_t s = static_cast<std::size_t>(m.slice[j]);
+    const double share = m.w[j] * mass_[s];
+    const double* cum = &cum_[s * static_cast<std::size_t>(n_)];
+    const double v = std::min(std::max((target - acc) / share, 0.0), 1.0) * cum[n_ - 1];
+    int k = static_cast<int>(std::upper_bound(cum, cum + n_, v) - cum) - 1;
+    k = std::max(0, std::min(n_ - 2, k));
+    while (k > 0 && !(cum[k + 1] > cum[k])) --k;
+    double c[4];
+    cell_coef(data_ + s * static_cast<std::size_t>(n_), k, c);
+    const double mass = cum[k + 1] - cum[k];
+    return sign * x_of(k, invert_cell(k, c, std::min(std::max(v - cum[k], 0.0), mass), mass));
+  }
+  /// Whether mix() can ever apply: the other axes are linear, the sampled axis is supported.
+  bool has_mixture() const { return mixture_; }
 
   /// Draws x in proportion to the density from u ∈ [0, 1); returns NaN when the row has no mass.
   double sample(const AxisRow& row, double u) const {
@@ -281,6 +401,23 @@ class AxisSampler {
 
  private:
   double x_of(int k, double t) const { return lo_ + (k + t) * h_; }
+  // The polynomial of cell k of node row v along the sampled axis, with sampler.hpp's end rules
+  // (linear, or Catmull–Rom with the clamped-end extrapolation and the mirror nodes of an even axis).
+  template <class V>
+  void cell_coef(const V* v, int k, double* c) const {
+    const double p1 = static_cast<double>(v[k]), p2 = static_cast<double>(v[k + 1]);
+    if (!cubic_) {
+      c[0] = p1, c[1] = p2 - p1, c[2] = 0.0, c[3] = 0.0;
+      return;
+    }
+    const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
+    const double p0 = i0 >= 0 ? static_cast<double>(v[i0]) : 3.0 * p1 - 3.0 * p2 + static_cast<double>(v[k + 2]);
+    const double p3 = i3 >= 0 ? static_cast<double>(v[i3]) : 3.0 * p2 - 3.0 * p1 + static_cast<double>(v[k - 1]);
+    c[0] = p1;
+    c[1] = 0.5 * (p2 - p0);
+    c[2] = 0.5 * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3);
+    c[3] = 0.5 * (-p0 + 3.0 * p1 - 3.0 * p2 + p3);
+  }
   // cell_mass(k, c, 1) with the Bernstein test inline: a cell positive throughout (or nowhere)
   // needs no root search.
   double whole_cell_mass(int k, const double* c) const {
@@ -317,16 +454,99 @@ class AxisSampler {
     }
     return std::max(0.0, sum) * h_;
   }
+  // The mixture fast path's data, once per table: for each node slice along the sampled axis, ≥ 0
+  // throughout (its cells' minima, at the ends and critical points), its cells' prefix masses
+  // (n per slice, exact: closed form, or the cosine moments) and its mass E (both halves of an
+  // even axis). Only where every other axis is linear: a cubic one has negative weights.
+  void prepare_mixture() {
+    for (int d = 0; d + 1 < dims_; ++d)
+      if (axes_[d].axis.count > 2 && axes_[d].axis.interpolation != Interpolation::linear) return;
+    const std::size_t slices = dims_ > 1 ? stride_[0] * static_cast<std::size_t>(axes_[0].axis.count) / static_cast<std::size_t>(n_) : 1;
+    cum_.assign(slices * static_cast<std::size_t>(n_), 0.0);
+    mass_.assign(slices, 0.0);
+    positive_.assign(slices, 0);
+    for (std::size_t s = 0; s < slices; ++s) {
+      const T* v = data_ + s * static_cast<std::size_t>(n_);
+      double* cum = &cum_[s * static_cast<std::size_t>(n_)];
+      bool positive = true;
+      for (int k = 0; k + 1 < n_; ++k) {
+        double c[4];
+        cell_coef(v, k, c);
+        if (!detail::nonnegative_on_cell(c)) positive = false;
+        cum[k + 1] = cum[k] + (positive ? whole_cell_mass(k, c) : 0.0);
+      }
+      positive_[s] = positive ? 1 : 0;
+      mass_[s] = positive ? cum[n_ - 1] * (even_ ? 2.0 : 1.0) : 0.0;
+    }
+    mixture_ = true;
+  }
+  // The t ∈ [0, 1] of cell k (polynomial c, ≥ 0 on the cell, mass `mass`) where the mass from 0
+  // reaches m: Newton's method kept in its bracket, to rounding. The cosine measure's integral
+  // is that of c times the degree-11 Taylor polynomial of cos about the cell's start (remainder
+  // below (h)¹²/12!, 6e-15 for a 20° cell), in closed form: no cos per step.
+  double invert_cell(int k, const double* c, double m, double mass) const {
+    if (!(mass > 0.0)) return 0.5;
+    double q[16] = {};  // the density per unit t (times cos for the cosine measure), degree ≤ 14
+    int deg = 3;
+    if (measure_ == Measure::plain) {
+      for (int j = 0; j < 4; ++j) q[j] = c[j] * h_;
+    } else {
+      const double x0 = lo_ + k * h_, cs = std::cos(x0), sn = std::sin(x0);
+      double a[12];
+      double f = 1.0;  // h^m / m!
+      for (int j = 0; j < 12; ++j) {
+        const double d = (j % 4 == 0) ? cs : (j % 4 == 1) ? -sn : (j % 4 == 2) ? -cs : sn;
+        a[j] = d * f;
+        f *= h_ / (j + 1);
+      }
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 12; ++j) q[i + j] += c[i] * a[j] * h_;
+      deg = 14;
+    }
+    double P[17];  // ∫_0^t q
+    P[0] = 0.0;
+    for (int j = 0; j <= deg; ++j) P[j + 1] = q[j] / (j + 1);
+    auto F = [&](double t) {
+      double r = P[deg + 1];
+      for (int j = deg; j >= 0; --j) r = r * t + P[j];
+      return r;
+    };
+    auto D = [&](double t) {
+      double r = q[deg];
+      for (int j = deg - 1; j >= 0; --j) r = r * t + q[j];
+      return r;
+    };
+    double lo = 0.0, hi = 1.0, t = m / mass;
+    for (int it = 0; it < 60; ++it) {
+      const double f = F(t) - m;
+      if (f > 0.0) hi = t;
+      else lo = t;
+      if (f == 0.0 || hi - lo <= 1e-15) break;
+      const double dens = D(t);
+      double next = dens > 0.0 ? t - f / dens : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(next - t) <= 1e-16) {
+        t = next;
+        break;
+      }
+      t = next;
+    }
+    return t;
+  }
+
   const T* data_ = nullptr;
   int dims_ = 0;
   Measure measure_ = Measure::plain;
   PreparedAxis axes_[8];
   std::size_t stride_[8] = {};
-  bool supported_ = false, even_ = false;
+  bool supported_ = false, even_ = false, cubic_ = false;
   int n_ = 0;
   double h_ = 0.0, lo_ = 0.0;
   std::vector<int> outer_;
   std::vector<double> moments_;
+  bool mixture_ = false;
+  std::vector<double> cum_, mass_;
+  std::vector<unsigned char> positive_;
 };
 
 }  // namespace sampler

@@ -26,6 +26,15 @@
 // rounding. So pdf() equals eval()'s lobe value divided by the normalisation that the same
 // interpolant integrates to, up to rounding; sample() draws exactly from pdf().
 //
+// Two paths, both exact for the same density (axis_sampling.hpp): where the other axes of a
+// table are linear and the node slices a lookup touches are ≥ 0 along the sampled axis (always
+// for linear interpolation of non-negative values; for Catmull–Rom along φ or θr where the
+// slice's cubic pieces do not dip below 0, checked once per slice), the density is a mixture of
+// the slices' densities: sample() draws a slice and inverts its precomputed CDF, pdf() is one
+// lookup over Σ w_c E_c. Elsewhere (cubic or geometric other axes, whose weights can be
+// negative; a slice with overshoot below 0) the blended row is built and cut per lookup as
+// above. Which path a lookup takes changes which u gives which direction, never the density.
+//
 // Supported sampled axes: uniform spacing, edge placement, wrap clamp (θr) or even over [0, π]
 // (φ). Axes before the sampled one may have any spacing, placement and wrap, and linear or cubic
 // interpolation; a geometric axis there makes the density non-polynomial and is refused
@@ -168,8 +177,13 @@ class HairSampler {
       } else {
         if (q.has_phi) {
           fill(q.t.np, f, theta_i, 0.0, theta_i, 0.0, x);
-          q.np_axis.blend(x, ws.n);
-          w = ws.n.total;
+          typename AxisSampler<T>::Mix mx;
+          if (q.np_axis.mix(x, mx)) {
+            w = mx.total;
+          } else {
+            q.np_axis.blend(x, ws.n);
+            w = ws.n.total;
+          }
         } else {
           fill(q.t.np, f, theta_i, 0.0, theta_i, 0.0, x);
           w = 2.0 * 3.14159265358979323846 * std::max(0.0, q.np(x));
@@ -192,12 +206,21 @@ class HairSampler {
     double x[8];
     const double theta_d = 0.5 * (theta_r - theta_i);
     fill(q.t.mp, f, theta_i, theta_r, theta_d, phi, x);
-    q.mp_axis.blend(x, ws.m);
-    if (!(ws.m.total > 0.0)) return 0.0;
-    const double pm = q.mp_axis.value(ws.m, theta_r) / ws.m.total;
+    typename AxisSampler<T>::Mix mx;
+    double pm;
+    if (q.mp_axis.mix(x, mx)) {
+      // Fast path (exact where mix() holds): one lookup over the normalisation Σ w_c E_c.
+      if (!(mx.total > 0.0)) return 0.0;
+      pm = q.mp_axis.mix_value(mx, theta_r) / mx.total;
+    } else {
+      q.mp_axis.blend(x, ws.m);
+      if (!(ws.m.total > 0.0)) return 0.0;
+      pm = q.mp_axis.value(ws.m, theta_r) / ws.m.total;
+    }
     if (!(pm > 0.0)) return 0.0;
     if (!q.has_phi) return pm / (2.0 * 3.14159265358979323846);
     fill(q.t.np, f, theta_i, theta_r, theta_d, phi, x);
+    if (q.np_axis.mix(x, mx)) return mx.total > 0.0 ? pm * q.np_axis.mix_value(mx, phi) / mx.total : 0.0;
     q.np_axis.blend(x, ws.n);
     return pm * q.np_axis.pdf(ws.n, phi);
   }
@@ -229,25 +252,88 @@ class HairSampler {
     const Prepared& q = lobe_[p];
     double x[8];
     fill(q.t.mp, f, theta_i, 0.0, 0.0, 0.0, x);
-    q.mp_axis.blend(x, ws.m);
-    const double theta_r = q.mp_axis.sample(ws.m, u1);
+    typename AxisSampler<T>::Mix mx;
+    double theta_r;
+    if (q.mp_axis.mix(x, mx)) {
+      theta_r = q.mp_axis.sample_mix(mx, u1);
+    } else {
+      q.mp_axis.blend(x, ws.m);
+      theta_r = q.mp_axis.sample(ws.m, u1);
+    }
     if (!(theta_r == theta_r)) return r;
     double phi = -3.14159265358979323846 + 2.0 * 3.14159265358979323846 * u2;
     if (q.has_phi) {
       fill(q.t.np, f, theta_i, theta_r, 0.5 * (theta_r - theta_i), 0.0, x);
-      q.np_axis.blend(x, ws.n);
-      phi = q.np_axis.sample(ws.n, u2);
+      if (q.np_axis.mix(x, mx)) {
+        phi = q.np_axis.sample_mix(mx, u2);
+      } else {
+        q.np_axis.blend(x, ws.n);
+        phi = q.np_axis.sample(ws.n, u2);
+      }
       if (!(phi == phi)) return r;
     }
     r.theta_r = theta_r;
     r.phi = phi;
     r.lobe = p;
-    r.value = eval(f, theta_i, theta_r, phi);
-    r.pdf = pdf(f, theta_i, theta_r, phi, ws);
+    // Value and mixture pdf in one pass over the lobes (the lobe probabilities are those above).
+    double value = 0.0, pdf_sum = 0.0;
+    for (int k = 0; k < count_; ++k) {
+      double v, pd;
+      value_pdf_lobe(k, f, theta_i, theta_r, phi, prob[k] > 0.0, ws, v, pd);
+      value += v;
+      if (prob[k] > 0.0) pdf_sum += prob[k] * pd;
+    }
+    r.value = value;
+    r.pdf = pdf_sum;
     return r;
   }
 
  private:
+  // eval_lobe and (when with_pdf) pdf_lobe of lobe p at once: where the mixture fast path holds
+  // the lookups that give M̃ and Ñ also give their normalisations; else as the two calls do.
+  void value_pdf_lobe(int p, const Fibre& f, double theta_i, double theta_r, double phi, bool with_pdf, Workspace& ws, double& value,
+                      double& pdf) const {
+    const Prepared& q = lobe_[p];
+    value = 0.0, pdf = 0.0;
+    double x[8];
+    const double theta_d = 0.5 * (theta_r - theta_i);
+    typename AxisSampler<T>::Mix mx;
+    fill(q.t.mp, f, theta_i, theta_r, theta_d, phi, x);
+    double m, pm = 0.0;
+    if (q.mp_axis.mix(x, mx)) {
+      m = q.mp_axis.mix_value(mx, theta_r);
+      if (mx.total > 0.0) pm = m / mx.total;
+    } else {
+      m = std::max(0.0, q.mp(x));
+      if (with_pdf && m > 0.0) {
+        q.mp_axis.blend(x, ws.m);
+        if (ws.m.total > 0.0) pm = q.mp_axis.value(ws.m, theta_r) / ws.m.total;
+      }
+    }
+    if (!(m > 0.0)) return;
+    fill(q.t.np, f, theta_i, theta_r, theta_d, phi, x);
+    double n, pn = 0.0;
+    if (!q.has_phi) {
+      n = std::max(0.0, q.np(x));
+      pn = 1.0 / (2.0 * 3.14159265358979323846);
+    } else if (q.np_axis.mix(x, mx)) {
+      n = q.np_axis.mix_value(mx, phi);
+      if (mx.total > 0.0) pn = n / mx.total;
+    } else {
+      n = std::max(0.0, q.np(x));
+      if (with_pdf && pm > 0.0) {
+        q.np_axis.blend(x, ws.n);
+        pn = q.np_axis.pdf(ws.n, phi);
+      }
+    }
+    pdf = pm * pn;
+    if (q.t.factor.data && n > 0.0) {
+      fill(q.t.factor, f, theta_i, theta_r, theta_d, phi, x);
+      n *= std::max(0.0, q.factor(x));
+    }
+    value = m * n;
+  }
+
   struct Prepared {
     LobeTables<T> t;
     TableView<T> np, factor, energy, mp;
