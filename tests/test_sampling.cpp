@@ -24,7 +24,7 @@
 using namespace hairlut;
 using sampler::AxisRow;
 using sampler::AxisSampler;
-using sampler::Fibre;
+using sampler::FibreCoordinates;
 using sampler::HairSampler;
 
 namespace {
@@ -113,7 +113,7 @@ struct OneGroup {
   std::unique_ptr<sampler::FibreSampler<float>> fibre;
   const HairSampler<double>& sampler() const { return fibre->sampler(); }
 };
-OneGroup group_sampler(const TableSet& set, const std::string& group, int p, const Fibre& f) {
+OneGroup group_sampler(const TableSet& set, const std::string& group, int p, const FibreCoordinates& f) {
   OneGroup g{hair_tables(set, group), nullptr};
   const sampler::LobeTables<float>* first = p >= 0 ? &g.all.lobes[static_cast<std::size_t>(p)] : g.all.lobes.data();
   g.fibre = std::make_unique<sampler::FibreSampler<float>>(first, p >= 0 ? 1 : static_cast<int>(g.all.lobes.size()), f);
@@ -125,7 +125,7 @@ OneGroup group_sampler(const TableSet& set, const std::string& group, int p, con
 // default node spacing (exact for the cubic pieces that fall inside a cell; a relative error
 // well below 1e-5 for the piecewise-cubic S, which the 4σ criterion of 10⁶ samples never sees).
 template <class S>
-double quadrature_energy(const S& s, const Fibre& f, double theta_i) {
+double quadrature_energy(const S& s, const FibreCoordinates& f, double theta_i) {
   return integrate(
       [&](double tr) {
         return 2.0 * std::cos(tr) * integrate([&](double phi) { return s.eval(f, theta_i, tr, phi); }, 0.0, kPi, 190, 4);
@@ -137,7 +137,7 @@ struct Estimate {
   double mean, error;  // mean and its standard error
 };
 template <class S>
-Estimate furnace(const S& s, const Fibre& f, double theta_i, int n, unsigned seed) {
+Estimate furnace(const S& s, const FibreCoordinates& f, double theta_i, int n, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   typename S::Workspace ws;
@@ -156,7 +156,7 @@ Estimate furnace(const S& s, const Fibre& f, double theta_i, int n, unsigned see
 // Chi-square test of n sampled directions against the pdf integrated over θr × φ bins.
 // Returns the p-value; bins expecting fewer than 5 samples are pooled (Mitsuba's rule).
 template <class S>
-double chi_square(const S& s, const Fibre& f, double theta_i, int n, unsigned seed, double* pdf_integral) {
+double chi_square(const S& s, const FibreCoordinates& f, double theta_i, int n, unsigned seed, double* pdf_integral) {
   const int nt = 60, np = 64;
   std::vector<double> observed(static_cast<std::size_t>(nt * np), 0.0), expected(observed.size(), 0.0);
   std::mt19937_64 rng(seed);
@@ -284,7 +284,7 @@ TEST_CASE("Sampling: eval is the library's table evaluation, pdf is eval over th
     const Table& np = *set.find("np/" + lobe);
     const Table& mp = *set.find("mp/" + lobe);
     for (int k = 0; k < 40; ++k) {
-      const Fibre f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
+      const FibreCoordinates f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
       const double ti = (u(rng) - 0.5) * 170.0 * kDeg, tr = (u(rng) - 0.5) * 170.0 * kDeg, phi = (2.0 * u(rng) - 1.0) * kPi;
       const double td = 0.5 * (tr - ti);
       // eval: the library's TableSet::sample_value of M_p and N_p (factor included).
@@ -314,7 +314,7 @@ TEST_CASE("Sampling: a fibre's prepared sampler gives the full tables' eval, pdf
   HairSampler<float>::Workspace ws;
   HairSampler<double>::Workspace wd;
   for (int k = 0; k < 6; ++k) {
-    const Fibre f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
+    const FibreCoordinates f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
     const sampler::FibreSampler<float> fs(h.lobes.data(), static_cast<int>(h.lobes.size()), f);
     REQUIRE(fs.sampler().supported());
     for (int j = 0; j < 50; ++j) {
@@ -340,7 +340,7 @@ void chi_square_case(const Case& c, unsigned seed) {
   const TableSet& set = default_tables();
   const int lobes = static_cast<int>(hair_tables(set, "").lobes.size());
   for (int p = -1; p < lobes; ++p) {
-    const Fibre f{c.beta, 0.0, 0.0};
+    const FibreCoordinates f{c.beta, 0.0, 0.0};
     const OneGroup g = group_sampler(set, "", p, f);
     double integral = 0.0;
     const double pvalue = chi_square(g.sampler(), f, c.theta_i, 200000, seed + static_cast<unsigned>(p + 1), &integral);
@@ -369,7 +369,7 @@ namespace {
 // with d'Eon's M_p (the lobe's tilt and β) and the exact lobe energies e_p = ∫ N_p dφ (adaptive
 // reference): no table involved. With every lobe untilted it is 1 at σa = 0; tilts move each
 // lobe's M_p, and e_p depends on θd, so a tilted white fibre's furnace differs from 1.
-double physics_furnace(const TableSet& set, const HairTables& h, const Fibre& f, double theta_i, double sigma_a) {
+double physics_furnace(const TableSet& set, const HairTables& h, const FibreCoordinates& f, double theta_i, double sigma_a) {
   const double eta = set.metadata.at("eta").get<double>();
   const AbsorptionPath path = parse_absorption_path(set.metadata.at("absorption_path").get<std::string>());
   const int lobes = static_cast<int>(h.lobes.size());
@@ -404,7 +404,7 @@ double physics_furnace(const TableSet& set, const HairTables& h, const Fibre& f,
 // and the tables' furnace must be the physics' within the M_p energy tolerance their config
 // declares (the N_p shapes integrate to 1 and the energies are exact at the nodes; the M_p
 // tables carry the error the validator bounds).
-void furnace_case(const TableSet& set, const std::string& group, const Fibre& f, double theta_i, double sigma_a, double tolerance,
+void furnace_case(const TableSet& set, const std::string& group, const FibreCoordinates& f, double theta_i, double sigma_a, double tolerance,
                   unsigned seed, bool mixture) {
   const HairTables h = hair_tables(set, group);
   const int lobes = static_cast<int>(h.lobes.size());
@@ -434,32 +434,32 @@ double energy_tolerance(const TableSet& set) {
 TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[0];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, true);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[0];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, false);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, false);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[1];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, true);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[1];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, false);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, false);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[2];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, true);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[2];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, false);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, false);
 }
 
 namespace {
@@ -470,7 +470,7 @@ void material_chi_square(const char* material, unsigned seed) {
   int tests = 0;
   for (const Case& c : kMaterialCases)
     for (int p = -1; p < lobes; ++p) {
-      const Fibre f{0.0, 0.0, 1.0};
+      const FibreCoordinates f{0.0, 0.0, 1.0};
       const OneGroup g = group_sampler(set, group, p, f);
       double integral = 0.0;
       const double pvalue = chi_square(g.sampler(), f, c.theta_i, 100000, seed + static_cast<unsigned>(tests), &integral);
@@ -492,8 +492,8 @@ namespace {
 void white_material_furnace(const Case& c, unsigned seed) {
   const TableSet& set = material_tables();
   const HairTables h = hair_tables(set, "materials/white");
-  CHECK(std::fabs(physics_furnace(set, h, Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0) - 1.0) <= 1e-9);
-  furnace_case(set, "materials/white", Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), seed, true);
+  CHECK(std::fabs(physics_furnace(set, h, FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 0.0) - 1.0) <= 1e-9);
+  furnace_case(set, "materials/white", FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), seed, true);
 }
 }  // namespace
 
@@ -506,7 +506,7 @@ TEST_CASE("Sampling: per-material tables, white furnace through sampling, grazin
 
 TEST_CASE("Sampling: per-material tables, each lobe's furnace through sampling", "[sampling]") {
   const TableSet& set = material_tables();
-  for (const Case& c : kMaterialCases) furnace_case(set, "materials/white", Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), 5000, false);
+  for (const Case& c : kMaterialCases) furnace_case(set, "materials/white", FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), 5000, false);
 }
 
 TEST_CASE("Axis sampling: the mixture fast path has the general path's density and normalisation, and draws from it", "[sampling]") {
@@ -634,7 +634,7 @@ TEST_CASE("Sampling: the mixture fast path on linear tables, pdf against quadrat
       const sampler::TableView<float> mp(l.mp.data, l.mp.axes, l.mp.dims), np(l.np.data, l.np.axes, l.np.dims);
       const bool has_phi = l.np.dims == 4;
       for (int k = 0; k < 20; ++k) {
-        const Fibre f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
+        const FibreCoordinates f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
         const double ti = (u(rng) - 0.5) * 170.0 * kDeg, tr = (u(rng) - 0.5) * 170.0 * kDeg, phi = (2.0 * u(rng) - 1.0) * kPi;
         const double td = 0.5 * (tr - ti);
         auto m_at = [&](double t) {
@@ -654,7 +654,7 @@ TEST_CASE("Sampling: the mixture fast path on linear tables, pdf against quadrat
     // Chi-square and ∫ pdf = 1 of the mixture of all lobes at wide and narrow roughness, and a
     // furnace through sampling against quadrature of eval.
     for (const Case& c : {kGenericCases[0], kGenericCases[1]}) {
-      const Fibre f{c.beta, 0.5, 0.0};
+      const FibreCoordinates f{c.beta, 0.5, 0.0};
       double integral = 0.0;
       const double pvalue = chi_square(*h.sampler, f, c.theta_i, 200000, 700 + static_cast<unsigned>(cubic_sampled), &integral);
       const double exact = quadrature_energy(*h.sampler, f, c.theta_i);

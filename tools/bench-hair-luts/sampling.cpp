@@ -16,7 +16,7 @@
 namespace bench {
 
 json bench_sampling(const Settings& s) {
-  using hairlut::sampler::Fibre;
+  using hairlut::sampler::FibreCoordinates;
   using hairlut::sampler::HairSampler;
   constexpr double pi = 3.14159265358979323846, deg = pi / 180.0;
   const std::string file = s.source_dir + "/tables/default/hairlut-default.h5";
@@ -57,7 +57,7 @@ json bench_sampling(const Settings& s) {
     const hairlut::HairTables& h = recons[static_cast<std::size_t>(rc)];
     const HairSampler<float>& smp = *h.sampler;
     log(s.quiet, "sampling: %s, %s ...\n", recon_names[rc], c.name);
-    const Fibre f{c.beta, c.sigma_a, 0.0};
+    const FibreCoordinates f{c.beta, c.sigma_a, 0.0};
     HairSampler<float>::Workspace ws;
     std::mt19937_64 rng(1);
     std::uniform_real_distribution<double> u(0.0, 1.0);

@@ -88,7 +88,7 @@ struct LobeTables {
 };
 
 /// The non-angular coordinates of a fibre: the table axes beta, sigma_a and channel read these.
-struct Fibre {
+struct FibreCoordinates {
   double beta = 0.0;
   double sigma_a = 0.0;
   double channel = 0.0;
@@ -143,7 +143,7 @@ class HairSampler {
 
   /// M_p N_p of lobe p as an engine evaluates it: each table interpolated by sampler.hpp and
   /// clamped at 0, θd = (θr − θi)/2.
-  double eval_lobe(int p, const Fibre& f, double theta_i, double theta_r, double phi) const {
+  double eval_lobe(int p, const FibreCoordinates& f, double theta_i, double theta_r, double phi) const {
     const Prepared& q = lobe_[p];
     double x[8];
     const double theta_d = 0.5 * (theta_r - theta_i);
@@ -159,14 +159,14 @@ class HairSampler {
     return m * n;
   }
   /// S(θi, θr, φ) = Σ_p M_p N_p.
-  double eval(const Fibre& f, double theta_i, double theta_r, double phi) const {
+  double eval(const FibreCoordinates& f, double theta_i, double theta_r, double phi) const {
     double s = 0.0;
     for (int p = 0; p < count_; ++p) s += eval_lobe(p, f, theta_i, theta_r, phi);
     return s;
   }
 
   /// The probability of choosing each lobe at θi (they sum to 1, or are all 0).
-  void lobe_probabilities(const Fibre& f, double theta_i, double* prob, Workspace& ws) const {
+  void lobe_probabilities(const FibreCoordinates& f, double theta_i, double* prob, Workspace& ws) const {
     double sum = 0.0;
     for (int p = 0; p < count_; ++p) {
       const Prepared& q = lobe_[p];
@@ -201,7 +201,7 @@ class HairSampler {
 
   /// The pdf per unit solid angle of drawing (θr, φ) from lobe p alone:
   /// max(0, M̃_p)/∫max(0, M̃_p) cos θr dθr · max(0, Ñ_p)/∫max(0, Ñ_p) dφ.
-  double pdf_lobe(int p, const Fibre& f, double theta_i, double theta_r, double phi, Workspace& ws) const {
+  double pdf_lobe(int p, const FibreCoordinates& f, double theta_i, double theta_r, double phi, Workspace& ws) const {
     const Prepared& q = lobe_[p];
     double x[8];
     const double theta_d = 0.5 * (theta_r - theta_i);
@@ -226,7 +226,7 @@ class HairSampler {
   }
 
   /// The pdf per unit solid angle of sample(): Σ_p P_p pdf_lobe(p).
-  double pdf(const Fibre& f, double theta_i, double theta_r, double phi, Workspace& ws) const {
+  double pdf(const FibreCoordinates& f, double theta_i, double theta_r, double phi, Workspace& ws) const {
     double prob[max_lobes];
     lobe_probabilities(f, theta_i, prob, ws);
     double s = 0.0;
@@ -236,7 +236,7 @@ class HairSampler {
   }
 
   /// Draws a direction from three uniform numbers in [0, 1): u0 chooses the lobe, u1 θr, u2 φ.
-  HairSample sample(const Fibre& f, double theta_i, double u0, double u1, double u2, Workspace& ws) const {
+  HairSample sample(const FibreCoordinates& f, double theta_i, double u0, double u1, double u2, Workspace& ws) const {
     HairSample r;
     double prob[max_lobes];
     lobe_probabilities(f, theta_i, prob, ws);
@@ -291,7 +291,7 @@ class HairSampler {
  private:
   // eval_lobe and (when with_pdf) pdf_lobe of lobe p at once: where the mixture fast path holds
   // the lookups that give M̃ and Ñ also give their normalisations; else as the two calls do.
-  void value_pdf_lobe(int p, const Fibre& f, double theta_i, double theta_r, double phi, bool with_pdf, Workspace& ws, double& value,
+  void value_pdf_lobe(int p, const FibreCoordinates& f, double theta_i, double theta_r, double phi, bool with_pdf, Workspace& ws, double& value,
                       double& pdf) const {
     const Prepared& q = lobe_[p];
     value = 0.0, pdf = 0.0;
@@ -340,7 +340,7 @@ class HairSampler {
     AxisSampler<T> np_axis, mp_axis;
     bool has_phi = false;
   };
-  static void fill(const TableRef<T>& t, const Fibre& f, double theta_i, double theta_r, double theta_d, double phi, double* x) {
+  static void fill(const TableRef<T>& t, const FibreCoordinates& f, double theta_i, double theta_r, double theta_d, double phi, double* x) {
     for (int d = 0; d < t.dims; ++d) {
       switch (t.coords[d]) {
         case Coordinate::beta: x[d] = f.beta; break;
@@ -370,7 +370,7 @@ class HairSampler {
 template <class T>
 class FibreSampler {
  public:
-  FibreSampler(const LobeTables<T>* lobes, int count, const Fibre& fibre) : fibre_(fibre) {
+  FibreSampler(const LobeTables<T>* lobes, int count, const FibreCoordinates& fibre) : fibre_(fibre) {
     count = std::max(0, std::min(count, HairSampler<double>::max_lobes));
     for (int p = 0; p < count; ++p) {
       LobeTables<double>& l = lobes_[p];
@@ -386,7 +386,7 @@ class FibreSampler {
 
   const HairSampler<double>& sampler() const { return sampler_; }
   /// The fibre it was built for: pass it to the sampler's calls.
-  const Fibre& fibre() const { return fibre_; }
+  const FibreCoordinates& fibre() const { return fibre_; }
 
  private:
   static bool angular(Coordinate c) {
@@ -450,7 +450,7 @@ class FibreSampler {
     return r;
   }
 
-  Fibre fibre_;
+  FibreCoordinates fibre_;
   LobeTables<double> lobes_[HairSampler<double>::max_lobes];
   std::vector<double> data_[4 * HairSampler<double>::max_lobes];
   std::vector<Axis> axes_[4 * HairSampler<double>::max_lobes];
