@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/io/hdf5_io.hpp"
 #include "hairlut/tables/tables.hpp"
 #include "hairlut/util/error.hpp"
 #include "axis_identity.hpp"

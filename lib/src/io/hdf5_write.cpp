@@ -248,5 +248,8 @@ void write_hdf5_slabbed(const TableSet& set, const SlabbedTables& slabbed, const
 void write_hdf5(const TableSet& set, const std::filesystem::path& path, const Hdf5WriteOptions& options) {
   const ErrorSilencer silence;
   const File f{path.string()};
+  const std::vector<char> image = hdf5_image(set, f, options);
+  detail::write_file_bytes(path, image);
+}
 
 }  // namespace hairlut
