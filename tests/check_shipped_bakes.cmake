@@ -6,12 +6,13 @@
 # saying why:  cmake -DRECORD=ON -DBAKE=... -DSOURCE=... -DWORK=... -DMANIFEST=... -P this file
 #
 # BAKE: bake-hair-luts; SOURCE: the source tree; WORK: a scratch folder; MANIFEST: lines
-# "<config> <file> <sha256>"; CONFIGS: ;-list of names under tables/configs/ (default: all).
+# "<config> <file> <sha256>"; CONFIGS: comma-separated names under tables/configs/ (default: all).
 foreach(v BAKE SOURCE WORK MANIFEST)
   if(NOT ${v})
     message(FATAL_ERROR "check_shipped_bakes.cmake: ${v} is not set")
   endif()
 endforeach()
+string(REPLACE "," ";" CONFIGS "${CONFIGS}")
 if(NOT CONFIGS)
   file(GLOB paths ${SOURCE}/tables/configs/*.json)
   foreach(p IN LISTS paths)
