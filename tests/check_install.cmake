@@ -25,7 +25,7 @@ if(NOT libs)
 endif()
 list(GET libs 0 lib)
 get_filename_component(libdir ${lib} DIRECTORY)
-foreach(f include/hairlut/sampler.hpp include/hairlut/sampling.hpp include/hairlut/tables.hpp include/hairlut/version.hpp
+foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/sampling.hpp include/hairlut/tables/tables.hpp include/hairlut/util/version.hpp
           share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
           share/hairlut/configs/default.json share/doc/hairlut/LICENSE
           bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts bin/render-hair-luts)
@@ -99,6 +99,25 @@ separate_arguments(flags UNIX_COMMAND "${flags}")
 run("compiling with pkg-config's flags" ${CXX} -std=c++20 -O1 ${SOURCE}/examples/engine-consumer/sample_table.cpp ${flags} -o ${WORK}/pc-sample-table)
 run("the pkg-config build" ${WORK}/pc-sample-table ${TABLE} TT 40 0.1 10 170)
 message(STATUS "${run_out}")
+
+# Code written against the flat header layout of hairlut 0.1 (hairlut/fresnel.hpp) still compiles: every
+# layer header has a forwarding header of its bare name, and each one includes its layer header.
+file(GLOB layer_headers RELATIVE ${prefix}/include/hairlut ${prefix}/include/hairlut/*/*.hpp)
+set(flat_tu "")
+foreach(h IN LISTS layer_headers)
+  get_filename_component(name ${h} NAME)
+  if(NOT EXISTS ${prefix}/include/hairlut/${name})
+    message(FATAL_ERROR "no forwarding header include/hairlut/${name} for include/hairlut/${h}")
+  endif()
+  file(READ ${prefix}/include/hairlut/${name} forward)
+  if(NOT forward MATCHES "#include \"hairlut/${h}\"")
+    message(FATAL_ERROR "include/hairlut/${name} does not forward to hairlut/${h}:\n${forward}")
+  endif()
+  string(APPEND flat_tu "#include <hairlut/${name}>\n")
+endforeach()
+string(APPEND flat_tu "int main() { return 0; }\n")
+file(WRITE ${WORK}/flat-includes.cpp "${flat_tu}")
+run("compiling the flat (0.1) includes" ${CXX} -std=c++20 -fsyntax-only ${WORK}/flat-includes.cpp ${flags})
 
 # The Python module, when it was built: importable from the prefix.
 file(GLOB_RECURSE python_init ${prefix}/__init__.py)

@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <fstream>
 #include <hairlut/hairlut.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/melanin.hpp>
-#include <hairlut/table_io.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/physics/melanin.hpp>
+#include <hairlut/io/table_io.hpp>
 #include <random>
 #include <sstream>
 #include <tuple>

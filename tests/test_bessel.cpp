@@ -3,7 +3,7 @@
 #include <boost/math/special_functions/bessel.hpp>
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <cmath>
-#include <hairlut/bessel.hpp>
+#include <hairlut/physics/bessel.hpp>
 
 #include "catch.hpp"
 

@@ -3,14 +3,14 @@
 // N_p integrator (azimuthal_np_reference) and lobe energies (lobe_energies_reference), not the
 // baker's Fourier method.
 #include <cmath>
-#include <hairlut/angles.hpp>
-#include <hairlut/attenuation.hpp>
-#include <hairlut/azimuthal_np.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/beta_bands.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/hair_views.hpp>
-#include <hairlut/lobe_energy.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/physics/attenuation.hpp>
+#include <hairlut/physics/azimuthal_np.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/tables/beta_bands.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/tables/hair_views.hpp>
+#include <hairlut/physics/lobe_energy.hpp>
 #include <random>
 #include <string>
 

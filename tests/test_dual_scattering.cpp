@@ -4,10 +4,10 @@
 // the model (its own code path: no hairlut function but the one under test) within 4 standard errors.
 #include <cmath>
 #include <cstdint>
-#include <hairlut/azimuthal_fourier.hpp>
-#include <hairlut/bake_engine.hpp>
-#include <hairlut/dual_scattering_grid.hpp>
-#include <hairlut/engine_presets.hpp>
+#include <hairlut/physics/azimuthal_fourier.hpp>
+#include <hairlut/bake/bake_engine.hpp>
+#include <hairlut/bake/dual_scattering_grid.hpp>
+#include <hairlut/bake/engine_presets.hpp>
 #include <hairlut/hairlut.hpp>
 #include <numbers>
 

@@ -6,8 +6,8 @@
 // called only for the values under test; the agreement must hold within 4 standard errors.
 #include <cmath>
 #include <cstdint>
-#include <hairlut/dual_scattering.hpp>
-#include <hairlut/dual_scattering_grid.hpp>
+#include <hairlut/physics/dual_scattering.hpp>
+#include <hairlut/bake/dual_scattering_grid.hpp>
 #include <numbers>
 #include <vector>
 

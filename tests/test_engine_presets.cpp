@@ -5,12 +5,12 @@
 
 #include <cmath>
 #include <filesystem>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/dual_scattering.hpp>
-#include <hairlut/engine_exr.hpp>
-#include <hairlut/longitudinal_mp.hpp>
-#include <hairlut/table_io.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/physics/dual_scattering.hpp>
+#include <hairlut/io/engine_exr.hpp>
+#include <hairlut/physics/longitudinal_mp.hpp>
+#include <hairlut/io/table_io.hpp>
 #include <numbers>
 #include <unistd.h>
 

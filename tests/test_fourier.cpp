@@ -1,8 +1,8 @@
 // The fast N_p methods of the baker (azimuthal_fourier.hpp) against the adaptive reference, over
 // the stress set and on coarse and fine grids, and their building blocks against closed forms.
 #include <cmath>
-#include <hairlut/azimuthal_fourier.hpp>
-#include <hairlut/benchmark.hpp>
+#include <hairlut/physics/azimuthal_fourier.hpp>
+#include <hairlut/report/benchmark.hpp>
 #include <hairlut/hairlut.hpp>
 
 #include "catch.hpp"

@@ -1,7 +1,7 @@
 // Fresnel reflectance and Bravais indices against closed forms and an independent long-double
 // evaluation from the angles themselves.
 #include <cmath>
-#include <hairlut/fresnel.hpp>
+#include <hairlut/physics/fresnel.hpp>
 
 #include "catch.hpp"
 

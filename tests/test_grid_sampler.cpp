@@ -1,10 +1,10 @@
 // Grid axes and the header-only sampler: node placement, exact reproduction at nodes and of
 // functions linear in the mapped coordinate, wrapping, folding and clamping.
 #include <cmath>
-#include <hairlut/grid.hpp>
-#include <hairlut/sampler.hpp>
-#include <hairlut/angles.hpp>
-#include <hairlut/error.hpp>
+#include <hairlut/tables/grid.hpp>
+#include <hairlut/sampler/sampler.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/util/error.hpp>
 #include <vector>
 
 #include "catch.hpp"

@@ -3,14 +3,14 @@
 // a fibre from the tables against direct evaluation of the physics within the tables' own
 // accuracy threshold (the one the file was baked and validated with).
 #include <cmath>
-#include <hairlut/angles.hpp>
-#include <hairlut/attenuation.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/error.hpp>
-#include <hairlut/hair_views.hpp>
-#include <hairlut/lobe_energy.hpp>
-#include <hairlut/longitudinal_mp.hpp>
-#include <hairlut/table_io.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/physics/attenuation.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/util/error.hpp>
+#include <hairlut/tables/hair_views.hpp>
+#include <hairlut/physics/lobe_energy.hpp>
+#include <hairlut/physics/longitudinal_mp.hpp>
+#include <hairlut/io/table_io.hpp>
 #include <random>
 #include <string>
 #include <vector>

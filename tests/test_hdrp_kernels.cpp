@@ -1,6 +1,6 @@
 // The unity-hdrp-hair textures against HDRP's own kernels, texel for texel.
 //
-// The kernels are ported here a second time, independently of lib/src/hdrp_kernels.cpp (written
+// The kernels are ported here a second time, independently of lib/src/bake/hdrp_kernels.cpp (written
 // from the engine files, with different algebra and different quadrature), from
 // Unity-Technologies/Graphics, Packages/com.unity.render-pipelines.high-definition/Runtime/Material/Hair/:
 //   [C]  MultipleScattering/HairMultipleScatteringPreIntegration.compute   (blob at commit e3089c7ac636)
@@ -16,13 +16,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/engine_exr.hpp>
-#include <hairlut/hdrp_kernels.hpp>
-#include <hairlut/quadrature.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/validate_engine.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/io/engine_exr.hpp>
+#include <hairlut/bake/hdrp_kernels.hpp>
+#include <hairlut/util/quadrature.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/report/validate_engine.hpp>
 #include <numbers>
 #include <unistd.h>
 
@@ -169,7 +169,7 @@ TEST_CASE("HDRP longitudinal texture: every texel is ComputeLongitudinalScatteri
   CHECK(worst_table < 1e-7);
   WARN("longitudinal: " << t.count << " texels, worst |texel - ref| / allowance " << t.worst);
   CHECK(t.bad == 0);
-  // The issue's example: roughness 0.10 (nearest texel z = 6, beta = 0.1016), sin θi = sin 31° (x = 48):
+  // A worked example: roughness 0.10 (nearest texel z = 6, beta = 0.1016), sin θi = sin 31° (x = 48):
   // HDRP's R peak is near θo = −25°, not at −37.5°.
   int best = 0;
   for (int y = 1; y < 64; ++y)

@@ -3,7 +3,7 @@
 // messages.
 #include <filesystem>
 #include <fstream>
-#include <hairlut/json_schema.hpp>
+#include <hairlut/bake/json_schema.hpp>
 #include <set>
 
 #include "catch.hpp"

@@ -3,11 +3,11 @@
 // scenes with Table 1's widths, and determinism across thread counts.
 #include <cmath>
 #include <filesystem>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
 #include <hairlut/hairlut.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/validate.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/report/validate.hpp>
 #include <unistd.h>
 
 #include "catch.hpp"

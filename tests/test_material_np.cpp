@@ -2,9 +2,9 @@
 // (material_np.hpp) against the adaptive reference (a different algorithm: adaptive Gauss–Kronrod
 // over h with breakpoints, 1e−12), on Tungsten's layout and hairlut's, for β from 2° to 30°.
 #include <cmath>
-#include <hairlut/azimuthal_fourier.hpp>
+#include <hairlut/physics/azimuthal_fourier.hpp>
 #include <hairlut/hairlut.hpp>
-#include <hairlut/material_np.hpp>
+#include <hairlut/physics/material_np.hpp>
 
 #include "catch.hpp"
 

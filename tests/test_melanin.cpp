@@ -5,8 +5,8 @@
 #include <array>
 #include <cmath>
 #include <fstream>
-#include <hairlut/error.hpp>
-#include <hairlut/melanin.hpp>
+#include <hairlut/util/error.hpp>
+#include <hairlut/physics/melanin.hpp>
 #include <limits>
 #include <sstream>
 #include <string>

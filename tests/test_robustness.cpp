@@ -6,10 +6,10 @@
 
 #include <filesystem>
 #include <fstream>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/json_schema.hpp>
-#include <hairlut/table_io.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/bake/json_schema.hpp>
+#include <hairlut/io/table_io.hpp>
 #include <string>
 #include <unistd.h>
 

@@ -3,13 +3,13 @@
 // count, and the validator fails a table that is exact at its nodes but wrong between them.
 #include <algorithm>
 #include <cmath>
-#include <hairlut/angles.hpp>
-#include <hairlut/azimuthal_np.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/sampled_error.hpp>
-#include <hairlut/table_truth.hpp>
-#include <hairlut/validate.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/physics/azimuthal_np.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/bake/sampled_error.hpp>
+#include <hairlut/bake/table_truth.hpp>
+#include <hairlut/report/validate.hpp>
 
 #include "catch.hpp"
 

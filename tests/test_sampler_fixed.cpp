@@ -2,7 +2,7 @@
 // reconstruction for every wrap, spacing (explicit nodes included), placement and interpolation,
 // in double and in float.
 #include <cmath>
-#include <hairlut/sampler_fixed.hpp>
+#include <hairlut/sampler/sampler_fixed.hpp>
 #include <random>
 #include <vector>
 

@@ -2,8 +2,8 @@
 // σa = 0 is the mirror node. References: closed forms of the sampled functions, and Catmull–Rom
 // written out by hand for the first cell (not through sampler.hpp's tap code).
 #include <cmath>
-#include <hairlut/grid.hpp>
-#include <hairlut/sampler_fixed.hpp>
+#include <hairlut/tables/grid.hpp>
+#include <hairlut/sampler/sampler_fixed.hpp>
 #include <random>
 #include <vector>
 

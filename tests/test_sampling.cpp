@@ -3,215 +3,15 @@
 // eval/pdf consistency, pdf normalisation, chi-square goodness of fit of sampled directions
 // against the pdf integrated over bins (as Mitsuba's and pbrt's suites do), and white furnaces
 // estimated through sampling, for every lobe of the default tables and of per-material tables.
-#include <algorithm>
-#include <cmath>
-#include <hairlut/attenuation.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/lobe_energy.hpp>
-#include <hairlut/longitudinal_mp.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/sampling.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/table_sampling.hpp>
-#include <hairlut/validate.hpp>
-#include <map>
-#include <random>
-#include <string>
-#include <vector>
-
-#include "catch.hpp"
+#include "sampling_checks.hpp"
 
 using namespace hairlut;
+using namespace sampling_checks;
 using sampler::AxisRow;
 using sampler::AxisSampler;
-using sampler::Fibre;
+using sampler::FibreCoordinates;
 using sampler::HairSampler;
 
-namespace {
-
-constexpr double kDeg = kPi / 180.0;
-
-// Gauss–Legendre nodes and weights of order m on [0, 1] (Newton on the Legendre recurrence).
-void gauss_legendre01(int m, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(static_cast<std::size_t>(m), 0.0);
-  w.assign(static_cast<std::size_t>(m), 0.0);
-  for (int i = 0; i < m; ++i) {
-    double z = std::cos(kPi * (i + 0.75) / (m + 0.5)), dp = 0.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = 0.0;
-      for (int j = 1; j <= m; ++j) {
-        const double p2 = p1;
-        p1 = p0;
-        p0 = ((2.0 * j - 1.0) * z * p1 - (j - 1.0) * p2) / j;
-      }
-      dp = m * (z * p0 - p1) / (z * z - 1.0);
-      const double dz = p0 / dp;
-      z -= dz;
-      if (std::fabs(dz) < 1e-16) break;
-    }
-    x[static_cast<std::size_t>(i)] = 0.5 * (1.0 - z);
-    w[static_cast<std::size_t>(i)] = 1.0 / ((1.0 - z * z) * dp * dp);
-  }
-}
-
-// ∫_a^b f by composite Gauss–Legendre of order m over `cells` equal cells.
-template <class F>
-double integrate(F f, double a, double b, int cells, int m = 8) {
-  std::vector<double> x, w;
-  gauss_legendre01(m, x, w);
-  double s = 0.0;
-  const double h = (b - a) / cells;
-  for (int c = 0; c < cells; ++c)
-    for (std::size_t g = 0; g < x.size(); ++g) s += w[g] * f(a + (c + x[g]) * h);
-  return s * h;
-}
-
-// Upper tail of the chi-square distribution with k degrees of freedom (Wilson–Hilferty: the cube
-// root of χ²/k is close to normal; accurate to a few percent of p for k ≥ 30).
-double chi2_pvalue(double chi2, int k) {
-  const double v = 2.0 / (9.0 * k);
-  const double z = (std::cbrt(chi2 / k) - (1.0 - v)) / std::sqrt(v);
-  return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
-
-const TableSet& default_tables() {
-  static const TableSet set = load_tables(std::string(HAIRLUT_SOURCE_DIR) + "/tables/default/hairlut-default.h5");
-  return set;
-}
-
-// Per-material tables of two materials (one white) baked in memory, small enough for a test.
-const TableSet& material_tables() {
-  static const TableSet set = [] {
-    const nlohmann::json j = nlohmann::json::parse(R"({
-      "name": "sampling-test",
-      "model": "deon2011",
-      "fiber": { "eta": 1.55 },
-      "lobes": { "explicit": ["R", "TT", "TRT", "TRRT"], "residual": true,
-                 "tilt_deg": { "R": 0, "TT": 0, "TRT": 0, "TRRT": 0, "residual": 0 } },
-      "tables": {
-        "np": { "axes": { "theta_d": { "count": 40, "range_deg": [0, 89.5], "spacing": "cos" },
-                          "phi": { "count": 97, "symmetry": "even" } } },
-        "mp": { "axes": { "theta_i": { "count": 61, "range_deg": [-90, 90] },
-                          "theta_r": { "count": 121, "range_deg": [-90, 90] } } }
-      },
-      "scene": { "mode": "per-material", "materials": [
-        { "name": "blonde", "melanin": { "eumelanin": 0.3, "pheomelanin": 0.15 }, "beta_deg": { "R": 5, "TT": 2.5, "TRT": 10 } },
-        { "name": "white", "sigma_a": [0.0, 0.0, 0.0], "beta_deg": { "R": 6, "TT": 6, "TRT": 6, "TRRT": 6, "residual": 6 } } ] },
-      "output": { "basename": "sampling-test", "formats": ["hdf5"] }
-    })");
-    BakeOptions options;
-    options.threads = 1;
-    return bake(parse_config(j, "sampling-test.json", "."), options);
-  }();
-  return set;
-}
-
-// A sampler of one lobe (index p) of a group's tables, or of all of them (p < 0), prepared for
-// one fibre (FibreSampler: the tests that follow compare it with the full tables first).
-struct OneGroup {
-  HairTables all;
-  std::unique_ptr<sampler::FibreSampler<float>> fibre;
-  const HairSampler<double>& sampler() const { return fibre->sampler(); }
-};
-OneGroup group_sampler(const TableSet& set, const std::string& group, int p, const Fibre& f) {
-  OneGroup g{hair_tables(set, group), nullptr};
-  const sampler::LobeTables<float>* first = p >= 0 ? &g.all.lobes[static_cast<std::size_t>(p)] : g.all.lobes.data();
-  g.fibre = std::make_unique<sampler::FibreSampler<float>>(first, p >= 0 ? 1 : static_cast<int>(g.all.lobes.size()), f);
-  return g;
-}
-
-// ∫ S dω by quadrature of eval (independent of the sampling code): composite Gauss–Legendre of
-// order 4 over θr ∈ [−π/2, π/2] and φ ∈ [0, π] (S is even in φ) on cells of half the tables'
-// default node spacing (exact for the cubic pieces that fall inside a cell; a relative error
-// well below 1e-5 for the piecewise-cubic S, which the 4σ criterion of 10⁶ samples never sees).
-template <class S>
-double quadrature_energy(const S& s, const Fibre& f, double theta_i) {
-  return integrate(
-      [&](double tr) {
-        return 2.0 * std::cos(tr) * integrate([&](double phi) { return s.eval(f, theta_i, tr, phi); }, 0.0, kPi, 190, 4);
-      },
-      -0.5 * kPi, 0.5 * kPi, 320, 4);
-}
-
-struct Estimate {
-  double mean, error;  // mean and its standard error
-};
-template <class S>
-Estimate furnace(const S& s, const Fibre& f, double theta_i, int n, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  typename S::Workspace ws;
-  double sum = 0.0, sum2 = 0.0;
-  for (int k = 0; k < n; ++k) {
-    const double a = u(rng), b = u(rng), c = u(rng);
-    const sampler::HairSample r = s.sample(f, theta_i, a, b, c, ws);
-    const double x = r.pdf > 0.0 ? r.value / r.pdf : 0.0;
-    sum += x;
-    sum2 += x * x;
-  }
-  const double mean = sum / n;
-  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n)};
-}
-
-// Chi-square test of n sampled directions against the pdf integrated over θr × φ bins.
-// Returns the p-value; bins expecting fewer than 5 samples are pooled (Mitsuba's rule).
-template <class S>
-double chi_square(const S& s, const Fibre& f, double theta_i, int n, unsigned seed, double* pdf_integral) {
-  const int nt = 60, np = 64;
-  std::vector<double> observed(static_cast<std::size_t>(nt * np), 0.0), expected(observed.size(), 0.0);
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  typename S::Workspace ws;
-  auto bin_of = [&](double tr, double phi) {
-    const int i = std::min(nt - 1, std::max(0, static_cast<int>((tr + 0.5 * kPi) / kPi * nt)));
-    const int j = std::min(np - 1, std::max(0, static_cast<int>((phi + kPi) / (2.0 * kPi) * np)));
-    return static_cast<std::size_t>(i * np + j);
-  };
-  for (int k = 0; k < n; ++k) {
-    const double a = u(rng), b = u(rng), c = u(rng);
-    const sampler::HairSample r = s.sample(f, theta_i, a, b, c, ws);
-    if (r.pdf > 0.0) observed[bin_of(r.theta_r, r.phi)] += 1.0;
-  }
-  std::vector<double> gx, gw;
-  gauss_legendre01(6, gx, gw);
-  double total = 0.0;
-  const double ht = kPi / nt, hp = 2.0 * kPi / np;
-  for (int i = 0; i < nt; ++i)
-    for (int j = 0; j < np; ++j) {
-      double e = 0.0;
-      for (std::size_t a = 0; a < gx.size(); ++a)
-        for (std::size_t b = 0; b < gx.size(); ++b) {
-          const double tr = -0.5 * kPi + (i + gx[a]) * ht, phi = -kPi + (j + gx[b]) * hp;
-          e += gw[a] * gw[b] * s.pdf(f, theta_i, tr, phi, ws) * std::cos(tr);
-        }
-      e *= ht * hp;
-      total += e;
-      expected[static_cast<std::size_t>(i * np + j)] = e * n;
-    }
-  *pdf_integral = total;
-  double chi2 = 0.0, pool_o = 0.0, pool_e = 0.0;
-  int bins = 0;
-  for (std::size_t k = 0; k < observed.size(); ++k) {
-    if (expected[k] < 5.0) {
-      pool_o += observed[k], pool_e += expected[k];
-      continue;
-    }
-    chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
-    ++bins;
-  }
-  if (pool_e > 0.0) chi2 += (pool_o - pool_e) * (pool_o - pool_e) / std::max(pool_e, 5.0), ++bins;
-  return chi2_pvalue(chi2, bins - 1);
-}
-
-// The cases of the renderer tests: narrow and wide roughness, normal and grazing incidence.
-struct Case {
-  const char* name;
-  double beta, theta_i;
-};
-const Case kGenericCases[] = {{"narrow", 4.5 * kDeg, 30.0 * kDeg}, {"wide", 30.0 * kDeg, -20.0 * kDeg}, {"grazing", 10.0 * kDeg, 85.0 * kDeg}};
-const Case kMaterialCases[] = {{"normal", 0.0, 10.0 * kDeg}, {"grazing", 0.0, -85.0 * kDeg}};
-
-}  // namespace
 
 TEST_CASE("Axis sampling: density, mass and inverse CDF are those of the clamped interpolant", "[sampling]") {
   // A table over (a, b, x) with Catmull–Rom along each axis and values that overshoot below 0:
@@ -284,7 +84,7 @@ TEST_CASE("Sampling: eval is the library's table evaluation, pdf is eval over th
     const Table& np = *set.find("np/" + lobe);
     const Table& mp = *set.find("mp/" + lobe);
     for (int k = 0; k < 40; ++k) {
-      const Fibre f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
+      const FibreCoordinates f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
       const double ti = (u(rng) - 0.5) * 170.0 * kDeg, tr = (u(rng) - 0.5) * 170.0 * kDeg, phi = (2.0 * u(rng) - 1.0) * kPi;
       const double td = 0.5 * (tr - ti);
       // eval: the library's TableSet::sample_value of M_p and N_p (factor included).
@@ -314,7 +114,7 @@ TEST_CASE("Sampling: a fibre's prepared sampler gives the full tables' eval, pdf
   HairSampler<float>::Workspace ws;
   HairSampler<double>::Workspace wd;
   for (int k = 0; k < 6; ++k) {
-    const Fibre f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
+    const FibreCoordinates f{std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), 4.0 * u(rng) * u(rng), 0.0};
     const sampler::FibreSampler<float> fs(h.lobes.data(), static_cast<int>(h.lobes.size()), f);
     REQUIRE(fs.sampler().supported());
     for (int j = 0; j < 50; ++j) {
@@ -340,7 +140,7 @@ void chi_square_case(const Case& c, unsigned seed) {
   const TableSet& set = default_tables();
   const int lobes = static_cast<int>(hair_tables(set, "").lobes.size());
   for (int p = -1; p < lobes; ++p) {
-    const Fibre f{c.beta, 0.0, 0.0};
+    const FibreCoordinates f{c.beta, 0.0, 0.0};
     const OneGroup g = group_sampler(set, "", p, f);
     double integral = 0.0;
     const double pvalue = chi_square(g.sampler(), f, c.theta_i, 200000, seed + static_cast<unsigned>(p + 1), &integral);
@@ -369,7 +169,7 @@ namespace {
 // with d'Eon's M_p (the lobe's tilt and β) and the exact lobe energies e_p = ∫ N_p dφ (adaptive
 // reference): no table involved. With every lobe untilted it is 1 at σa = 0; tilts move each
 // lobe's M_p, and e_p depends on θd, so a tilted white fibre's furnace differs from 1.
-double physics_furnace(const TableSet& set, const HairTables& h, const Fibre& f, double theta_i, double sigma_a) {
+double physics_furnace(const TableSet& set, const HairTables& h, const FibreCoordinates& f, double theta_i, double sigma_a) {
   const double eta = set.metadata.at("eta").get<double>();
   const AbsorptionPath path = parse_absorption_path(set.metadata.at("absorption_path").get<std::string>());
   const int lobes = static_cast<int>(h.lobes.size());
@@ -404,7 +204,7 @@ double physics_furnace(const TableSet& set, const HairTables& h, const Fibre& f,
 // and the tables' furnace must be the physics' within the M_p energy tolerance their config
 // declares (the N_p shapes integrate to 1 and the energies are exact at the nodes; the M_p
 // tables carry the error the validator bounds).
-void furnace_case(const TableSet& set, const std::string& group, const Fibre& f, double theta_i, double sigma_a, double tolerance,
+void furnace_case(const TableSet& set, const std::string& group, const FibreCoordinates& f, double theta_i, double sigma_a, double tolerance,
                   unsigned seed, bool mixture) {
   const HairTables h = hair_tables(set, group);
   const int lobes = static_cast<int>(h.lobes.size());
@@ -434,32 +234,32 @@ double energy_tolerance(const TableSet& set) {
 TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[0];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, true);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[0];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, false);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 1000, false);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[1];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, true);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[1];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, false);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 2000, false);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[2];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, true);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[2];
-  furnace_case(set, "", Fibre{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, false);
+  furnace_case(set, "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 0.0, energy_tolerance(set), 3000, false);
 }
 
 namespace {
@@ -470,7 +270,7 @@ void material_chi_square(const char* material, unsigned seed) {
   int tests = 0;
   for (const Case& c : kMaterialCases)
     for (int p = -1; p < lobes; ++p) {
-      const Fibre f{0.0, 0.0, 1.0};
+      const FibreCoordinates f{0.0, 0.0, 1.0};
       const OneGroup g = group_sampler(set, group, p, f);
       double integral = 0.0;
       const double pvalue = chi_square(g.sampler(), f, c.theta_i, 100000, seed + static_cast<unsigned>(tests), &integral);
@@ -492,8 +292,8 @@ namespace {
 void white_material_furnace(const Case& c, unsigned seed) {
   const TableSet& set = material_tables();
   const HairTables h = hair_tables(set, "materials/white");
-  CHECK(std::fabs(physics_furnace(set, h, Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0) - 1.0) <= 1e-9);
-  furnace_case(set, "materials/white", Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), seed, true);
+  CHECK(std::fabs(physics_furnace(set, h, FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 0.0) - 1.0) <= 1e-9);
+  furnace_case(set, "materials/white", FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), seed, true);
 }
 }  // namespace
 
@@ -506,5 +306,5 @@ TEST_CASE("Sampling: per-material tables, white furnace through sampling, grazin
 
 TEST_CASE("Sampling: per-material tables, each lobe's furnace through sampling", "[sampling]") {
   const TableSet& set = material_tables();
-  for (const Case& c : kMaterialCases) furnace_case(set, "materials/white", Fibre{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), 5000, false);
+  for (const Case& c : kMaterialCases) furnace_case(set, "materials/white", FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 0.0, energy_tolerance(set), 5000, false);
 }

@@ -1,13 +1,13 @@
 // The validator: its checks pass on correct tables and fail on broken ones, and its reported
 // off-node error bounds the error of the sampler at other points between the nodes.
 #include <cmath>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/error.hpp>
-#include <hairlut/report.hpp>
-#include <hairlut/validate.hpp>
-#include <hairlut/azimuthal_np.hpp>
-#include <hairlut/longitudinal_mp.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/util/error.hpp>
+#include <hairlut/report/report.hpp>
+#include <hairlut/report/validate.hpp>
+#include <hairlut/physics/azimuthal_np.hpp>
+#include <hairlut/physics/longitudinal_mp.hpp>
 #include <random>
 
 #include "catch.hpp"

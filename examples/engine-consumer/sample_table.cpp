@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <hairlut/hair_views.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/version.hpp>
+#include <hairlut/tables/hair_views.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/util/version.hpp>
 #include <string>
 
 int main(int argc, char** argv) {

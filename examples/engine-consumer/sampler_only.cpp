@@ -4,8 +4,8 @@
 // those coordinates reproduces exactly, and checks a few samples between the nodes.
 #include <cmath>
 #include <cstdio>
-#include <hairlut/sampler.hpp>
-#include <hairlut/sampler_fixed.hpp>
+#include <hairlut/sampler/sampler.hpp>
+#include <hairlut/sampler/sampler_fixed.hpp>
 #include <vector>
 
 static_assert(__cplusplus >= 201703L && __cplusplus < 202002L, "this consumer checks that C++17 suffices");

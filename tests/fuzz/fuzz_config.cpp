@@ -2,7 +2,7 @@
 // ConfigError (one line); anything else (another exception, a crash, a sanitizer report) is a bug.
 #include <cstddef>
 #include <cstdint>
-#include <hairlut/config.hpp>
+#include <hairlut/bake/config.hpp>
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

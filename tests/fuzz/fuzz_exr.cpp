@@ -2,7 +2,7 @@
 // set or an IoError; anything else is a bug.
 #include <cstddef>
 #include <cstdint>
-#include <hairlut/exr_io.hpp>
+#include <hairlut/io/exr_io.hpp>
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

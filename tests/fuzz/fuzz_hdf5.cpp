@@ -2,7 +2,7 @@
 // Valid outcomes are a loaded table set or an IoError; anything else is a bug.
 #include <cstddef>
 #include <cstdint>
-#include <hairlut/hdf5_io.hpp>
+#include <hairlut/io/hdf5_io.hpp>
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """compare-hair-models output: compare.html is one self-contained page (inline SVG, no scripts, no
-external resources) and compare.json holds the figures the issue asks for: polar N_p per lobe for
+external resources) and compare.json holds the comparison's figures: polar N_p per lobe for
 each model at several theta_d, energies per theta_i of every model, the cubic approximation's error
 (Marschner's 0.75 degree claim for eta' >= 1.5 holds; it does not near eta' = 1.2) and the caustic."""
 import json

@@ -11,12 +11,12 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <hairlut/bake.hpp>
-#include <hairlut/bake_estimate.hpp>
-#include <hairlut/error.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/version.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/bake_estimate.hpp>
+#include <hairlut/util/error.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/util/version.hpp>
 #include <optional>
 #include <string>
 

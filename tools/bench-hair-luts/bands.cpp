@@ -5,11 +5,11 @@
 // lookup reads the same band-0 table with every axis linear (2^4 taps) and no factor. Both in float
 // arithmetic (R = float) and double, at the same random points (β log-uniform over the config's
 // range, σa, θd, φ uniform), in cache (256 points repeated) and out of cache (2^20 points).
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/beta_bands.hpp>
-#include <hairlut/sampler_fibre.hpp>
-#include <hairlut/sampler_fixed.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/tables/beta_bands.hpp>
+#include <hairlut/sampler/sampler_fibre.hpp>
+#include <hairlut/sampler/sampler_fixed.hpp>
 
 #include <cmath>
 #include <random>

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <hairlut/angles.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/melanin.hpp>
-#include <hairlut/table_io.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/physics/melanin.hpp>
+#include <hairlut/io/table_io.hpp>
 #include <sstream>
 
 #include "baseline_tungsten.hpp"

@@ -16,11 +16,11 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
-#include <hairlut/angles.hpp>
-#include <hairlut/hair_views.hpp>
-#include <hairlut/melanin.hpp>
-#include <hairlut/sampler_fixed.hpp>
-#include <hairlut/table_io.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/tables/hair_views.hpp>
+#include <hairlut/physics/melanin.hpp>
+#include <hairlut/sampler/sampler_fixed.hpp>
+#include <hairlut/io/table_io.hpp>
 #include <random>
 #include <sstream>
 
@@ -308,7 +308,7 @@ json bench_lookup(const Settings& st) {
   json result = {{"machine", st.machine},
                  {"load_average_before", load_before},
                  {"load_average_after", load_after},
-                 {"code", "lib/include/hairlut/sampler_fixed.hpp (FixedView), sampler.hpp (TableView), sampler_fibre.hpp (NpLobe, "
+                 {"code", "lib/include/hairlut/sampler/sampler_fixed.hpp (FixedView), sampler.hpp (TableView), sampler_fibre.hpp (NpLobe, "
                           "FibreScattering), tools/bench-hair-luts/lookup.cpp"},
                  {"timing", "thread CPU time, best of repeats, one thread; values stored as float32"},
                  {"lookups", rows},

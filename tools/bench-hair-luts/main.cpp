@@ -12,15 +12,15 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <hairlut/azimuthal_fourier.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/benchmark.hpp>
+#include <hairlut/physics/azimuthal_fourier.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/report/benchmark.hpp>
 #include <hairlut/hairlut.hpp>
-#include <hairlut/resolution.hpp>
-#include <hairlut/svg_plot.hpp>
+#include <hairlut/bake/resolution.hpp>
+#include <hairlut/report/svg_plot.hpp>
 
 #include "representations.hpp"
-#include <hairlut/version.hpp>
+#include <hairlut/util/version.hpp>
 #include <map>
 #include <omp.h>
 #include <sstream>

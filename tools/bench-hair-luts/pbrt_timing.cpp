@@ -3,7 +3,7 @@
 // directions; the table lookups of the sampler can be timed against it on the same directions.
 #include <cmath>
 #include <cstdint>
-#include <hairlut/melanin.hpp>
+#include <hairlut/physics/melanin.hpp>
 #include <sstream>
 
 #include "bench_common.hpp"

@@ -1,13 +1,13 @@
 // Section "per material": Tungsten's precompute (baseline_tungsten.cpp) against hairlut's
-// per-material bake (hairlut/material_np.hpp), one thread, the same material and β, on the
+// per-material bake (hairlut/physics/material_np.hpp), one thread, the same material and β, on the
 // baseline's own layout (64 cos θd = y/63 × 64 φ = 2πx/63, both ends present) and on hairlut's
 // (64 cos θd cell centres × 64 φ cell centres over (0, π)); accuracy of both against the adaptive
 // reference; a cost model of hairlut's spreading path next to the measurement.
 #include <cmath>
-#include <hairlut/angles.hpp>
-#include <hairlut/azimuthal_np.hpp>
-#include <hairlut/material_np.hpp>
-#include <hairlut/melanin.hpp>
+#include <hairlut/util/angles.hpp>
+#include <hairlut/physics/azimuthal_np.hpp>
+#include <hairlut/physics/material_np.hpp>
+#include <hairlut/physics/melanin.hpp>
 #include <sstream>
 
 #include "baseline_tungsten.hpp"
@@ -202,7 +202,7 @@ json bench_per_material(const Settings& st) {
                  {"baseline", "Tungsten HairBcsdf::precomputeAzimuthalDistributions re-implemented operation for operation "
                               "(tools/bench-hair-luts/baseline_tungsten.cpp; tunabrain/tungsten 88ea020): 140-point Gauss-Legendre in h "
                               "built inside, float, three 2048-sample detector tables of one beta, lookups shared by RGB, sampling CDFs"},
-                 {"hairlut", "hairlut::MaterialNp (lib/src/material_np.cpp), tolerance 1e-10 of the lobe peak, rules built inside, one thread"},
+                 {"hairlut", "hairlut::MaterialNp (lib/src/physics/material_np.cpp), tolerance 1e-10 of the lobe peak, rules built inside, one thread"},
                  {"timing", "CPU time of the one thread (CLOCK_THREAD_CPUTIME_ID; wall times also recorded), minimum (and median) of " +
                                 std::to_string(runs) + " alternating runs of each"},
                  {"error", "max |value - adaptive reference (1e-12)| / lobe peak over every 8th theta_d row from row 3, every 2nd phi, RGB, R/TT/TRT"},

@@ -4,9 +4,9 @@
 
 #include <filesystem>
 #include <fstream>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/engine_exr.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/io/engine_exr.hpp>
 #include <sstream>
 
 #include "bench_common.hpp"

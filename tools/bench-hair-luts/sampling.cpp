@@ -3,25 +3,44 @@
 // ∫ S dω with hairlut's importance sampling against uniform sampling of θr and φ at the same
 // sample count. Writes sampling.json, .csv and .md.
 #include <cmath>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench_common.hpp"
-#include "hairlut/table_io.hpp"
-#include "hairlut/table_sampling.hpp"
+#include "hairlut/io/table_io.hpp"
+#include "hairlut/tables/table_sampling.hpp"
 
 namespace bench {
 
 json bench_sampling(const Settings& s) {
-  using hairlut::sampler::Fibre;
+  using hairlut::sampler::FibreCoordinates;
   using hairlut::sampler::HairSampler;
   constexpr double pi = 3.14159265358979323846, deg = pi / 180.0;
   const std::string file = s.source_dir + "/tables/default/hairlut-default.h5";
   const hairlut::TableSet set = hairlut::load_tables(file);
-  const hairlut::HairTables h = hairlut::hair_tables(set, "");
-  const HairSampler<float>& smp = *h.sampler;
+  // Three reconstructions of the same nodes: as baked (cubic along every N_p and M_p axis: the
+  // general path, a blended row per lookup), linear along every axis (the mixture fast path at
+  // every lookup) and cubic along the sampled axes φ and θr only (the fast path where a node
+  // slice does not dip below 0). The energy tables keep their own interpolation.
+  const char* const recon_names[] = {"cubic (as baked)", "linear", "cubic along phi, theta_r only"};
+  std::vector<hairlut::HairTables> recons;
+  for (int r = 0; r < 3; ++r) {
+    hairlut::HairTables h = hairlut::hair_tables(set, "");
+    if (r > 0) {
+      for (hairlut::sampler::LobeTables<float>& l : h.lobes)
+        for (hairlut::sampler::TableRef<float>* t : {&l.np, &l.mp})
+          for (int d = 0; d < t->dims; ++d) {
+            auto& a = const_cast<hairlut::sampler::Axis&>(t->axes[d]);
+            if (a.interpolation == hairlut::sampler::Interpolation::cubic && !(r == 2 && d + 1 == t->dims))
+              a.interpolation = hairlut::sampler::Interpolation::linear;
+          }
+      h.sampler = std::make_unique<HairSampler<float>>(h.lobes.data(), static_cast<int>(h.lobes.size()));
+    }
+    recons.push_back(std::move(h));
+  }
   struct Case {
     const char* name;
     double beta, sigma_a, theta_i;
@@ -33,9 +52,12 @@ json bench_sampling(const Settings& s) {
   const int calls = s.quick ? 2000 : 20000;
   const int furnace_n = s.quick ? 20000 : 200000;
   json rows = json::array();
+  for (int rc = 0; rc < 3; ++rc)
   for (const Case& c : cases) {
-    log(s.quiet, "sampling: %s ...\n", c.name);
-    const Fibre f{c.beta, c.sigma_a, 0.0};
+    const hairlut::HairTables& h = recons[static_cast<std::size_t>(rc)];
+    const HairSampler<float>& smp = *h.sampler;
+    log(s.quiet, "sampling: %s, %s ...\n", recon_names[rc], c.name);
+    const FibreCoordinates f{c.beta, c.sigma_a, 0.0};
     HairSampler<float>::Workspace ws;
     std::mt19937_64 rng(1);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -101,6 +123,7 @@ json bench_sampling(const Settings& s) {
     const double is_mean = is_sum / n, un_mean = un_sum / n;
     const double is_var = std::max(0.0, is_sum2 / n - is_mean * is_mean), un_var = std::max(0.0, un_sum2 / n - un_mean * un_mean);
     rows.push_back({{"case", c.name},
+                    {"reconstruction", recon_names[rc]},
                     {"beta_deg", c.beta / deg},
                     {"sigma_a", c.sigma_a},
                     {"theta_i_deg", c.theta_i / deg},
@@ -124,24 +147,27 @@ json bench_sampling(const Settings& s) {
   json out = {{"machine", s.machine}, {"tables", "tables/default/hairlut-default.h5"}, {"calls_per_timing", calls}, {"rows", rows}};
   write_file(s, "sampling.json", out.dump(2) + "\n");
   std::ostringstream csv, md;
-  csv << "case,sample_ns,pdf_ns,eval_ns,fibre_prepare_us,fibre_sample_ns,fibre_pdf_ns,fibre_eval_ns,furnace_samples,furnace_importance,stderr_importance,furnace_uniform,stderr_uniform,variance_ratio\n";
+  csv << "reconstruction,case,sample_ns,pdf_ns,eval_ns,fibre_prepare_us,fibre_sample_ns,fibre_pdf_ns,fibre_eval_ns,furnace_samples,furnace_importance,stderr_importance,furnace_uniform,stderr_uniform,variance_ratio\n";
   md << "# Sampling: cost per call and furnace variance (default tables, one thread)\n\n"
-     << "| case | sample() ns | pdf() ns | eval() ns | FibreSampler: prepare µs | sample() ns | pdf() ns | eval() ns | furnace, importance (± 1σ) | furnace, uniform θr, φ (± 1σ) | variance uniform / importance |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+     << "| reconstruction | case | sample() ns | pdf() ns | eval() ns | FibreSampler: prepare µs | sample() ns | pdf() ns | eval() ns | furnace, importance (± 1σ) | furnace, uniform θr, φ (± 1σ) | variance uniform / importance |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const json& r : rows) {
-    csv << r["case"].get<std::string>() << "," << fmt(r["sample_ns"].get<double>()) << "," << fmt(r["pdf_ns"].get<double>()) << ","
+    csv << r["reconstruction"].get<std::string>() << "," << r["case"].get<std::string>() << "," << fmt(r["sample_ns"].get<double>()) << "," << fmt(r["pdf_ns"].get<double>()) << ","
         << fmt(r["eval_ns"].get<double>()) << "," << fmt(r["fibre_prepare_us"].get<double>()) << "," << fmt(r["fibre_sample_ns"].get<double>()) << ","
         << fmt(r["fibre_pdf_ns"].get<double>()) << "," << fmt(r["fibre_eval_ns"].get<double>()) << "," << r["furnace_samples"].get<int>() << "," << fmt(r["furnace_importance"].get<double>(), 6) << ","
         << fmt(r["furnace_importance_stderr"].get<double>()) << "," << fmt(r["furnace_uniform"].get<double>(), 6) << ","
         << fmt(r["furnace_uniform_stderr"].get<double>()) << "," << fmt(r["variance_ratio_uniform_over_importance"].get<double>()) << "\n";
-    md << "| " << r["case"].get<std::string>() << " | " << fmt(r["sample_ns"].get<double>()) << " | " << fmt(r["pdf_ns"].get<double>()) << " | "
+    md << "| " << r["reconstruction"].get<std::string>() << " | " << r["case"].get<std::string>() << " | " << fmt(r["sample_ns"].get<double>()) << " | " << fmt(r["pdf_ns"].get<double>()) << " | "
        << fmt(r["eval_ns"].get<double>()) << " | " << fmt(r["fibre_prepare_us"].get<double>()) << " | " << fmt(r["fibre_sample_ns"].get<double>()) << " | "
        << fmt(r["fibre_pdf_ns"].get<double>()) << " | " << fmt(r["fibre_eval_ns"].get<double>()) << " | " << fmt(r["furnace_importance"].get<double>(), 5) << " ± "
        << fmt(r["furnace_importance_stderr"].get<double>(), 2) << " | " << fmt(r["furnace_uniform"].get<double>(), 5) << " ± "
        << fmt(r["furnace_uniform_stderr"].get<double>(), 2) << " | " << fmt(r["variance_ratio_uniform_over_importance"].get<double>()) << " |\n";
   }
   md << "\n" << furnace_n << " samples per furnace estimate (through the FibreSampler); sample() includes the value and the mixture pdf of the\n"
-     << "drawn direction. HairSampler reads the full tables; FibreSampler first blends N_p and M_p over the fibre's beta and sigma_a.\n";
+     << "drawn direction. HairSampler reads the full tables; FibreSampler first blends N_p and M_p over the fibre's beta and sigma_a.\n"
+     << "Reconstruction: the N_p and M_p tables' nodes interpolated as baked (cubic: the general path, one blended row per lookup),\n"
+     << "linear along every axis (the mixture fast path), or cubic along the sampled axes only (the fast path where the node slices\n"
+     << "stay non-negative). Load average at the start: " << s.machine.value("load_average_at_start", std::string("?")) << ".\n";
   write_file(s, "sampling.csv", csv.str());
   write_file(s, "sampling.md", md.str());
   return out;

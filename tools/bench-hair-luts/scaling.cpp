@@ -8,8 +8,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
 #include <map>
 #include <sstream>
 

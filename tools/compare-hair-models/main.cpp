@@ -1,20 +1,20 @@
 // compare-hair-models: d'Eon 2011, Marschner 2003 (exact and cubic paths) and Kajiya–Kay for one
 // fiber, side by side: N_p(φ) per lobe as polar plots, total energy per θi, where the cubic
 // approximation departs from the exact roots, and the TRT caustic. Writes compare.html,
-// compare.json and compare.md. Thin: the figures live in hairlut/compare.hpp.
+// compare.json and compare.md. Thin: the figures live in hairlut/report/compare.hpp.
 #include <unistd.h>
 
 #include "common/cli.hpp"
 #include <atomic>
 #include <csignal>
 #include <cstdio>
-#include <hairlut/bake.hpp>
-#include <hairlut/compare.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/error.hpp>
-#include <hairlut/hdf5_io.hpp>
-#include <hairlut/melanin.hpp>
-#include <hairlut/version.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/report/compare.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/util/error.hpp>
+#include <hairlut/io/hdf5_io.hpp>
+#include <hairlut/physics/melanin.hpp>
+#include <hairlut/util/version.hpp>
 #include <string>
 #include <vector>
 

@@ -3,7 +3,7 @@
 #include "common/cli.hpp"
 #include <cstdio>
 #include <hairlut/hairlut.hpp>
-#include <hairlut/np_point.hpp>
+#include <hairlut/bake/np_point.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>

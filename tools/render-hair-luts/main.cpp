@@ -27,18 +27,18 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <hairlut/attenuation.hpp>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/error.hpp>
-#include <hairlut/hdf5_io.hpp>
-#include <hairlut/lobe_energy.hpp>
-#include <hairlut/longitudinal_mp.hpp>
-#include <hairlut/melanin.hpp>
-#include <hairlut/np_point.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/table_sampling.hpp>
-#include <hairlut/validate.hpp>
+#include <hairlut/physics/attenuation.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/util/error.hpp>
+#include <hairlut/io/hdf5_io.hpp>
+#include <hairlut/physics/lobe_energy.hpp>
+#include <hairlut/physics/longitudinal_mp.hpp>
+#include <hairlut/physics/melanin.hpp>
+#include <hairlut/bake/np_point.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/tables/table_sampling.hpp>
+#include <hairlut/report/validate.hpp>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
@@ -51,7 +51,7 @@ namespace {
 namespace fs = std::filesystem;
 using hairlut::sampler::AxisRow;
 using hairlut::sampler::AxisSampler;
-using hairlut::sampler::Fibre;
+using hairlut::sampler::FibreCoordinates;
 using hairlut::sampler::HairSampler;
 constexpr double kPi = 3.14159265358979323846;
 
@@ -68,7 +68,7 @@ Vec normalized(Vec a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
 struct Look {
   std::string name;
   std::string group;  // "" generic, "materials/<name>"
-  Fibre fibre[3];
+  FibreCoordinates fibre[3];
   double sigma_a[3];
   std::vector<double> beta_n, beta_m, alpha;  // per lobe, for the direct evaluation
 };
@@ -100,7 +100,7 @@ struct Bounder {
   const hairlut::HairTables* h;
   std::vector<AxisSampler<float>> mp, np;
   double eps_m = 0.0, eps_n = 0.0, eps_e = 0.0;
-  double operator()(const Fibre& f, double ti, double tr, double phi, AxisRow& row) const {
+  double operator()(const FibreCoordinates& f, double ti, double tr, double phi, AxisRow& row) const {
     double b = 0.0;
     for (std::size_t p = 0; p < h->lobes.size(); ++p) {
       const auto& l = h->lobes[p];
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
           const double s = mel ? set.sample_value(*mel, {st.eu, st.pheo, static_cast<double>(c)}) : 0.0;
           const hairlut::Rgb d = hairlut::melanin_sigma_a_rgb(st.eu, st.pheo);
           l.sigma_a[c] = c == 0 ? d.r : c == 1 ? d.g : d.b;
-          l.fibre[c] = Fibre{st.beta_deg * kPi / 180.0, s, 0.0};
+          l.fibre[c] = FibreCoordinates{st.beta_deg * kPi / 180.0, s, 0.0};
         }
         looks.push_back(l);
       }
@@ -261,7 +261,7 @@ int main(int argc, char** argv) {
         const hairlut::Table* np0 = set.find(g + "/np_R");
         if (!np0) throw hairlut::DomainError(g + "/np_R: missing");
         const auto sig = np0->attributes.at("sigma_a").get<std::vector<double>>();
-        for (int c = 0; c < 3; ++c) l.sigma_a[c] = sig.at(static_cast<std::size_t>(c)), l.fibre[c] = Fibre{0.0, 0.0, static_cast<double>(c)};
+        for (int c = 0; c < 3; ++c) l.sigma_a[c] = sig.at(static_cast<std::size_t>(c)), l.fibre[c] = FibreCoordinates{0.0, 0.0, static_cast<double>(c)};
         looks.push_back(l);
       }
     }
@@ -316,7 +316,7 @@ int main(int argc, char** argv) {
             angles(view, &tv, &pv);
             double phi = pv - pl;
             phi = std::remainder(phi, 2.0 * kPi);
-            const Fibre& f = look.fibre[c];
+            const FibreCoordinates& f = look.fibre[c];
             double lt = l_sun * smp.eval(f, tl, tv, phi), ld = l_sun * direct_s(look, c, eta, path, tl, tv, phi);
             double lb = l_sun * bound(f, tl, tv, phi, row);
             double et = 0.0, ed = 0.0, eb = 0.0;

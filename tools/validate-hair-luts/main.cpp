@@ -1,6 +1,6 @@
 // validate-hair-luts: check a baked hairlut table file (HDF5 or OpenEXR), or the tables of a
 // config, and write report.html, report.json and report.md. Exit status 0 when every check
-// passes, 1 when a check fails, 2 for bad input. Thin: the checks live in hairlut/validate.hpp.
+// passes, 1 when a check fails, 2 for bad input. Thin: the checks live in hairlut/report/validate.hpp.
 #include <unistd.h>
 
 #include "common/cli.hpp"
@@ -8,14 +8,14 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <hairlut/bake.hpp>
-#include <hairlut/config.hpp>
-#include <hairlut/error.hpp>
-#include <hairlut/report.hpp>
-#include <hairlut/validate_engine.hpp>
-#include <hairlut/table_io.hpp>
-#include <hairlut/validate.hpp>
-#include <hairlut/version.hpp>
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/util/error.hpp>
+#include <hairlut/report/report.hpp>
+#include <hairlut/report/validate_engine.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/report/validate.hpp>
+#include <hairlut/util/version.hpp>
 #include <string>
 #include <vector>
 

@@ -1,0 +1,147 @@
+// Bake configurations: the JSON that `bake-hair-luts --config FILE` reads, checked against
+// schemas/hairlut-config.schema.json (embedded in the library) and then against the rules JSON
+// Schema cannot express, with one-line errors that name the file and the key path.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "hairlut/physics/attenuation.hpp"
+#include "hairlut/physics/azimuthal_np.hpp"
+#include "hairlut/bake/engine_presets.hpp"
+#include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/util/error.hpp"
+#include "hairlut/tables/grid.hpp"
+#include "hairlut/util/hash.hpp"
+#include "hairlut/physics/longitudinal_mp.hpp"
+#include "hairlut/physics/marschner.hpp"
+
+namespace hairlut {
+
+/// A config that cannot be used. what() is one line: "<file>: <key.path>: <reason>".
+class ConfigError : public std::runtime_error {
+ public:
+  explicit ConfigError(const std::string& message) : std::runtime_error(one_line(message)) {}
+};
+
+/// How N_p entries are integrated.
+struct NpQuadratureConfig {
+  /// fourier: the detector's Fourier series with coefficients shared by every β and σa
+  /// (azimuthal_fourier.hpp; default); gauss_legendre: a fixed-order rule per entry;
+  /// adaptive: the adaptive reference integrator per entry (slow).
+  enum class Method { fourier, gauss_legendre, adaptive };
+  Method method = Method::fourier;
+  int order = 256;                                   ///< Gauss–Legendre order (gauss_legendre)
+  IntegrationVariable variable = IntegrationVariable::gamma;
+  double tolerance = 1e-12;                          ///< error relative to the lobe peak (fourier) or value (adaptive)
+  int energy_order = 128;                            ///< Gauss–Legendre order of lobe energies
+};
+
+std::string_view to_string(NpQuadratureConfig::Method method);
+
+/// One hair material of a scene.
+struct MaterialConfig {
+  std::string name;
+  std::array<double, 3> sigma_a{};          ///< RGB absorption per unit radius (from melanin if given)
+  std::optional<std::array<double, 2>> melanin;  ///< (eumelanin, pheomelanin) when given as melanin
+  std::string melanin_model;                ///< "rgb" or "spectral" when given as melanin
+  std::vector<double> beta_m;               ///< longitudinal roughness per explicit lobe (radians)
+  std::vector<double> beta_n;               ///< azimuthal roughness per explicit lobe (radians)
+  double residual_beta_m = 0.0, residual_beta_n = 0.0;
+};
+
+struct SceneConfig {
+  enum class Mode { per_material, restrict_generic };
+  Mode mode = Mode::per_material;
+  std::vector<MaterialConfig> materials;
+};
+
+/// Settings of model "marschner2003" (Marschner et al. 2003 §5, Table 1).
+struct MarschnerConfig {
+  MarschnerParams params;                              ///< η and the absorption path mirror BakeConfig's
+  double alpha_r = radians(-5.0);                      ///< R lobe's shift of θh (Table 1: −10° to −5°)
+  GaussianArgument argument = GaussianArgument::theta_h;
+  /// Table 1's lobes for a given β_R.
+  MarschnerLobes lobes(double beta_r) const { return MarschnerLobes::table1(alpha_r, beta_r); }
+};
+
+/// tables.dual_scattering: mean energy per lobe and Zinke 2008's dual-scattering quantities over
+/// generic physical axes (dual_scattering.hpp, docs/dual-scattering.md).
+struct DualScatteringTablesConfig {
+  std::vector<GridAxis> axes;      ///< sigma_a, beta, theta_i (storage order, theta_i fastest)
+  std::vector<double> lobe_scale;  ///< per explicit lobe, then the residual: β_m,p = β_n,p = scale_p β (default 1)
+  double density_factor = 0.7;     ///< d_b of Zinke eq. 17
+};
+
+struct OutputConfig {
+  std::filesystem::path directory;  ///< absolute, or relative to the process's working directory
+  std::string basename;
+  bool hdf5 = false, exr = false;
+  bool hdf5_double = false;         ///< float64 instead of float32
+  int hdf5_deflate = 6;
+  bool exr_half = false;            ///< half instead of float
+  std::string exr_compression = "zip";
+};
+
+/// A validated config, with defaults applied and angles in radians.
+struct BakeConfig {
+  std::string name, description;
+  std::string model = "deon2011";
+  std::optional<MarschnerConfig> marschner;  ///< set exactly when model == "marschner2003"
+  double eta = 1.55;
+  AbsorptionPath path = AbsorptionPath::chord;
+  int lobe_count = 4;                ///< explicit lobes p = 0 … lobe_count − 1
+  bool residual = true;
+  double fold_below = 0.0;
+  std::vector<double> tilt;          ///< α_p per explicit lobe (radians)
+  double residual_tilt = 0.0;
+  NpQuadratureConfig quadrature;
+  /// Table axes, in storage order (row-major, last fastest).
+  /// beta, sigma_a, theta_d, phi (deon2011); sigma_a, theta_d, phi and, for an eccentric fiber,
+  /// phi_h (marschner2003: TRT over sigma_a, theta_d, phi_h, phi)
+  std::optional<std::vector<GridAxis>> np_axes;
+  std::optional<double> np_target_error;              ///< choose the N_p counts for this off-node error
+  /// tables.np.normalize "energy": N_p tables store N_p / E_p with np/energy_<lobe> as their factor.
+  bool np_normalize_energy = false;
+  /// tables.np.energy_axes: sigma_a, theta_d of the energy and residual tables (default: the N_p axes).
+  std::optional<std::vector<GridAxis>> np_energy_axes;
+  /// tables.np.beta_bands (beta_bands.hpp): N_p per β band; band 0's axes are np_axes.
+  std::vector<BetaBand> np_beta_bands;
+  std::optional<std::vector<GridAxis>> mp_axes;       ///< beta (β_R for marschner2003), theta_i, theta_r
+  std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
+  double melanin_path_length = 2.0;
+  std::optional<SceneConfig> scene;
+  std::optional<DualScatteringTablesConfig> dual_scattering;  ///< tables.dual_scattering
+  std::optional<EngineConfig> engine;                         ///< tables.engine (export presets)
+  OutputConfig output;
+
+  nlohmann::json validate_thresholds;  ///< "validate": {"thresholds": {...}} for validate-hair-luts (may be null)
+
+  nlohmann::json normalized;  ///< the config with every default filled in, angles in radians
+  std::string hash;           ///< FNV-1a 64 of normalized + library version, 16 hex digits
+};
+
+/// Parses and validates a config document. `source` names it in error messages (the file name).
+/// `base_dir` resolves a relative output.directory. Throws ConfigError.
+BakeConfig parse_config(const nlohmann::json& document, const std::string& source,
+                        const std::filesystem::path& base_dir);
+
+/// The marschner2003 settings as recorded in the normalized config and the table metadata
+/// (angles in radians).
+nlohmann::json marschner_json(const MarschnerConfig& m);
+/// The inverse of marschner_json (for tables read back), with the fiber's η and path; throws
+/// DomainError naming the malformed or out-of-domain field.
+MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path);
+
+/// Reads, parses and validates a config file (JSON syntax errors report line and column).
+BakeConfig load_config(const std::filesystem::path& file);
+
+/// The embedded text of schemas/hairlut-config.schema.json.
+const char* config_schema_text();
+
+}  // namespace hairlut

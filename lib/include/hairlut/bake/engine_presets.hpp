@@ -1,0 +1,119 @@
+// Roughness and absorption parameterisations (one engine parameter → hairlut's per-lobe β_m, β_n,
+// tilt and σa) and the export presets that reproduce the axes, resolutions, encodings and texel
+// placement of real-time engines' hair look-up textures. docs/presets/<name>.md describes each preset
+// and the engine source files it follows.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hairlut/tables/grid.hpp"
+#include "hairlut/physics/hair_model.hpp"
+
+namespace hairlut {
+
+/// What a table's roughness axis means.
+enum class RoughnessParameter {
+  beta,   ///< x = β in radians; β_m,p = β_n,p = s_p x (s_p per lobe, default 1)
+  unreal  ///< x = the Hair shading model's Roughness in [0, 1] (docs/presets/unreal-hair-strands.md)
+};
+
+/// One roughness parameter x → the lobe parameters of R, TT, TRT, ... and the residual.
+struct RoughnessMapping {
+  RoughnessParameter parameter = RoughnessParameter::beta;
+  int lobes = 3;                 ///< explicit lobes P
+  bool residual = true;
+  std::vector<double> scale;     ///< beta: s_p per explicit lobe, then the residual's (default all 1)
+  std::vector<double> tilt;      ///< α_p per explicit lobe, then the residual's (radians, hairlut's θr shift)
+
+  /// The P (+ 1) lobe parameters at x. Domain: beta: x > 0; the engine parameters: x in [0, 1]
+  /// (clamped as the engines clamp them). Throws DomainError.
+  std::vector<LobeParams> lobes_at(double x) const;
+  /// Formulas and constants, for metadata and the validator.
+  nlohmann::ordered_json describe() const;
+  /// Reads describe()'s form back (the validator rebuilds the model from table metadata).
+  static RoughnessMapping from_json(const nlohmann::json& j);
+  /// True when every lobe has the same β_m = β_n and no tilt (d'Eon's white-furnace setting).
+  bool uniform() const;
+};
+
+/// What a table's absorption axis means.
+enum class AbsorptionParameter {
+  sigma_a,           ///< x = σa per unit fiber radius
+  unreal_base_color  ///< x = Unreal hair BaseColor c (linear); σa = −ln(max(c, 1e−4))/4
+};
+
+struct AbsorptionMapping {
+  AbsorptionParameter parameter = AbsorptionParameter::sigma_a;
+  /// σa per unit radius at x (≥ 0, finite). Throws DomainError for x outside the parameter's domain.
+  double sigma_a(double x) const;
+  nlohmann::ordered_json describe() const;
+  static AbsorptionMapping from_json(const nlohmann::json& j);
+};
+
+/// The fibre a mean-energy or dual-scattering table entry stands for: η and the absorption path,
+/// σa from the absorption axis's value, the lobes (and residual) from the roughness axis's value.
+HairModel table_model(const RoughnessMapping& roughness, const AbsorptionMapping& absorption, double eta, AbsorptionPath path,
+                      double roughness_x, double absorption_x);
+
+
+/// The sampled quantities of an engine texture channel.
+struct EngineChannel {
+  std::string table;     ///< table path ("unreal/dual_scattering/a_f"), or empty for a constant
+  double constant = 0.0; ///< the value when `table` is empty
+  double scale = 1.0;    ///< the texture stores clamp(scale × value) (see saturate)
+  bool saturate = false; ///< clamp to [0, 1] as the engine's own bake does
+};
+
+/// One engine texture: a 3D texture of X × Y × Z texels written as a 2D atlas of Z tiles of X × Y.
+struct EngineTexture {
+  int channel_count = 4;    ///< channels written: R, G (2), R, G, B (3) or R, G, B, A (4), the engine's own count
+  std::string preset;       ///< "unreal-hair-strands", "unity-hdrp-hair"
+  std::string name;         ///< "dual-scattering", "mean-energy", "attenuation", ...
+  std::string file_suffix;  ///< appended to the output basename: <basename>-<suffix>.exr
+  std::string group;        ///< table group of its sources
+  EngineChannel channels[4];  ///< R, G, B, A (those past channel_count are not written)
+  int tiles_per_row = 1;    ///< tile of slice z at column z % tiles_per_row, row z / tiles_per_row
+  bool flip_y = false;      ///< texel row y at image row Y − 1 − y within its tile (bottom-left origin)
+  std::string engine_format;  ///< the engine's texture format, e.g. "PF_FloatRGBA (RGBA16F)"
+  std::string description;    ///< which shader reads it and how
+  nlohmann::ordered_json describe() const;
+};
+
+/// tables.engine of a config: which preset, which of its textures, and the few constants an engine
+/// team may need to match its own build.
+struct EngineConfig {
+  std::string preset;                  ///< "unreal-hair-strands" or "unity-hdrp-hair"
+  std::vector<std::string> textures;   ///< a subset of the preset's textures (empty: all)
+  double density_factor = 0.7;         ///< d_b of Zinke eq. 17 (also recorded for d_f)
+  // unity-hdrp-hair: HDRP's kernels fix these; the preset refuses other values (hdrp_kernels.hpp)
+  double radial_smoothness = 0.7;      ///< ConfigureFiberSurface's perceptualRadialSmoothness
+  double cuticle_angle_deg = 3.0;      ///< α of the kernels (cuticleAngle −3° negated by Hair.hlsl)
+  double attenuation_scale = 0.31830988618379067;  ///< the kernels' final 1/π
+};
+
+/// One group of tables of a preset, over one set of axes (storage order: the texture's Z, Y, X).
+struct EngineTableSpec {
+  std::string group;   ///< "unreal/dual_scattering", "unity/azimuthal", ...
+  std::string kind;    ///< "dual_scattering", "mean_energy", "hdrp_attenuation", "hdrp_azimuthal", "hdrp_longitudinal"
+  std::vector<GridAxis> axes;
+  RoughnessMapping roughness;    ///< dual_scattering, mean_energy, longitudinal
+  AbsorptionMapping absorption;  ///< dual_scattering, mean_energy
+  std::string roughness_axis, absorption_axis, theta_axis;  ///< axis names of the three parameters
+};
+
+/// Names of the presets.
+const std::vector<std::string>& engine_preset_names();
+
+/// The table groups a preset bakes for explicit lobes R, TT, TRT (the presets' lobes) and the
+/// residual if `residual`. Throws DomainError for an unknown preset.
+std::vector<EngineTableSpec> engine_preset_tables(const EngineConfig& config, bool residual);
+
+/// Textures a preset writes (all, or config.textures). Throws DomainError naming an unknown texture.
+std::vector<EngineTexture> engine_preset_textures(const EngineConfig& config);
+
+/// The texture names of a preset.
+std::vector<std::string> engine_preset_texture_names(const std::string& preset);
+
+}  // namespace hairlut

@@ -1,0 +1,96 @@
+// Table resolution from a target error: how many nodes each axis of a generic N_p table needs so
+// that multilinear interpolation stays within a given error relative to the lobe peak, with the
+// smallest table, and the error the baked table then achieves.
+#pragma once
+
+#include <cstddef>
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hairlut/physics/attenuation.hpp"
+#include "hairlut/tables/grid.hpp"
+#include "hairlut/util/quadrature.hpp"
+#include "hairlut/tables/tables.hpp"
+
+namespace hairlut {
+
+struct ResolutionPlan {
+  std::vector<GridAxis> axes;                        ///< beta, sigma_a, theta_d, phi with the chosen counts
+  std::map<std::string, double> axis_error;          ///< predicted interpolation error per axis (at the chosen count)
+  std::map<std::string, double> slope;               ///< local error ∝ count^−slope per axis, where interpolated
+  double predicted_error = 0.0;                      ///< sum of the per-axis errors
+  std::size_t entries = 0;                           ///< entries per lobe
+};
+
+/// The interpolation error of one N_p axis at a given node count, as a renderer sees it: at
+/// probe points drawn uniformly over the domain (log-uniform on log axes), the axis's own
+/// interpolation (linear, cubic or geometric in its mapped coordinate) from the exact values at
+/// its nodes with the other coordinates exact, against direct evaluation (the Fourier method at
+/// 1e−12), relative to the peak over φ of the true slice at the same (β, σa, θd), floored at 1e−3
+/// of the white fibre's peak (docs/conventions.md). With normalize_energy the table holds
+/// N_p / E_p: the nodes' shapes are interpolated and multiplied by the exact energy at the point.
+/// Lobes R, TT, TRT and TRRT (as many as `lobes`).
+class AxisErrorProbe {
+ public:
+  /// axes: beta, sigma_a, theta_d, phi (ranges, spacing, placement, interpolation used; counts
+  /// ignored); probes: (σa, θd) slabs, each with 4 β and 16 φ.
+  AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes = 24, bool normalize_energy = false);
+  /// Largest error relative to the local peak of axis k (0 … 3) with `count` nodes.
+  double error(std::size_t k, int count) const;
+
+ private:
+  static constexpr std::size_t kBetas = 4, kPhis = 16;
+  struct Slab {
+    double sigma = 0.0, theta = 0.0;
+    std::array<double, kBetas> betas{};
+    std::array<double, kPhis> phis{};
+    std::array<std::array<std::array<double, kPhis>, kBetas>, 4> truth{};
+    std::array<std::array<double, kBetas>, 4> scale{};
+    std::vector<double> energy;  ///< E_p at (σa, θd) (normalize_energy)
+  };
+  std::vector<double> exact_lists(const std::vector<double>& betas, const std::vector<double>& sigmas, const std::vector<double>& thetas,
+                                  const std::vector<double>& phis) const;
+  std::vector<double> energies(double sigma, double theta) const;
+
+  std::vector<GridAxis> axes_;
+  double eta_;
+  AbsorptionPath path_;
+  int lobes_;
+  bool normalize_;
+  std::vector<Slab> slabs_;
+  std::shared_ptr<GaussLegendreCache> rules_;
+  std::shared_ptr<const GaussLegendreRule> energy_rule_;
+};
+
+/// Chooses node counts for the N_p axes (beta, sigma_a, theta_d, phi: ranges, spacing and placement
+/// as given; given counts are lower bounds) so that the predicted off-node error relative to the
+/// lobe peak is at most `target`. The errors of the axes add; with second-order interpolation on
+/// every axis the smallest table (minimum of Σ ln n under Σ e_k = target, Lagrange) gives each
+/// axis the same share. An axis's error is measured (midpoints of the mapped coordinate, exact
+/// N_p, a fixed set of probes over the other axes, lobes R, TT, TRT) at 16, 32, 64, ... nodes until
+/// it is within its share, and the count is interpolated in log–log between the last two.
+/// Throws DomainError when the table would exceed max_entries per lobe.
+ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
+                                  std::size_t max_entries = std::size_t{1} << 31, bool normalize_energy = false);
+
+/// The error a baked table achieves where a renderer samples (sampled_error.hpp).
+struct AchievedError {
+  double worst = 0.0;          ///< largest over the N_p tables
+  double p99 = 0.0;            ///< largest 99th percentile over the N_p tables
+  std::string worst_table;     ///< where the worst occurs
+  std::size_t points = 0;      ///< points measured, all tables together
+  std::map<std::string, std::pair<double, double>> per_table;  ///< path → (worst, p99)
+  std::string denominator;     ///< the denominator of the lobes' errors, in words
+};
+
+/// The error of every lobe's N_p table of group "np" (R, TT, TRT, TRRT, ...; not the residual,
+/// which the validator judges with the energies) at `samples` random points per table over its
+/// declared domain, relative to the peak over φ of the same (β, σa, θd) slice floored at 1e−3 × the
+/// white fibre's: measure_sampled_error with table_truth, as validate-hair-luts's
+/// accuracy_max_rel / accuracy_p99_rel. Deterministic for any thread count.
+AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = 4096, int threads = 0);
+
+}  // namespace hairlut

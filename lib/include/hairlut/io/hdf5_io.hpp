@@ -1,0 +1,67 @@
+// HDF5 files of hairlut tables.
+//
+// Layout: one group per table group ("np", "mp", "melanin", "materials/<name>"); in each group one
+// dataset per table and one dimension scale (H5DS) per axis, named like the axis ("theta_d",
+// "phi", "sigma_a", "beta", ...) with `units` and `long_name` attributes, so that h5py, xarray and
+// netCDF tools see real coordinates. Datasets of at most 4 KiB (axes, energies, M_p of a
+// material) are compact (stored in their checksummed object header, unfiltered); larger ones are
+// chunked with shuffle + deflate and a Fletcher-32 checksum, or, with deflate 0, compact up to
+// 60 KiB and contiguous beyond (unfiltered; hairlut_checksum covers their values). The file uses the HDF5 1.10 format (superblock v3, checksummed metadata, compact chunk indexes) and records no
+// time stamps, so the same tables give the same bytes. The root carries the provenance
+// (version, model, eta, lobes, quadrature, config text and hash) as attributes.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "hairlut/util/error.hpp"
+#include "hairlut/tables/slab_stream.hpp"
+#include "hairlut/tables/tables.hpp"
+
+namespace hairlut {
+
+/// A file that cannot be written or read as hairlut tables. what() is one line: "<file>: <reason>".
+class IoError : public std::runtime_error {
+ public:
+  explicit IoError(const std::string& message) : std::runtime_error(one_line(message)) {}
+};
+
+/// Version of the table file format, "MAJOR.MINOR", written into every file (HDF5 root attribute
+/// `hairlut_format_version`, EXR header attribute `hairlut.format_version`). A minor change only
+/// adds (attributes, tables, optional keys) and older readers of the same major version read the
+/// file; a major change may alter or remove what a reader relies on, and readers refuse a newer
+/// major version (docs/table-format.md, "Format version and compatibility").
+inline constexpr int kFormatVersionMajor = 1;
+inline constexpr int kFormatVersionMinor = 1;
+std::string format_version_text();
+
+/// Throws IoError("<name>: ...") unless `text` is "MAJOR.MINOR" (decimal) with MAJOR equal to
+/// kFormatVersionMajor; a newer major version is refused with a message that says so.
+void check_format_version(const std::string& text, const std::string& name);
+
+struct Hdf5WriteOptions {
+  int deflate = 6;  ///< 0 … 9; 0 stores unfiltered (compact or contiguous; tables written slab by slab stay chunked with shuffle and Fletcher-32)
+};
+
+/// Writes the tables to `file` (created or truncated). Throws IoError.
+void write_hdf5(const TableSet& set, const std::filesystem::path& file, const Hdf5WriteOptions& options = {});
+
+/// The same for a set whose `slabbed` tables hold no values: their producers are called on this
+/// thread for chunk-aligned ranges of leading-axis rows (at most slabbed.slab_bytes each), while
+/// one writer thread writes the previous slab as an HDF5 hyperslab, so at most two slabs are in
+/// memory. The file is written to disk directly (not from a memory image). Values and checksum
+/// equal those write_hdf5 stores for the same tables held whole; the file's bytes differ only in
+/// layout (the checksum attribute is written last). Throws IoError, DomainError (a leading-axis
+/// row larger than a slab) or what a producer throws (BakeCancelled).
+void write_hdf5_slabbed(const TableSet& set, const SlabbedTables& slabbed, const std::filesystem::path& file,
+                        const Hdf5WriteOptions& options = {});
+
+/// Reads a file written by write_hdf5 back into memory, exactly as stored. Rejects files that are
+/// not hairlut tables, are truncated or corrupted, or lack metadata, with an IoError.
+TableSet read_hdf5(const std::filesystem::path& file);
+
+/// The same from a file image in memory (`name` is used in error messages).
+TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name);
+
+}  // namespace hairlut

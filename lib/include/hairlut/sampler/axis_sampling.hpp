@@ -1,0 +1,553 @@
+// hairlut axis sampling: drawing a coordinate along the last axis of a table in proportion to the
+// table's interpolant there (max(0, value), optionally times cos x), and its density.
+//
+// Header-only and dependency-free (C++17 standard library and sampler.hpp only). sampling.hpp
+// builds the hair sampler on it; see there for what is exact. Per lookup, blend() forms the node
+// row that the interpolation over the other axes gives (a weighted sum of node rows), turns it into
+// one polynomial per cell with sampler.hpp's end rules (linear or Catmull–Rom), cuts each at its
+// roots where the clamp at 0 applies, and sums the cells' masses; sample() inverts the cumulative
+// exactly (binary search over cells, then safeguarded Newton within the cell to rounding).
+//
+// The mixture fast path (mix(), mix_value(), sample_mix()): where the other axes are linear (their
+// weights are ≥ 0) and every node slice that a lookup touches is ≥ 0 along the sampled axis (its
+// own interpolant, Catmull–Rom included, checked once per slice at preparation), the clamp at 0
+// never applies and the density is the weight-mixture Σ w_c s_c of the slices' densities. Then
+// drawing a slice with probability w_c E_c / Σ w E (E_c its mass) and inverting that slice's
+// CDF (prefix sums of its exact cell masses, computed once) samples the interpolant exactly, and
+// the normalisation is Σ w_c E_c: no row is blended. mix() says per lookup whether this holds;
+// where it does not (cubic or geometric other axes with a negative weight, a slice dipping below
+// 0) the caller takes the general path above. Both are exact for the same density; they differ
+// only in which u maps to which x.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "hairlut/sampler/sampler.hpp"
+
+namespace hairlut {
+namespace sampler {
+
+/// The density along the sampled axis: the interpolated value (plain) or the value times cos x.
+enum class Measure : int { plain = 0, cosine = 1 };
+
+/// A piecewise-polynomial density along the last axis of a table, at fixed coordinates of the
+/// other axes: its cells, their masses and their cumulative sums. Filled by AxisSampler::blend.
+struct AxisRow {
+  std::vector<double> coef;  ///< 4 coefficients per cell: p(t) = c0 + c1 t + c2 t² + c3 t³, t ∈ [0, 1]
+  std::vector<double> cum;   ///< cells + 1 cumulative masses (cum[0] = 0) over the sampled half for even axes
+  std::vector<double> nodes; ///< the blended node values
+  double total = 0.0;        ///< ∫ density over the axis's whole domain ([−π, π] for even axes)
+  bool ok = false;           ///< false: NaN coordinate or unsupported table
+};
+
+namespace detail {
+inline double poly(const double* c, double t) { return c[0] + t * (c[1] + t * (c[2] + t * c[3])); }
+inline double poly_integral(const double* c, double a, double b) {
+  auto P = [c](double t) { return t * (c[0] + t * (c[1] / 2.0 + t * (c[2] / 3.0 + t * c[3] / 4.0))); };
+  return P(b) - P(a);
+}
+// 8-point Gauss–Legendre on [0, 1].
+inline const double* gl8_nodes() {
+  static const double x[8] = {0.019855071751231856, 0.10166676129318664, 0.2372337950418355, 0.4082826787521751,
+                              0.5917173212478249,   0.7627662049581645,  0.8983332387068134, 0.9801449282487681};
+  return x;
+}
+inline const double* gl8_weights() {
+  static const double w[8] = {0.05061426814518813, 0.11119051722668724, 0.15685332293894363, 0.18134189168918100,
+                              0.18134189168918100, 0.15685332293894363, 0.11119051722668724, 0.05061426814518813};
+  return w;
+}
+// min over t ∈ [0, 1] of the cubic ≥ 0: at the ends and at the critical points inside.
+inline bool nonnegative_on_cell(const double* c) {
+  if (!(c[0] >= 0.0) || !(poly(c, 1.0) >= 0.0)) return false;
+  const double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1];
+  if (A != 0.0) {
+    const double disc = B * B - 4.0 * A * C;
+    if (disc > 0.0) {
+      const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+      const double r0 = q / A, r1 = q != 0.0 ? C / q : 0.0;
+      if (r0 > 0.0 && r0 < 1.0 && !(poly(c, r0) >= 0.0)) return false;
+      if (r1 > 0.0 && r1 < 1.0 && !(poly(c, r1) >= 0.0)) return false;
+    }
+  } else if (B != 0.0) {
+    const double r = -C / B;
+    if (r > 0.0 && r < 1.0 && !(poly(c, r) >= 0.0)) return false;
+  }
+  return true;
+}
+// The intervals of [0, 1] where the cubic is positive (at most 3 roots, so at most 4 pieces).
+inline int positive_intervals(const double* c, double* lo, double* hi) {
+  // Bernstein coefficients: the cubic lies in their convex hull on [0, 1], so when all are
+  // positive (the common case) or none is, no root search is needed.
+  const double b0 = c[0], b1 = c[0] + c[1] / 3.0, b2 = c[0] + (2.0 * c[1] + c[2]) / 3.0, b3 = c[0] + c[1] + c[2] + c[3];
+  if (b0 > 0.0 && b1 > 0.0 && b2 > 0.0 && b3 > 0.0) {
+    lo[0] = 0.0, hi[0] = 1.0;
+    return 1;
+  }
+  if (b0 <= 0.0 && b1 <= 0.0 && b2 <= 0.0 && b3 <= 0.0) return 0;
+  double b[5];
+  int nb = 0;
+  b[nb++] = 0.0;
+  // Critical points: c1 + 2 c2 t + 3 c3 t² = 0.
+  const double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1];
+  double r[2];
+  int nr = 0;
+  if (A != 0.0) {
+    const double disc = B * B - 4.0 * A * C;
+    if (disc > 0.0) {
+      const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+      r[nr++] = q / A;
+      if (q != 0.0) r[nr++] = C / q;
+    }
+  } else if (B != 0.0) {
+    r[nr++] = -C / B;
+  }
+  if (nr == 2 && r[0] > r[1]) std::swap(r[0], r[1]);
+  for (int k = 0; k < nr; ++k)
+    if (r[k] > 0.0 && r[k] < 1.0) b[nb++] = r[k];
+  b[nb++] = 1.0;
+  // Split each monotone piece at its root (if the sign changes) and keep the positive parts.
+  int n = 0;
+  for (int k = 0; k + 1 < nb; ++k) {
+    double a = b[k], e = b[k + 1];
+    const double pa = poly(c, a), pe = poly(c, e);
+    if (pa > 0.0 && pe > 0.0) {
+      lo[n] = a, hi[n] = e, ++n;
+      continue;
+    }
+    if (!(pa > 0.0) && !(pe > 0.0)) continue;
+    // One sign change on a monotone piece: Newton's method kept inside the bracket [x0, x1]
+    // (bisection when a step leaves it), to rounding.
+    double x0 = a, x1 = e;
+    const bool rising = pe > 0.0;
+    double x = a + (e - a) * pa / (pa - pe);
+    for (int it = 0; it < 100; ++it) {
+      if (!(x > x0 && x < x1)) x = 0.5 * (x0 + x1);
+      if (x <= x0 || x >= x1) break;
+      const double px = poly(c, x);
+      if ((px > 0.0) == rising) x1 = x;
+      else x0 = x;
+      const double d = c[1] + x * (2.0 * c[2] + 3.0 * x * c[3]);
+      const double next = d != 0.0 ? x - px / d : 0.5 * (x0 + x1);
+      if (next == x) break;
+      x = next;
+    }
+    const double root = std::min(std::max(x, x0), x1);
+    if (rising) lo[n] = root, hi[n] = e;
+    else lo[n] = a, hi[n] = root;
+    if (hi[n] > lo[n]) ++n;
+  }
+  // Merge touching intervals (a positive piece split at a critical point).
+  int m = 0;
+  for (int k = 0; k < n; ++k) {
+    if (m > 0 && lo[k] == hi[m - 1]) hi[m - 1] = hi[k];
+    else lo[m] = lo[k], hi[m] = hi[k], ++m;
+  }
+  return m;
+}
+}  // namespace detail
+
+/// Sampling along the last axis of a table (φ of N_p, θr of M_p). Prepared once per table
+/// (const afterwards, shareable between threads); per lookup, blend() fills an AxisRow.
+template <class T>
+class AxisSampler {
+ public:
+  AxisSampler() = default;
+  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure) : data_(data), dims_(dims), measure_(measure) {
+    if (!data || dims < 1 || dims > 8) return;
+    std::size_t s = 1;
+    for (int d = dims - 1; d >= 0; --d) {
+      axes_[d] = PreparedAxis(axes[d]);
+      stride_[d] = s;
+      s *= static_cast<std::size_t>(axes[d].count);
+    }
+    const Axis& a = axes[dims - 1];
+    const double pi = 3.14159265358979323846;
+    const bool even = a.wrap == Wrap::even && a.lo == 0.0 && a.hi == pi;
+    supported_ = a.spacing == Spacing::uniform && a.placement == Placement::edges && a.count >= 2 && a.hi > a.lo &&
+                 (a.wrap == Wrap::clamp || even);
+    for (int d = 0; d + 1 < dims; ++d)
+      if (axes[d].interpolation == Interpolation::geometric && axes[d].count > 1) supported_ = false;
+    if (!supported_) return;
+    even_ = even;
+    n_ = a.count;
+    cubic_ = a.interpolation == Interpolation::cubic && n_ >= 3;
+    h_ = (a.hi - a.lo) / (n_ - 1);
+    lo_ = a.lo;
+    // The outer nodes of each cell's Catmull–Rom piece after the wrap rule (−1: extrapolated).
+    outer_.resize(static_cast<std::size_t>(2 * (n_ - 1)));
+    for (int k = 0; k + 1 < n_; ++k) {
+      outer_[static_cast<std::size_t>(2 * k)] = wrapped_index(a, k - 1);
+      outer_[static_cast<std::size_t>(2 * k + 1)] = wrapped_index(a, k + 2);
+    }
+    if (measure_ == Measure::cosine) {
+      // ∫_0^1 t^j cos(x_k + h t) dt of every cell, for the masses of whole cells.
+      moments_.resize(static_cast<std::size_t>(n_ - 1) * 4);
+      for (int k = 0; k + 1 < n_; ++k)
+        for (int g = 0; g < 8; ++g) {
+          const double t = detail::gl8_nodes()[g], w = detail::gl8_weights()[g] * std::cos(x_of(k, t));
+          for (int j = 0; j < 4; ++j) moments_[static_cast<std::size_t>(k) * 4 + j] += w * std::pow(t, j);
+        }
+    }
+    prepare_mixture();
+  }
+
+  bool supported() const { return supported_; }
+
+  /// The density along the sampled axis at the other coordinates x[0 … dims − 2].
+  void blend(const double* x, AxisRow& row) const {
+    row.ok = false;
+    row.total = 0.0;
+    if (!supported_) return;
+    Taps tp[8];
+    for (int d = 0; d + 1 < dims_; ++d) {
+      if (!(x[d] == x[d]) && axes_[d].axis.count > 1) return;
+      tp[d] = taps(axes_[d], x[d]);
+    }
+    // The blended node row: Σ over the tensor product of the taps of the node rows.
+    std::vector<double>& v = row.nodes;
+    v.assign(static_cast<std::size_t>(n_), 0.0);
+    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (;;) {
+      double w = 1.0;
+      std::size_t offset = 0;
+      for (int d = 0; d + 1 < dims_; ++d) {
+        w *= tp[d].w[idx[d]];
+        offset += static_cast<std::size_t>(tp[d].i[idx[d]]) * stride_[d];
+      }
+      if (w != 0.0) {
+        const T* src = data_ + offset;
+        for (int j = 0; j < n_; ++j) v[static_cast<std::size_t>(j)] += w * static_cast<double>(src[j]);
+      }
+      int d = dims_ - 2;
+      for (; d >= 0; --d) {
+        if (++idx[d] < tp[d].n) break;
+        idx[d] = 0;
+      }
+      if (d < 0) break;
+    }
+    // Cell polynomials, with sampler.hpp's end rules along the sampled axis.
+    row.coef.resize(static_cast<std::size_t>(n_ - 1) * 4);
+    row.cum.resize(static_cast<std::size_t>(n_));
+    row.cum[0] = 0.0;
+    for (int k = 0; k + 1 < n_; ++k) {
+      double* c = &row.coef[static_cast<std::size_t>(k) * 4];
+      cell_coef(v.data(), k, c);
+      row.cum[static_cast<std::size_t>(k + 1)] = row.cum[static_cast<std::size_t>(k)] + whole_cell_mass(k, c);
+    }
+    row.total = row.cum.back() * (even_ ? 2.0 : 1.0);
+    row.ok = true;
+  }
+
+  /// The density at x: max(0, interpolated value), times cos x for Measure::cosine; 0 outside
+  /// the domain of a clamped axis.
+  double density(const AxisRow& row, double x) const {
+    const double p = value(row, x);
+    return measure_ == Measure::cosine ? p * std::cos(x) : p;
+  }
+  /// max(0, interpolated value) at x, without the measure's cos x (0 outside a clamped axis).
+  double value(const AxisRow& row, double x) const {
+    if (!row.ok || !(x == x)) return 0.0;
+    const Axis& a = axes_[dims_ - 1].axis;
+    if (!even_ && (x < a.lo || x > a.hi)) return 0.0;
+    const Lerp l = axes_[dims_ - 1].locate(x);
+    return std::max(0.0, detail::poly(&row.coef[static_cast<std::size_t>(l.i0) * 4], l.w));
+  }
+  /// density / total: the probability density of sample() (0 where total is 0).
+  double pdf(const AxisRow& row, double x) const { return row.total > 0.0 ? density(row, x) / row.total : 0.0; }
+
+  /// The mixture fast path at one lookup (see the top of this file): the node slices the other
+  /// axes' taps touch, their weights (all > 0) and Σ w_c E_c.
+  struct Mix {
+    static constexpr int max_corners = 16;
+    int count = 0;
+    int slice[max_corners] = {};
+    double w[max_corners] = {};
+    double total = 0.0;
+  };
+  /// True when the fast path is exact at the other coordinates x[0 … dims − 2]: every weight ≥ 0
+  /// and every touched slice ≥ 0 along the sampled axis. False otherwise (then use blend()).
+  bool mix(const double* x, Mix& m) const {
+    m.count = 0;
+    m.total = 0.0;
+    if (!mixture_) return false;
+    Taps tp[8];
+    for (int d = 0; d + 1 < dims_; ++d) {
+      if (!(x[d] == x[d]) && axes_[d].axis.count > 1) return false;
+      tp[d] = taps(axes_[d], x[d]);
+      if (tp[d].n > 2) return false;
+    }
+    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (;;) {
+      double w = 1.0;
+      std::size_t offset = 0;
+      for (int d = 0; d + 1 < dims_; ++d) {
+        w *= tp[d].w[idx[d]];
+        offset += static_cast<std::size_t>(tp[d].i[idx[d]]) * stride_[d];
+      }
+      if (w < 0.0) return false;
+      if (w > 0.0) {
+        const std::size_t s = offset / static_cast<std::size_t>(n_);
+        if (!positive_[s] || m.count == Mix::max_corners) return false;
+        m.slice[m.count] = static_cast<int>(s);
+        m.w[m.count] = w;
+        ++m.count;
+        m.total += w * mass_[s];
+      }
+      int d = dims_ - 2;
+      for (; d >= 0; --d) {
+        if (++idx[d] < tp[d].n) break;
+        idx[d] = 0;
+      }
+      if (d < 0) break;
+    }
+    return m.count > 0;
+  }
+  /// The interpolated value at x along the sampled axis (without the measure's cos x; 0 outside
+  /// a clamped axis): Σ w_c s_c(x), each s_c ≥ 0, so no clamp applies.
+  double mix_value(const Mix& m, double x) const {
+    if (!(x == x)) return 0.0;
+    const Axis& a = axes_[dims_ - 1].axis;
+    if (!even_ && (x < a.lo || x > a.hi)) return 0.0;
+    const Lerp l = axes_[dims_ - 1].locate(x);
+    double sum = 0.0;
+    for (int j = 0; j < m.count; ++j) {
+      double c[4];
+      cell_coef(data_ + static_cast<std::size_t>(m.slice[j]) * static_cast<std::size_t>(n_), l.i0, c);
+      sum += m.w[j] * detail::poly(c, l.w);
+    }
+    return std::max(0.0, sum);
+  }
+  /// Draws x from the mixture with one u ∈ [0, 1): the slice c with probability w_c E_c / Σ w E,
+  /// then the inverse of that slice's CDF (its prefix sums, then Newton within the cell); NaN
+  /// when the mixture has no mass.
+  double sample_mix(const Mix& m, double u) const {
+    if (!(m.total > 0.0)) return std::nan("");
+    double sign = 1.0;
+    if (even_) {
+      if (u < 0.5) sign = -1.0, u = 1.0 - 2.0 * u;
+      else u = 2.0 * u - 1.0;
+    }
+    u = std::min(std::max(u, 0.0), 1.0);
+    // The slice: the last one whose share is positive where u falls beyond the others.
+    const double target = u * m.total;
+    double acc = 0.0, before = 0.0;
+    int j = -1;
+    for (int k = 0; k < m.count; ++k) {
+      const double share = m.w[k] * mass_[static_cast<std::size_t>(m.slice[k])];
+      if (!(share > 0.0)) continue;
+      j = k;
+      before = acc;
+      acc += share;
+      if (target < acc) break;
+    }
+    acc = before;
+    if (j < 0) return std::nan("");
+    const std::size_t s = static_cast<std::size_t>(m.slice[j]);
+    const double share = m.w[j] * mass_[s];
+    const double* cum = &cum_[s * static_cast<std::size_t>(n_)];
+    const double v = std::min(std::max((target - acc) / share, 0.0), 1.0) * cum[n_ - 1];
+    int k = static_cast<int>(std::upper_bound(cum, cum + n_, v) - cum) - 1;
+    k = std::max(0, std::min(n_ - 2, k));
+    while (k > 0 && !(cum[k + 1] > cum[k])) --k;
+    double c[4];
+    cell_coef(data_ + s * static_cast<std::size_t>(n_), k, c);
+    const double mass = cum[k + 1] - cum[k];
+    return sign * x_of(k, invert_cell(k, c, std::min(std::max(v - cum[k], 0.0), mass), mass));
+  }
+  /// Whether mix() can ever apply: the other axes are linear, the sampled axis is supported.
+  bool has_mixture() const { return mixture_; }
+
+  /// Draws x in proportion to the density from u ∈ [0, 1); returns NaN when the row has no mass.
+  double sample(const AxisRow& row, double u) const {
+    if (!row.ok || !(row.total > 0.0)) return std::nan("");
+    double sign = 1.0;
+    if (even_) {
+      // Even axis: x < 0 for u < ½, mapped so that x increases with u (the inverse CDF over
+      // the whole domain, which keeps stratified u stratified).
+      if (u < 0.5) sign = -1.0, u = 1.0 - 2.0 * u;
+      else u = 2.0 * u - 1.0;
+    }
+    u = std::min(std::max(u, 0.0), 1.0);
+    const double target = u * row.cum.back();
+    // The cell k with cum[k] ≤ target < cum[k + 1] (cells without mass are never chosen).
+    int k = static_cast<int>(std::upper_bound(row.cum.begin(), row.cum.end(), target) - row.cum.begin()) - 1;
+    k = std::max(0, std::min(n_ - 2, k));
+    while (k > 0 && !(row.cum[static_cast<std::size_t>(k + 1)] > row.cum[static_cast<std::size_t>(k)])) --k;
+    const double* c = &row.coef[static_cast<std::size_t>(k) * 4];
+    const double mass = row.cum[static_cast<std::size_t>(k + 1)] - row.cum[static_cast<std::size_t>(k)];
+    const double m = std::min(std::max(target - row.cum[static_cast<std::size_t>(k)], 0.0), mass);
+    // Invert F(t) = ∫_0^t density: Newton on [lo, hi], bisection when a step leaves the bracket.
+    double lo = 0.0, hi = 1.0, t = mass > 0.0 ? m / mass : 0.5;
+    for (int it = 0; it < 100; ++it) {
+      const double f = cell_mass(k, c, t) - m;
+      if (f > 0.0) hi = t;
+      else lo = t;
+      if (f == 0.0 || hi - lo <= 1e-15) break;
+      const double dens = h_ * std::max(0.0, detail::poly(c, t)) * (measure_ == Measure::cosine ? std::cos(x_of(k, t)) : 1.0);
+      double next = dens > 0.0 ? t - f / dens : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(next - t) <= 1e-16) {
+        t = next;
+        break;
+      }
+      t = next;
+    }
+    return sign * x_of(k, t);
+  }
+
+ private:
+  double x_of(int k, double t) const { return lo_ + (k + t) * h_; }
+  // The polynomial of cell k of node row v along the sampled axis, with sampler.hpp's end rules
+  // (linear, or Catmull–Rom with the clamped-end extrapolation and the mirror nodes of an even axis).
+  template <class V>
+  void cell_coef(const V* v, int k, double* c) const {
+    const double p1 = static_cast<double>(v[k]), p2 = static_cast<double>(v[k + 1]);
+    if (!cubic_) {
+      c[0] = p1, c[1] = p2 - p1, c[2] = 0.0, c[3] = 0.0;
+      return;
+    }
+    const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
+    const double p0 = i0 >= 0 ? static_cast<double>(v[i0]) : 3.0 * p1 - 3.0 * p2 + static_cast<double>(v[k + 2]);
+    const double p3 = i3 >= 0 ? static_cast<double>(v[i3]) : 3.0 * p2 - 3.0 * p1 + static_cast<double>(v[k - 1]);
+    c[0] = p1;
+    c[1] = 0.5 * (p2 - p0);
+    c[2] = 0.5 * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3);
+    c[3] = 0.5 * (-p0 + 3.0 * p1 - 3.0 * p2 + p3);
+  }
+  // cell_mass(k, c, 1) with the Bernstein test inline: a cell positive throughout (or nowhere)
+  // needs no root search.
+  double whole_cell_mass(int k, const double* c) const {
+    const double b0 = c[0], b1 = c[0] + c[1] / 3.0, b2 = c[0] + (2.0 * c[1] + c[2]) / 3.0, b3 = c[0] + c[1] + c[2] + c[3];
+    if (b0 > 0.0 && b1 > 0.0 && b2 > 0.0 && b3 > 0.0) {
+      if (measure_ == Measure::plain) return (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_;
+      const double* mo = &moments_[static_cast<std::size_t>(k) * 4];
+      return std::max(0.0, c[0] * mo[0] + c[1] * mo[1] + c[2] * mo[2] + c[3] * mo[3]) * h_;
+    }
+    if (b0 <= 0.0 && b1 <= 0.0 && b2 <= 0.0 && b3 <= 0.0) return 0.0;
+    return cell_mass(k, c, 1.0);
+  }
+  // ∫ over t' ∈ [0, t] of cell k of max(0, p) (times cos x), in units of x.
+  double cell_mass(int k, const double* c, double t) const {
+    double lo[4], hi[4];
+    const int n = detail::positive_intervals(c, lo, hi);
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double a = lo[i], b = std::min(hi[i], t);
+      if (!(b > a)) continue;
+      if (measure_ == Measure::plain) {
+        sum += detail::poly_integral(c, a, b);
+      } else if (a == 0.0 && b == 1.0) {
+        const double* mo = &moments_[static_cast<std::size_t>(k) * 4];
+        sum += c[0] * mo[0] + c[1] * mo[1] + c[2] * mo[2] + c[3] * mo[3];
+      } else {
+        double s = 0.0;
+        for (int g = 0; g < 8; ++g) {
+          const double tt = a + (b - a) * detail::gl8_nodes()[g];
+          s += detail::gl8_weights()[g] * detail::poly(c, tt) * std::cos(x_of(k, tt));
+        }
+        sum += s * (b - a);
+      }
+    }
+    return std::max(0.0, sum) * h_;
+  }
+  // The mixture fast path's data, once per table: for each node slice along the sampled axis, ≥ 0
+  // throughout (its cells' minima, at the ends and critical points), its cells' prefix masses
+  // (n per slice, exact: closed form, or the cosine moments) and its mass E (both halves of an
+  // even axis). Only where every other axis is linear: a cubic one has negative weights.
+  void prepare_mixture() {
+    for (int d = 0; d + 1 < dims_; ++d)
+      if (axes_[d].axis.count > 2 && axes_[d].axis.interpolation != Interpolation::linear) return;
+    const std::size_t slices = dims_ > 1 ? stride_[0] * static_cast<std::size_t>(axes_[0].axis.count) / static_cast<std::size_t>(n_) : 1;
+    cum_.assign(slices * static_cast<std::size_t>(n_), 0.0);
+    mass_.assign(slices, 0.0);
+    positive_.assign(slices, 0);
+    for (std::size_t s = 0; s < slices; ++s) {
+      const T* v = data_ + s * static_cast<std::size_t>(n_);
+      double* cum = &cum_[s * static_cast<std::size_t>(n_)];
+      bool positive = true;
+      for (int k = 0; k + 1 < n_; ++k) {
+        double c[4];
+        cell_coef(v, k, c);
+        if (!detail::nonnegative_on_cell(c)) positive = false;
+        cum[k + 1] = cum[k] + (positive ? whole_cell_mass(k, c) : 0.0);
+      }
+      positive_[s] = positive ? 1 : 0;
+      mass_[s] = positive ? cum[n_ - 1] * (even_ ? 2.0 : 1.0) : 0.0;
+    }
+    mixture_ = true;
+  }
+  // The t ∈ [0, 1] of cell k (polynomial c, ≥ 0 on the cell, mass `mass`) where the mass from 0
+  // reaches m: Newton's method kept in its bracket, to rounding. The cosine measure's integral
+  // is that of c times the degree-11 Taylor polynomial of cos about the cell's start (remainder
+  // below (h)¹²/12!, 6e-15 for a 20° cell), in closed form: no cos per step.
+  double invert_cell(int k, const double* c, double m, double mass) const {
+    if (!(mass > 0.0)) return 0.5;
+    double q[16] = {};  // the density per unit t (times cos for the cosine measure), degree ≤ 14
+    int deg = 3;
+    if (measure_ == Measure::plain) {
+      for (int j = 0; j < 4; ++j) q[j] = c[j] * h_;
+    } else {
+      const double x0 = lo_ + k * h_, cs = std::cos(x0), sn = std::sin(x0);
+      double a[12];
+      double f = 1.0;  // h^m / m!
+      for (int j = 0; j < 12; ++j) {
+        const double d = (j % 4 == 0) ? cs : (j % 4 == 1) ? -sn : (j % 4 == 2) ? -cs : sn;
+        a[j] = d * f;
+        f *= h_ / (j + 1);
+      }
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 12; ++j) q[i + j] += c[i] * a[j] * h_;
+      deg = 14;
+    }
+    double P[17];  // ∫_0^t q
+    P[0] = 0.0;
+    for (int j = 0; j <= deg; ++j) P[j + 1] = q[j] / (j + 1);
+    auto F = [&](double t) {
+      double r = P[deg + 1];
+      for (int j = deg; j >= 0; --j) r = r * t + P[j];
+      return r;
+    };
+    auto D = [&](double t) {
+      double r = q[deg];
+      for (int j = deg - 1; j >= 0; --j) r = r * t + q[j];
+      return r;
+    };
+    double lo = 0.0, hi = 1.0, t = m / mass;
+    for (int it = 0; it < 60; ++it) {
+      const double f = F(t) - m;
+      if (f > 0.0) hi = t;
+      else lo = t;
+      if (f == 0.0 || hi - lo <= 1e-15) break;
+      const double dens = D(t);
+      double next = dens > 0.0 ? t - f / dens : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(next - t) <= 1e-16) {
+        t = next;
+        break;
+      }
+      t = next;
+    }
+    return t;
+  }
+
+  const T* data_ = nullptr;
+  int dims_ = 0;
+  Measure measure_ = Measure::plain;
+  PreparedAxis axes_[8];
+  std::size_t stride_[8] = {};
+  bool supported_ = false, even_ = false, cubic_ = false;
+  int n_ = 0;
+  double h_ = 0.0, lo_ = 0.0;
+  std::vector<int> outer_;
+  std::vector<double> moments_;
+  bool mixture_ = false;
+  std::vector<double> cum_, mass_;
+  std::vector<unsigned char> positive_;
+};
+
+}  // namespace sampler
+}  // namespace hairlut

@@ -1,0 +1,353 @@
+// hairlut sampler, fixed-dimension views: the lookups of sampler.hpp's TableView for tables of 1
+// to 4 axes, compiled for their dimension and their axes' interpolations.
+//
+// Header-only and dependency-free (C++17 standard library only, with sampler.hpp). Same axis model
+// and the same reconstruction as TableView (see sampler.hpp): each axis's wrap, spacing and
+// interpolation (linear, Catmull–Rom cubic, geometric combined last). What differs is cost:
+//   - the axis mappings are prepared once (t(lo), the scale to node units, the strides); a lookup
+//     evaluates one mapping per mapped axis (cos, sin, log or sqrt of the coordinate itself) and no
+//     function of the range ends;
+//   - the tensor product is a fixed loop nest chosen when the view is built (2 or 4 taps per axis),
+//     reduced along the last (contiguous) axis first; no per-lookup loop over up to 8 axes;
+//   - a table whose axes are all linear over mapped nodes (the common case) takes a shorter path:
+//     per axis the cell's first node and the step to the second, then the 2^D values combined as
+//     nested lerps a + w (b − a), last axis first (the same value as the weighted sum up to
+//     rounding);
+//   - R is the arithmetic type: double (FixedView<T, D>) or float (FixedView<T, D, float>, which
+//     maps, weights and sums in float).
+// With R = double the result equals TableView's up to the order of the sums: a few ulps of
+// Σ|weight · value| (tested on random points for every wrap, spacing and interpolation). With
+// R = float the coordinates are mapped in float too: the position inside a cell carries a relative
+// error of about count × 2⁻²⁴, so expect ~1e-6 of the values' scale, not double precision.
+// A NaN coordinate gives NaN. The view points into the data (no copy); it is immutable after
+// construction, so one view may serve any number of threads.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+#include "hairlut/sampler/sampler.hpp"
+
+// The per-axis tap computation is forced inline: a lookup is a handful of them and the call
+// overhead is of the same order as their work.
+#if defined(__GNUC__) || defined(__clang__)
+#define HAIRLUT_SAMPLER_INLINE __attribute__((always_inline)) inline
+#else
+#define HAIRLUT_SAMPLER_INLINE inline
+#endif
+
+namespace hairlut {
+namespace sampler {
+
+/// The taps of one axis at one coordinate, as offsets into the data (node index × stride).
+/// Left uninitialized by default (a lookup fills the taps it uses: 2 for linear and geometric
+/// axes, 4 for cubic ones).
+template <class R>
+struct FixedTaps {
+  std::size_t off[4];
+  R w[4];
+};
+
+/// An axis prepared for FixedView: the constants of PreparedAxis in the arithmetic type R.
+template <class R>
+class FixedAxis {
+ public:
+  FixedAxis() = default;
+  FixedAxis(const Axis& a, std::size_t stride) : stride_(stride), prepared_(a) {
+    const PreparedAxis& p = prepared_;
+    n_ = a.count;
+    cubic_ = a.interpolation == Interpolation::cubic && a.count >= 3 && a.spacing != Spacing::explicit_values;
+    t0_ = static_cast<R>(p.t0);
+    scale_ = static_cast<R>(p.scale);
+    offset_ = static_cast<R>(p.offset);
+    lo_ = static_cast<R>(a.lo);
+    hi_ = static_cast<R>(a.hi);
+    span_ = static_cast<R>(2.0 * (a.hi - a.lo));
+    simple_ = a.spacing != Spacing::explicit_values && n_ > 1;
+    wrap_ = a.wrap;
+    spacing_ = a.spacing;
+    top_ = static_cast<R>(n_ > 1 ? n_ - 1 : 0);
+    step_ = n_ > 1 ? static_cast<std::ptrdiff_t>(stride) : 0;
+    snap_ = sizeof(R) >= sizeof(double) ? static_cast<R>(1e-9) : static_cast<R>(8.0 * 1.1920928955078125e-07 * (n_ > 1 ? n_ : 1));
+  }
+  bool cubic() const { return cubic_; }
+  /// Whether cell(x) applies: a mapped axis (not explicit nodes), or a single node.
+  bool direct() const { return simple_ || n_ <= 1; }
+
+  /// The cell of x for two-tap (linear) interpolation, as offsets: the first node's (i0 · stride)
+  /// and the step to the second (stride; across a periodic end, back to node 0; 0 for a single
+  /// node), and the weight w of the second. For direct() axes; x not NaN.
+  HAIRLUT_SAMPLER_INLINE void cell(R x, std::size_t& off, std::ptrdiff_t& step, R& w) const {
+    int i0;
+    locate(x, i0, w);
+    off = static_cast<std::size_t>(i0) * stride_;
+    step = wrap_ == Wrap::periodic && i0 == n_ - 1 ? -static_cast<std::ptrdiff_t>(i0) * static_cast<std::ptrdiff_t>(stride_) : step_;
+  }
+  bool geometric() const { return prepared_.axis.interpolation == Interpolation::geometric; }
+  int count() const { return n_; }
+  const Axis& axis() const { return prepared_.axis; }
+
+  /// The continuous node index s and the cell [i0, i0 + 1] that holds it, with the wrap rule
+  /// (PreparedAxis::locate, in R). Not for explicit axes (locate_explicit) nor NaN.
+  HAIRLUT_SAMPLER_INLINE void locate(R x, int& i0, R& w) const {
+    const int n = n_;
+    if (n <= 1) {
+      i0 = 0, w = R(0);
+      return;
+    }
+    if (wrap_ == Wrap::periodic) {
+      locate_periodic(x, i0, w);
+      return;
+    }
+    if (wrap_ == Wrap::even) {
+      // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
+      const R pi = static_cast<R>(3.14159265358979323846);
+      x = std::fabs(x);
+      if (x > pi) x = std::fabs(std::remainder(x, R(2) * pi));
+    } else if (wrap_ == Wrap::reflect && hi_ > lo_) {
+      const R d = x - lo_;
+      if (!(d >= R(0) && d <= hi_ - lo_)) x = lo_ + std::fabs(std::remainder(d, span_));
+    }
+    x = x < lo_ ? lo_ : (x > hi_ ? hi_ : x);
+    R t = x;
+    switch (spacing_) {
+      case Spacing::cos: t = std::cos(x); break;
+      case Spacing::sin: t = std::sin(x); break;
+      case Spacing::log: t = std::log(x); break;
+      case Spacing::sqrt: t = std::sqrt(x); break;
+      default: break;
+    }
+    R s = (t - t0_) * scale_ + offset_;
+    // Clamp, then snap to a node within rounding of it, so that sampling at a node returns its
+    // value. The same as TableView's snap-then-clamp (the bounds are nodes); s − i and 1 − w are
+    // exact (Sterbenz), so the snapping decisions are TableView's too. Branches, not selects:
+    // they are predicted (rarely taken), and a select would lengthen the dependency chain.
+    s = s < R(0) ? R(0) : (s > top_ ? top_ : s);
+    int i = static_cast<int>(s);
+    R f = s - static_cast<R>(i);
+    if (f < snap_) f = R(0);
+    else if (R(1) - f < snap_) f = R(0), ++i;
+    if (i >= n - 1) i = n - 2, f = R(1);
+    i0 = i;
+    w = f;
+  }
+
+  /// The taps at x (NaN excluded by the caller).
+  HAIRLUT_SAMPLER_INLINE FixedTaps<R> taps(R x) const {
+    FixedTaps<R> r;  // NOLINT: filled below (the taps the axis uses)
+    if (!simple_) {
+      const Lerp l = prepared_.locate(static_cast<double>(x));
+      set_linear(r, l.i0, l.i1, static_cast<R>(l.w));
+      return r;
+    }
+    int i0;
+    R w;
+    locate(x, i0, w);
+    const bool periodic = wrap_ == Wrap::periodic;
+    if (!cubic_) {
+      set_linear(r, i0, periodic ? (i0 + 1) % n_ : i0 + 1, w);
+      return r;
+    }
+    catmull_rom(w, r.w);
+    if (i0 >= 1 && i0 + 2 <= n_ - 1) {
+      for (int k = 0; k < 4; ++k) r.off[k] = static_cast<std::size_t>(i0 - 1 + k) * stride_;
+      return r;
+    }
+    end_taps(i0, r);
+    return r;
+  }
+
+  /// Catmull–Rom weights of nodes i0 − 1 … i0 + 2 at fraction t (sampler.hpp's, in R).
+  static void catmull_rom(R t, R* w) {
+    const R t2 = t * t, t3 = t2 * t, h = R(0.5);
+    w[0] = h * (-t3 + R(2) * t2 - t);
+    w[1] = h * (R(3) * t3 - R(5) * t2 + R(2));
+    w[2] = h * (R(-3) * t3 + R(4) * t2 + t);
+    w[3] = h * (t3 - t2);
+  }
+
+ private:
+  // The cubic taps of the cell [i0, i0 + 1] next to an end, weights r.w already Catmull–Rom's.
+  void end_taps(int i0, FixedTaps<R>& r) const {
+    const Axis& a = prepared_.axis;
+    // Next to an end: the wrapped or mirrored node (an even or reflect end, a mirror lo_end), or
+    // the quadratic extrapolation beyond a clamped end (sampler.hpp's taps()).
+    int idx[4] = {i0 - 1, i0, i0 + 1, i0 + 2};
+    for (int k = 0; k < 4; ++k) idx[k] = wrapped_index(a, idx[k]);
+    if (idx[0] < 0) {
+      idx[0] = idx[1];
+      const R g = r.w[0];
+      r.w[0] = R(0), r.w[1] += R(3) * g, r.w[2] -= R(3) * g, r.w[3] += g;
+    }
+    if (idx[3] < 0) {
+      idx[3] = idx[2];
+      const R g = r.w[3];
+      r.w[3] = R(0), r.w[2] += R(3) * g, r.w[1] -= R(3) * g, r.w[0] += g;
+    }
+    for (int k = 0; k < 4; ++k) r.off[k] = static_cast<std::size_t>(idx[k]) * stride_;
+  }
+  HAIRLUT_SAMPLER_INLINE void locate_periodic(R x, int& i0, R& w) const {
+    const int n = n_;
+    R u = (x - t0_) * scale_ / static_cast<R>(n);
+    u -= std::floor(u);
+    R s = u * static_cast<R>(n) + offset_;
+    const R nearest = std::floor(s + R(0.5));
+    if (std::fabs(s - nearest) < snap()) s = nearest;
+    if (s < R(0)) s += static_cast<R>(n);
+    if (s >= static_cast<R>(n)) s -= static_cast<R>(n);
+    const R fi = std::floor(s);
+    w = s - fi;
+    i0 = static_cast<int>(fi) % n;
+  }
+  // Snapping distance in node units: TableView's 1e-9 in double; in float, a few ulps of the
+  // largest index (the rounding of the mapped coordinate itself).
+  R snap() const { return snap_; }
+  void set_linear(FixedTaps<R>& r, int i0, int i1, R w) const {
+    r.off[0] = static_cast<std::size_t>(i0) * stride_;
+    r.off[1] = static_cast<std::size_t>(i1) * stride_;
+    r.w[0] = R(1) - w;
+    r.w[1] = w;
+  }
+
+  // The fields a lookup reads first, together; then the prepared axis for the rare paths.
+  R t0_ = R(0), scale_ = R(0), offset_ = R(0), lo_ = R(0), hi_ = R(1), top_ = R(0), span_ = R(2), snap_ = R(1e-9);
+  std::size_t stride_ = 1;
+  std::ptrdiff_t step_ = 0;
+  int n_ = 1;
+  Wrap wrap_ = Wrap::clamp;
+  Spacing spacing_ = Spacing::uniform;
+  bool cubic_ = false;
+  bool simple_ = false;  // mapped spacing and at least 2 nodes
+  PreparedAxis prepared_;
+};
+
+namespace detail {
+
+// Σ over the taps of axes d … D − 1 (N taps on axis d, then the rest), last axis innermost.
+template <class T, class R, int N, int... Rest>
+inline R fixed_product(const T* p, const FixedTaps<R>* tp) {
+  if constexpr (sizeof...(Rest) == 0) {
+    R s = tp->w[0] * static_cast<R>(p[tp->off[0]]);
+    for (int k = 1; k < N; ++k) s += tp->w[k] * static_cast<R>(p[tp->off[k]]);
+    return s;
+  } else {
+    R s = tp->w[0] * fixed_product<T, R, Rest...>(p + tp->off[0], tp + 1);
+    for (int k = 1; k < N; ++k) s += tp->w[k] * fixed_product<T, R, Rest...>(p + tp->off[k], tp + 1);
+    return s;
+  }
+}
+
+// The multilinear interpolation of the cell at p: the last axis first, each as a + w (b − a).
+template <class T, class R, int N>
+HAIRLUT_SAMPLER_INLINE R lerp_cell(const T* p, const std::ptrdiff_t* step, const R* w) {
+  if constexpr (N == 1) {
+    const R a = static_cast<R>(p[0]), b = static_cast<R>(p[step[0]]);
+    return a + w[0] * (b - a);
+  } else {
+    const R a = lerp_cell<T, R, N - 1>(p, step + 1, w + 1), b = lerp_cell<T, R, N - 1>(p + step[0], step + 1, w + 1);
+    return a + w[0] * (b - a);
+  }
+}
+
+// The product for a cubic mask (bit D − 1 − d set: axis d has 4 taps).
+template <class T, class R, int D, int Mask, std::size_t... I>
+inline R fixed_product_mask(const T* p, const FixedTaps<R>* tp, std::index_sequence<I...>) {
+  return fixed_product<T, R, ((Mask >> (D - 1 - static_cast<int>(I))) & 1 ? 4 : 2)...>(p, tp);
+}
+
+template <class T, class R, int D>
+using FixedKernel = R (*)(const T*, const FixedTaps<R>*);
+
+template <class T, class R, int D, int Mask>
+R fixed_kernel(const T* p, const FixedTaps<R>* tp) {
+  return fixed_product_mask<T, R, D, Mask>(p, tp, std::make_index_sequence<D>{});
+}
+
+template <class T, class R, int D, std::size_t... M>
+FixedKernel<T, R, D> pick_kernel(int mask, std::index_sequence<M...>) {
+  static constexpr FixedKernel<T, R, D> table[] = {&fixed_kernel<T, R, D, static_cast<int>(M)>...};
+  return table[mask];
+}
+
+}  // namespace detail
+
+/// A row-major table of D axes (1 ≤ D ≤ 4) prepared for fast lookups: view(x) equals
+/// TableView<T>(data, axes, D)(x) up to the order of the sums (see the file comment). T is the
+/// stored type (float, double, or a type that converts to R), R the arithmetic type.
+template <class T, int D, class R = double>
+class FixedView {
+  static_assert(D >= 1 && D <= 4, "FixedView covers 1 to 4 axes; TableView any number up to 8");
+
+ public:
+  FixedView() = default;
+  /// axes[0 … D−1] in storage order (the last fastest); data holds Π count values.
+  FixedView(const T* data, const Axis* axes) : data_(data) {
+    std::size_t stride = 1;
+    int mask = 0;
+    for (int d = D - 1; d >= 0; --d) {
+      axes_[d] = FixedAxis<R>(axes[d], stride);
+      stride *= static_cast<std::size_t>(axes[d].count);
+      if (axes_[d].cubic()) mask |= 1 << (D - 1 - d);
+      if (axes_[d].geometric() && axes[d].count > 1) geometric_ = d;
+    }
+    kernel_ = detail::pick_kernel<T, R, D>(mask, std::make_index_sequence<(1 << D)>{});
+    linear_ = mask == 0 && geometric_ < 0;
+    for (int d = 0; d < D; ++d) linear_ = linear_ && axes_[d].direct();
+  }
+  const FixedAxis<R>& axis(int d) const { return axes_[d]; }
+  const T* data() const { return data_; }
+
+  /// The interpolated value at x[0 … D−1]; NaN when a coordinate of an axis of 2 or more nodes is NaN.
+  R operator()(const R* x) const {
+    if (linear_) {
+      // Every axis linear over mapped nodes: the cell's corner and steps, then 2^D values
+      // combined as nested lerps. One NaN test for all coordinates (a sum of infinities of
+      // both signs takes the general path, which tells them apart).
+      R sum = x[0];
+      for (int d = 1; d < D; ++d) sum += x[d];
+      if (sum == sum) {
+        std::size_t off = 0;
+        std::ptrdiff_t step[D];
+        R w[D];
+        for (int d = 0; d < D; ++d) {
+          std::size_t o;
+          axes_[d].cell(x[d], o, step[d], w[d]);
+          off += o;
+        }
+        return detail::lerp_cell<T, R, D>(data_ + off, step, w);
+      }
+    }
+    FixedTaps<R> tp[D];
+    for (int d = 0; d < D; ++d) {
+      if (!(x[d] == x[d]) && axes_[d].count() > 1) return x[d];
+      tp[d] = axes_[d].taps(x[d]);
+    }
+    return combine(tp);
+  }
+  /// The same with the taps already computed (FixedAxis::taps), e.g. shared by tables on one grid.
+  R combine(FixedTaps<R>* tp) const {
+    if (geometric_ < 0) return kernel_(data_, tp);
+    // The geometric axis is combined last: the products at its two nodes, then v₀^(1−w) v₁^w.
+    FixedTaps<R>& g = tp[geometric_];
+    const R w = g.w[1];
+    if (w == R(0)) return kernel_(data_, tp);
+    const std::size_t o1 = g.off[1];
+    g.w[0] = R(1), g.w[1] = R(0);
+    const R v0 = kernel_(data_, tp);
+    g.off[0] = o1;
+    const R v1 = kernel_(data_, tp);
+    if (v0 > R(0) && v1 > R(0)) return std::exp((R(1) - w) * std::log(v0) + w * std::log(v1));
+    return (R(1) - w) * v0 + w * v1;
+  }
+
+ private:
+  const T* data_ = nullptr;
+  FixedAxis<R> axes_[D];
+  int geometric_ = -1;
+  bool linear_ = false;  // every axis linear and direct(): the nested-lerp path
+  detail::FixedKernel<T, R, D> kernel_ = nullptr;
+};
+
+}  // namespace sampler
+}  // namespace hairlut

@@ -1,0 +1,33 @@
+// Typed views of a loaded table set: the d'Eon 2011 N_p, M_p and residual tables of a TableSet as
+// sampler::HairTables (hairlut/sampler/sampler_fibre.hpp), built from the set's metadata, so that a user
+// looks values up by physical arguments without mapping axis names or attributes by hand.
+#pragma once
+
+#include <string_view>
+
+#include "hairlut/sampler/sampler_fibre.hpp"
+#include "hairlut/tables/tables.hpp"
+
+namespace hairlut {
+
+/// The views of `set`'s tables np/<lobe> (with their `factor` energy tables), np/residual,
+/// mp/<lobe> and mp/residual for every lobe its metadata lists. T is the stored type (float for
+/// float32 tables, double for float64), R the arithmetic type (float or double). The views point
+/// into `set` (its values and explicit axis nodes): `set` must outlive them and stay unchanged.
+/// Throws DomainError (naming the table) when the set is not of model deon2011, a table is
+/// missing, its axes are not (beta, sigma_a, theta_d, phi) / (sigma_a, theta_d) /
+/// (beta, theta_i, theta_r) in that order, a factor table is missing or on other axes, or the
+/// tables are not stored as T.
+template <class T, class R>
+sampler::HairTables<T, R> hair_tables(const TableSet& set);
+
+/// The index p of a lobe in hair_tables(set).np / .mp ("R" → 0, ... as the set's metadata lists
+/// them). Throws DomainError naming the lobes the set has.
+int lobe_index(const TableSet& set, std::string_view lobe);
+
+/// A fibre from d'Eon 2011's melanin model (σa = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05),
+/// melanin_sigma_a_rgb) and its roughness β_m, β_n [rad]. Throws DomainError for negative or
+/// non-finite concentrations or roughness ≤ 0.
+sampler::Fibre fibre_from_melanin(double eumelanin, double pheomelanin, double beta_m, double beta_n);
+
+}  // namespace hairlut

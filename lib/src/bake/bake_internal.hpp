@@ -1,0 +1,74 @@
+// Internal: pieces of the baker shared by the models' bake functions (bake.cpp and its stages for d'Eon 2011,
+// bake_marschner.cpp for Marschner 2003).
+#pragma once
+
+#include <omp.h>
+
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hairlut/bake/bake.hpp"
+#include "hairlut/util/error.hpp"
+
+namespace hairlut::detail {
+
+// Runs body(k) for k in [0, n) on the configured threads with dynamic scheduling, reports
+// progress from one thread at a time, stops at the cancellation flag and rethrows the first
+// exception after the loop. The work items are independent, so the result does not depend on the
+// thread count.
+template <class Body>
+void parallel_for(std::size_t n, const BakeOptions& opt, std::string_view stage, std::size_t weight, Body&& body) {
+  std::atomic<std::size_t> done{0};
+  std::exception_ptr error;
+  std::mutex report_mutex;
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const auto total = n * weight;
+  if (opt.progress) opt.progress(stage, 0, total);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t k = 0; k < n; ++k) {
+    if (error || (opt.cancel && opt.cancel->load(std::memory_order_relaxed))) continue;
+    try {
+      body(k);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(report_mutex);
+      if (!error) error = std::current_exception();
+    }
+    const std::size_t d = (done += 1) * weight;
+    if (opt.progress && report_mutex.try_lock()) {
+      opt.progress(stage, d, total);
+      report_mutex.unlock();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  if (opt.cancel && opt.cancel->load()) throw BakeCancelled();
+  if (opt.progress) opt.progress(stage, total, total);
+}
+
+inline Table make_table(std::string group, std::string name, std::string quantity, std::string units, std::string long_name,
+                 std::vector<GridAxis> axes, Precision precision, bool allocate = true) {
+  Table t;
+  t.group = std::move(group);
+  t.name = std::move(name);
+  t.quantity = std::move(quantity);
+  t.units = std::move(units);
+  t.long_name = std::move(long_name);
+  t.axes = std::move(axes);
+  if (allocate) t.allocate(precision);
+  else t.precision = precision;  // values produced slab by slab (SlabbedTables)
+  return t;
+}
+
+inline const GridAxis& axis_named(const std::vector<GridAxis>& axes, const std::string& name) {
+  for (const GridAxis& a : axes)
+    if (a.name == name) return a;
+  throw DomainError("internal: no axis named " + name);
+}
+
+/// The melanin → RGB σa tables (d'Eon's cross-sections and the spectral model) of the config.
+void append_melanin_tables(const BakeConfig& c, Precision precision, TableSet& set, BakeReport& report);
+
+}  // namespace hairlut::detail

@@ -1,0 +1,424 @@
+// The generic N_p tables: N_p (or its shape N_p / E_p) of every explicit lobe over (β, σa, θd, φ),
+// lobe energies and the residual over (σa, θd); the axes target_error chooses, the lobes folded
+// into the residual, and the grid baker every N_p table shares (bake_np_grid).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include "bake_internal.hpp"
+#include "bake_stages.hpp"
+#include "hairlut/bake/resolution.hpp"
+#include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/physics/azimuthal_fourier.hpp"
+#include "hairlut/physics/azimuthal_np.hpp"
+#include "hairlut/physics/lobe_energy.hpp"
+#include "hairlut/util/angles.hpp"
+#include "hairlut/util/error.hpp"
+
+namespace hairlut {
+namespace {
+
+using detail::axis_named;
+using detail::BakeRun;
+using detail::make_table;
+using detail::parallel_for;
+
+using json = nlohmann::ordered_json;
+
+// Lobe energies and the residual at every (σa_k, θd_t): out(k, t, energies).
+template <class Out>
+void bake_energies(const BakeRun& s, LobeSet lobes, const std::vector<double>& sigmas, const std::vector<double>& thetas,
+                   const BakeOptions& opt, Out&& out) {
+  const BakeConfig& c = *s.config;
+  parallel_for(sigmas.size() * thetas.size(), opt, "energies", 1, [&](std::size_t item) {
+    const std::size_t k = item / thetas.size(), t = item % thetas.size();
+    out(k, t, lobe_energies(AttenuationSlice(c.eta, thetas[t], sigmas[k], c.path), lobes, s.energy_rule));
+  });
+}
+
+// Largest energy of each explicit lobe over the σa values and θd nodes that will be baked.
+std::vector<double> max_lobe_energies(const BakeConfig& c, const std::vector<double>& sigmas, const std::vector<double>& thetas,
+                                      const GaussLegendreRule& rule) {
+  std::vector<double> best(static_cast<std::size_t>(c.lobe_count), 0.0);
+  for (double s : sigmas)
+    for (double t : thetas) {
+      const auto e = lobe_energies(AttenuationSlice(c.eta, t, s, c.path), {c.lobe_count, false}, rule);
+      for (std::size_t p = 0; p < e.size(); ++p) best[p] = std::max(best[p], e[p]);
+    }
+  return best;
+}
+
+// N_p stored as its shape N_p / E_p when `energy` holds the lobe energies at the (σa, θd) nodes
+// (lobe-major), else N_p itself.
+double np_shape(const std::vector<double>& energy, int p, std::size_t ns, std::size_t nt, std::size_t is, std::size_t it, double v) {
+  if (energy.empty()) return v;
+  const double e = energy[(static_cast<std::size_t>(p) * ns + is) * nt + it];
+  return e > 1e-300 ? v / e : 0.0;  // a lobe absorbed to nothing has no shape
+}
+
+// Producer of lobe p's generic N_p rows (β indices) for slab-by-slab baking: the whole-grid
+// request restricted to the rows asked for, so every entry gets the same method and rules as in
+// the whole bake (bit-identical values).
+std::function<void(std::size_t, std::size_t, Table&)> np_rows(NpGridRequest request, int p, std::shared_ptr<const std::vector<double>> energy,
+                                                               BakeOptions opt) {
+  return [request = std::move(request), p, energy = std::move(energy), opt = std::move(opt)](std::size_t row0, std::size_t rows, Table& out) mutable {
+    const std::size_t ns = request.sigmas.size(), nt = request.thetas.size(), nphi = request.phis.size();
+    request.only = NpGridRequest::Subset{p, row0, row0 + rows};
+    bake_np_grid(request, opt, "N_p slab", [&](int, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+      out.set((((ib - row0) * ns + is) * nt + it) * nphi + ip, np_shape(*energy, p, ns, nt, is, it, v));
+    });
+  };
+}
+
+
+}  // namespace
+
+std::vector<GridAxis> restricted_np_axes(const BakeConfig& c, std::vector<std::string>* notes) {
+  std::vector<GridAxis> axes = *c.np_axes;
+  if (!c.scene || c.scene->mode != SceneConfig::Mode::restrict_generic) return axes;
+  double s_lo = INFINITY, s_hi = -INFINITY, b_lo = INFINITY, b_hi = -INFINITY;
+  for (const MaterialConfig& m : c.scene->materials) {
+    for (double s : m.sigma_a) s_lo = std::min(s_lo, s), s_hi = std::max(s_hi, s);
+    for (double b : m.beta_n) b_lo = std::min(b_lo, b), b_hi = std::max(b_hi, b);
+  }
+  auto restrict_axis = [&](GridAxis& a, double lo, double hi, const char* what) {
+    a.values.clear();
+    if (a.spacing == Spacing::explicit_values) a.spacing = Spacing::uniform;
+    if (a.spacing == Spacing::log && !(lo > 0.0)) a.spacing = Spacing::sqrt;
+    if (hi - lo <= 1e-12 * std::max(1.0, hi)) {
+      a.count = 1;
+      a.placement = Placement::edges;
+      a.lo = a.hi = lo;
+    } else {
+      a.count = std::max(a.count, 2);
+      a.lo = lo;
+      a.hi = hi;
+    }
+    if (notes) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "scene restricts %s to [%.6g, %.6g] with %d nodes (%s spacing)", what, a.lo, a.hi,
+                    a.count, std::string(to_string(a.spacing)).c_str());
+      notes->push_back(buf);
+    }
+    a.validate("scene-restricted axis " + a.name);
+  };
+  for (GridAxis& a : axes) {
+    if (a.name == "sigma_a") restrict_axis(a, s_lo, s_hi, "sigma_a");
+    if (a.name == "beta") restrict_axis(a, b_lo, b_hi, "beta");
+  }
+  return axes;
+}
+
+// N_p of lobes p = 0 … lobes − 1 at every (σa_k, θd_t) pair for the lobe's β list and all φ,
+// written through out(p, k, t, b, j, value). The Fourier method works per (θd, p) for all σa at
+// once; the per-entry methods per (σa, θd). Either way each work item writes its own entries.
+std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const std::string& stage, const NpGridOutput& out) {
+  const NpQuadratureConfig& q = r.quadrature;
+  const auto& sigmas = r.sigmas;
+  const auto& thetas = r.thetas;
+  const auto& phis = r.phis;
+  const auto& betas_of = r.betas_of;
+  std::size_t unconverged = 0;
+  const std::size_t ns = sigmas.size(), nt = thetas.size(), nphi = phis.size();
+  std::mutex mutex;
+  // Entries this call evaluates (all of them unless r.only restricts to one lobe's β range).
+  auto wanted_lobe = [&](int p) { return !r.only || r.only->p == p; };
+  auto wanted = [&](int p, std::size_t b) { return !r.only || (r.only->p == p && b >= r.only->b0 && b < r.only->b1); };
+  if (q.method == NpQuadratureConfig::Method::fourier) {
+    // Per (θd, lobe): the β list splits into the narrowest detectors, evaluated by spreading
+    // Gaussians onto the periodic φ grid, and the rest, evaluated from Fourier coefficients,
+    // where the split point minimizes the estimated work. Both are the same quadrature and meet
+    // the tolerance; choices and rules are fixed before the parallel loop (deterministic).
+    const PeriodicGrid grid = PeriodicGrid::of(phis);
+    const std::size_t L = static_cast<std::size_t>(r.lobes);
+    struct Plan {
+      std::vector<std::size_t> spread, fourier;  // β indices
+      int terms = 0;
+    };
+    std::vector<Plan> plans(nt * L);
+    std::vector<int> spread_m(nt, 0), fourier_m(nt, 0);
+    int max_terms = 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+      const FiberGeometry g = FiberGeometry::make(r.eta, thetas[t]);
+      for (int p = 0; p < r.lobes; ++p) {
+        const auto betas = betas_of(p);
+        std::vector<std::size_t> order(betas.size());
+        for (std::size_t b = 0; b < order.size(); ++b) order[b] = b;
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return betas[x] < betas[y]; });
+        std::size_t best_split = 0;
+        double best_cost = INFINITY;
+        for (std::size_t split = 0; split <= order.size(); ++split) {
+          double cost = 0.0;
+          for (std::size_t i = 0; i < split; ++i)
+            cost += spread_cost(betas[order[i]], spread_nodes(betas[order[i]], p, g, q.tolerance), ns, grid, q.tolerance);
+          if (split < order.size()) {
+            const int N = fourier_terms(betas[order[split]], q.tolerance);
+            cost += fourier_cost(N, fourier_nodes(N, p, g, q.tolerance), ns, order.size() - split, nphi);
+          }
+          if (cost < best_cost) best_cost = cost, best_split = split;
+        }
+        Plan& plan = plans[t * L + static_cast<std::size_t>(p)];
+        plan.spread.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(best_split));
+        plan.fourier.assign(order.begin() + static_cast<std::ptrdiff_t>(best_split), order.end());
+        for (std::size_t b : plan.spread) spread_m[t] = std::max(spread_m[t], spread_nodes(betas[b], p, g, q.tolerance));
+        if (!plan.fourier.empty()) {
+          plan.terms = fourier_terms(betas[plan.fourier.front()], q.tolerance);
+          fourier_m[t] = std::max(fourier_m[t], fourier_nodes(plan.terms, p, g, q.tolerance));
+          max_terms = std::max(max_terms, plan.terms);
+        }
+      }
+    }
+    const auto cache = r.rules ? r.rules : std::make_shared<GaussLegendreCache>();
+    std::map<int, const GaussLegendreRule*> rules;
+    for (std::size_t t = 0; t < nt; ++t)
+      for (int m : {spread_m[t], fourier_m[t]})
+        if (m > 0 && !rules.count(m)) rules[m] = &cache->get(m);
+    const CosineSeries series(phis, max_terms);
+    parallel_for(nt, opt, stage, ns * nphi * L, [&](std::size_t t) {
+      const FiberGeometry g = FiberGeometry::make(r.eta, thetas[t]);
+      std::optional<FiberNodes> spread_nodes_t, fourier_nodes_t;
+      if (spread_m[t] > 0) spread_nodes_t = FiberNodes::make(g, r.path, *rules.at(spread_m[t]));
+      if (fourier_m[t] > 0) fourier_nodes_t = FiberNodes::make(g, r.path, *rules.at(fourier_m[t]));
+      std::vector<double> C, v, row(nphi);
+      // Every spread (lobe, β) of this θd in one pass over the nodes.
+      std::vector<SpreadLobe> spread_lobes;
+      std::vector<std::pair<int, std::size_t>> spread_index;
+      for (int p = 0; p < r.lobes; ++p) {
+        const auto betas = betas_of(p);
+        for (std::size_t b : plans[t * L + static_cast<std::size_t>(p)].spread) {
+          if (!wanted(p, b)) continue;
+          spread_lobes.push_back({p, betas[b]});
+          spread_index.emplace_back(p, b);
+        }
+      }
+      if (!spread_lobes.empty()) {
+        std::vector<std::vector<double>> spread;
+        spread_np(*spread_nodes_t, g, spread_lobes, sigmas, grid, q.tolerance, spread);
+        for (std::size_t l = 0; l < spread.size(); ++l)
+          for (std::size_t k = 0; k < ns; ++k)
+            for (std::size_t j = 0; j < nphi; ++j) out(spread_index[l].first, k, t, spread_index[l].second, j, spread[l][k * nphi + j]);
+      }
+      for (int p = 0; p < r.lobes; ++p) {
+        const Plan& plan = plans[t * L + static_cast<std::size_t>(p)];
+        const auto betas = betas_of(p);
+        if (plan.fourier.empty() || !wanted_lobe(p) ||
+            std::none_of(plan.fourier.begin(), plan.fourier.end(), [&](std::size_t b) { return wanted(p, b); }))
+          continue;
+        const int N = plan.terms;
+        fourier_coefficients(*fourier_nodes_t, g, p, sigmas, N, C);
+        for (std::size_t b : plan.fourier) {
+          if (!wanted(p, b)) continue;
+          const int Nb = std::min(N, fourier_terms(betas[b], q.tolerance));
+          // Weights (2 − δ_n0) e^{−n²β²/2} / 2π of the detector's Fourier series.
+          std::vector<double> weight(static_cast<std::size_t>(Nb) + 1);
+          for (int n = 0; n <= Nb; ++n)
+            weight[static_cast<std::size_t>(n)] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * betas[b] * betas[b]) / kTwoPi;
+          v.resize(weight.size());
+          for (std::size_t k = 0; k < ns; ++k) {
+            for (std::size_t n = 0; n < weight.size(); ++n) v[n] = weight[n] * C[n * ns + k];
+            series.evaluate(v, row);
+            for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, std::max(0.0, row[j]));  // roundoff below 0 clamped
+          }
+        }
+      }
+    });
+    return 0;
+  }
+  const GaussLegendreRule rule(q.method == NpQuadratureConfig::Method::gauss_legendre ? q.order : 1);
+  parallel_for(ns * nt, opt, stage, nphi * static_cast<std::size_t>(r.lobes), [&](std::size_t item) {
+    const std::size_t k = item / nt, t = item % nt;
+    const AttenuationSlice slice(r.eta, thetas[t], sigmas[k], r.path);
+    std::size_t local_unconverged = 0;
+    for (int p = 0; p < r.lobes; ++p) {
+      if (!wanted_lobe(p)) continue;
+      const auto betas = betas_of(p);
+      if (q.method == NpQuadratureConfig::Method::gauss_legendre) {
+        const NpQuadratureSlab slab(slice, p, rule, q.variable);
+        for (std::size_t b = 0; b < betas.size(); ++b)
+          if (wanted(p, b))
+            for (std::size_t j = 0; j < nphi; ++j) out(p, k, t, b, j, slab(betas[b], phis[j]));
+      } else {
+        for (std::size_t b = 0; b < betas.size(); ++b)
+          for (std::size_t j = 0; j < nphi && wanted(p, b); ++j) {
+            const AdaptiveResult ar = azimuthal_np_reference(slice, p, betas[b], phis[j], q.tolerance);
+            if (!ar.converged) ++local_unconverged;
+            out(p, k, t, b, j, ar.value[0]);
+          }
+      }
+    }
+    if (local_unconverged) {
+      std::lock_guard<std::mutex> lock(mutex);
+      unconverged += local_unconverged;
+    }
+  });
+  return unconverged;
+}
+
+namespace detail {
+
+NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report) {
+  NpPlan chosen;
+  std::vector<GridAxis>& np_axes = chosen.axes;
+  bool& normalize_energy = chosen.normalize_energy;
+  std::optional<std::vector<GridAxis>>& energy_axes = chosen.energy_axes;
+  if (c.np_axes) np_axes = restricted_np_axes(c, &report.notes);
+  normalize_energy = c.np_normalize_energy;
+  energy_axes = c.np_energy_axes;
+  if (c.np_axes && c.np_target_error && !per_material) {
+    // Two representations compete: the axes as configured, and the shape N_p / E_p with cubic
+    // interpolation on every axis, σa uniform, and dense energy tables; the smaller table wins.
+    std::optional<ResolutionPlan> configured, shape;
+    std::string refused;
+    try {
+      configured = plan_np_resolution(np_axes, c.eta, c.path, c.lobe_count, *c.np_target_error, std::size_t{1} << 31, normalize_energy);
+    } catch (const DomainError& e) {
+      refused = e.what();
+    }
+    std::vector<GridAxis> cubic = np_axes;
+    for (GridAxis& a : cubic) {
+      if (a.spacing == Spacing::explicit_values) continue;
+      if (a.name == "sigma_a") a.spacing = Spacing::uniform;
+      a.interpolation = Interpolation::cubic;
+    }
+    try {
+      shape = plan_np_resolution(cubic, c.eta, c.path, c.lobe_count, *c.np_target_error, std::size_t{1} << 31, true);
+    } catch (const DomainError& e) {
+      if (!configured) throw;
+      refused = e.what();
+    }
+    const bool use_shape = shape && (!configured || shape->entries < configured->entries);
+    const ResolutionPlan& plan = use_shape ? *shape : *configured;
+    if (use_shape && !normalize_energy) {
+      normalize_energy = true;
+      if (!energy_axes) {
+        GridAxis es = axis_named(np_axes, "sigma_a"), et = axis_named(np_axes, "theta_d");
+        es.spacing = Spacing::uniform, es.count = std::max(es.count, 128), es.interpolation = Interpolation::geometric;
+        et.count = std::max(et.count, 512), et.interpolation = Interpolation::cubic;
+        if (es.lo == es.hi) es.count = 1, es.interpolation = Interpolation::linear;
+        energy_axes = std::vector<GridAxis>{es, et};
+      }
+    }
+    np_axes = plan.axes;
+    report.resolution = {{"target_error", *c.np_target_error}, {"predicted_error", plan.predicted_error}, {"entries_per_lobe", plan.entries},
+                         {"representation", use_shape ? "shape N_p / E_p, cubic" : "as configured"}};
+    if (configured) report.resolution["entries_as_configured"] = configured->entries;
+    if (shape) report.resolution["entries_shape_cubic"] = shape->entries;
+    for (const GridAxis& a : np_axes) {
+      report.resolution["counts"][a.name] = a.count;
+      report.resolution["predicted_axis_error"][a.name] = plan.axis_error.at(a.name);
+    }
+    report.notes.push_back("target_error " + std::to_string(*c.np_target_error) + ": counts beta " + std::to_string(np_axes[0].count) +
+                           ", sigma_a " + std::to_string(np_axes[1].count) + ", theta_d " + std::to_string(np_axes[2].count) + ", phi " +
+                           std::to_string(np_axes[3].count) + " (" + std::to_string(plan.entries) + " entries per lobe)");
+  }
+  return chosen;
+}
+
+void fold_weak_lobes(BakeRun& s, const NpPlan& plan, bool generic_np, BakeReport& report) {
+  const BakeConfig& c = *s.config;
+  const std::vector<GridAxis>& np_axes = plan.axes;
+  if (c.np_axes && c.fold_below > 0.0) {
+    std::vector<double> sigmas;
+    if (generic_np) sigmas = axis_named(np_axes, "sigma_a").nodes();
+    else
+      for (const MaterialConfig& m : c.scene->materials) sigmas.insert(sigmas.end(), m.sigma_a.begin(), m.sigma_a.end());
+    const auto best = max_lobe_energies(c, sigmas, axis_named(np_axes, "theta_d").nodes(), s.energy_rule);
+    while (s.lobes > 1 && best[static_cast<std::size_t>(s.lobes - 1)] < c.fold_below) {
+      report.folded.push_back({lobe_name(s.lobes - 1), best[static_cast<std::size_t>(s.lobes - 1)]});
+      --s.lobes;
+    }
+    std::reverse(report.folded.begin(), report.folded.end());
+  }
+}
+
+void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report) {
+  const BakeConfig& c = *run.config;
+  const BakeOptions& opt = run.options;
+  const Precision precision = run.precision;
+  SlabbedTables* const slabbed = run.slabbed;
+  const BakeRun& s = run;
+  const std::vector<GridAxis>& np_axes = plan.axes;
+  const bool normalize_energy = plan.normalize_energy;
+  const std::optional<std::vector<GridAxis>>& energy_axes = plan.energy_axes;
+  const LobeSet lobe_set{s.lobes, c.residual};
+  const std::shared_ptr<GaussLegendreCache>& rules = run.rules;
+  std::size_t& unconverged = run.unconverged;
+  const std::vector<double> betas = axis_named(np_axes, "beta").nodes(), sigmas = axis_named(np_axes, "sigma_a").nodes(),
+                            thetas = axis_named(np_axes, "theta_d").nodes(), phis = axis_named(np_axes, "phi").nodes();
+  // The energy and residual tables live on their own (σa, θd) axes when the config gives them
+  // (they are small, so they may be denser than N_p's).
+  std::vector<GridAxis> st_axes = {axis_named(np_axes, "sigma_a"), axis_named(np_axes, "theta_d")};
+  if (energy_axes) st_axes = *energy_axes;
+  const std::vector<double> energy_sigmas = st_axes[0].nodes(), energy_thetas = st_axes[1].nodes();
+  const std::size_t first = set.tables.size();
+  for (int p = 0; p < s.lobes; ++p) {
+    const std::string lobe = lobe_name(p);
+    Table t = make_table("np", lobe, "N_p", "1/rad",
+                         normalize_energy ? "shape N_p / E_p of lobe " + lobe + " (N_p = this x np/energy_" + lobe + ")"
+                                               : "azimuthal scattering function N_p of lobe " + lobe,
+                         np_axes, precision, !slabbed);
+    t.attributes = {{"lobe", lobe}, {"p", p}};
+    if (normalize_energy) t.attributes["factor"] = "np/energy_" + lobe;
+    set.tables.push_back(std::move(t));
+  }
+  // normalize "energy": every N_p value is divided by its lobe's energy at the same (σa, θd)
+  // node (the shape integrates to 1 over φ and changes slowly where the energy falls fast).
+  const std::size_t ns = sigmas.size(), nt = thetas.size();
+  std::vector<double> node_energy;
+  if (normalize_energy) {
+    node_energy.assign(static_cast<std::size_t>(s.lobes) * ns * nt, 0.0);
+    bake_energies(s, LobeSet{s.lobes, false}, sigmas, thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
+      for (int p = 0; p < s.lobes; ++p) node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it] = e[static_cast<std::size_t>(p)];
+    });
+  }
+  const std::size_t energy_first = set.tables.size();
+  for (int p = 0; p < lobe_set.size(); ++p) {
+    const bool res = p == s.lobes;
+    const std::string lobe = res ? "residual" : lobe_name(p);
+    Table t = make_table("np", "energy_" + lobe, "energy", "1",
+                         "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : ""),
+                         st_axes, precision);
+    t.attributes = {{"lobe", lobe}, {"p", p}};
+    set.tables.push_back(std::move(t));
+  }
+  std::size_t residual_index = 0;
+  if (c.residual) {
+    Table t = make_table("np", "residual", "N_p", "1/rad",
+                         "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)",
+                         st_axes, precision);
+    t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
+    residual_index = set.tables.size();
+    set.tables.push_back(std::move(t));
+  }
+  const std::size_t nb = betas.size(), nphi = phis.size();
+  if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
+    report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
+  if (slabbed) {
+    const auto energy = std::make_shared<const std::vector<double>>(std::move(node_energy));
+    for (int p = 0; p < s.lobes; ++p)
+      slabbed->tables.push_back({first + static_cast<std::size_t>(p),
+                                 np_rows({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [betas](int) { return betas; }, rules, {}},
+                                         p, energy, opt)});
+  } else {
+    unconverged += bake_np_grid({c.eta, c.path, c.quadrature, s.lobes, sigmas, thetas, phis, [&](int) { return betas; }, rules, {}}, opt, "N_p",
+                                [&](int p, std::size_t is, std::size_t it, std::size_t ib, std::size_t ip, double v) {
+                                  set.tables[first + static_cast<std::size_t>(p)].set(((ib * ns + is) * nt + it) * nphi + ip,
+                                                                                      np_shape(node_energy, p, ns, nt, is, it, v));
+                                });
+  }
+  const std::size_t ent = energy_thetas.size();
+  bake_energies(s, lobe_set, energy_sigmas, energy_thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
+    for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * ent + it, e[p]);
+    if (c.residual) set.tables[residual_index].set(is * ent + it, e.back() / kTwoPi);
+  });
+  report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt + static_cast<std::size_t>(lobe_set.size()) * energy_sigmas.size() * ent;
+  // β bands 1 … n − 1 (beta_bands.cpp); the tables above are band 0.
+  if (!c.np_beta_bands.empty()) append_beta_band_tables(c, s.lobes, normalize_energy, precision, opt, set, report);
+}
+
+}  // namespace detail
+}  // namespace hairlut

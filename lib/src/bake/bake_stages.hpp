@@ -1,0 +1,44 @@
+// Internal: the stages bake() runs for a d'Eon 2011 config, in order (bake.cpp), each in the file of
+// its table kind: generic N_p (bake_np.cpp), per-material N_p (bake_material_np.cpp), M_p and
+// melanin (bake_mp.cpp); dual scattering and engine presets follow in bake_engine.cpp.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "hairlut/bake/bake.hpp"
+#include "hairlut/util/quadrature.hpp"
+
+namespace hairlut::detail {
+
+// What the stages of one bake share.
+struct BakeRun {
+  const BakeConfig* config;
+  const BakeOptions& options;
+  Precision precision;
+  SlabbedTables* slabbed;          // non-null: tables over the memory budget are produced slab by slab
+  int lobes;                       // explicit lobes after folding; p >= lobes go to the residual
+  GaussLegendreRule energy_rule;   // the lobe energies' rule
+  std::size_t unconverged = 0;     // adaptive N_p entries that did not reach the tolerance
+  std::shared_ptr<GaussLegendreCache> rules = std::make_shared<GaussLegendreCache>();  // shared by the whole bake
+};
+
+// The N_p axes a bake uses: the config's (restricted to a scene's materials), or those target_error
+// chose, with the representation (N_p or its shape N_p / E_p) and the energy tables' own axes.
+struct NpPlan {
+  std::vector<GridAxis> axes;
+  bool normalize_energy = false;
+  std::optional<std::vector<GridAxis>> energy_axes;
+};
+
+NpPlan plan_np_tables(const BakeConfig& config, bool per_material, BakeReport& report);
+// Explicit lobes whose largest energy over everything baked stays below tables.np.fold_below join
+// the residual (run.lobes decreases; report.folded lists them).
+void fold_weak_lobes(BakeRun& run, const NpPlan& plan, bool generic_np, BakeReport& report);
+void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report);
+void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report);
+void bake_mp_tables(const BakeRun& run, bool per_material, TableSet& set, BakeReport& report);
+
+}  // namespace hairlut::detail

@@ -1,0 +1,279 @@
+#include "hairlut/bake/config.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "hairlut/util/angles.hpp"
+#include "hairlut/util/error.hpp"
+#include "hairlut/physics/hair_model.hpp"
+#include "hairlut/bake/json_schema.hpp"
+#include "hairlut/physics/melanin.hpp"
+#include "hairlut/util/version.hpp"
+#include "config_parse.hpp"
+
+namespace hairlut {
+namespace detail {
+extern const char* const config_schema_json;  // generated from schemas/hairlut-config.schema.json
+}
+
+const char* config_schema_text() { return detail::config_schema_json; }
+
+std::string_view to_string(NpQuadratureConfig::Method method) {
+  switch (method) {
+    case NpQuadratureConfig::Method::adaptive: return "adaptive";
+    case NpQuadratureConfig::Method::gauss_legendre: return "gauss-legendre";
+    default: return "fourier";
+  }
+}
+
+namespace {
+
+using nlohmann::json;
+using namespace detail::config_parse;
+
+BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir) {
+  BakeConfig c;
+  c.name = doc.at("name").get<std::string>();
+  c.description = doc.value("description", std::string());
+  c.model = doc.value("model", std::string("deon2011"));
+  if (c.model == "deon") c.model = "deon2011";  // short names (schema enum) → the recorded ones
+  if (c.model == "marschner") c.model = "marschner2003";
+
+  const json fiber = doc.value("fiber", json::object());
+  c.eta = get_number(fiber, "eta", 1.55);
+  c.path = parse_absorption_path(fiber.value("absorption_path", std::string("chord")), "fiber.absorption_path");
+
+  const json lobes = doc.value("lobes", json::object());
+  const auto names = lobes.value("explicit", c.model == "marschner2003" ? std::vector<std::string>{"R", "TT", "TRT"}
+                                                                       : std::vector<std::string>{"R", "TT", "TRT", "TRRT"});
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string path = "lobes.explicit[" + std::to_string(i) + "]";
+    int p = -1;
+    checked([&] { p = parse_lobe(names[i], path); });
+    if (p != static_cast<int>(i))
+      fail(path, "must be \"" + lobe_name(static_cast<int>(i)) + "\": list the lobes R, TT, TRT, ... in order without gaps (got \"" +
+                     names[i] + "\")");
+  }
+  c.lobe_count = static_cast<int>(names.size());
+  if (doc.contains("marschner") && c.model != "marschner2003")
+    fail("marschner", "applies to model \"marschner2003\" only (model is \"" + c.model + "\")");
+  if (c.model == "marschner2003") c.marschner = parse_marschner(doc, lobes, c);
+  c.residual = c.marschner ? false : lobes.value("residual", true);
+  c.fold_below = get_number(lobes, "fold_below", 0.0);
+  c.tilt.assign(static_cast<std::size_t>(c.lobe_count), 0.0);
+  if (lobes.contains("tilt_deg")) {
+    for (const auto& [key, value] : lobes.at("tilt_deg").items()) {
+      const int p = lobe_index(key, c.lobe_count, "lobes.tilt_deg." + key);
+      if (p < 0) c.residual_tilt = radians(value.get<double>());
+      else c.tilt[static_cast<std::size_t>(p)] = radians(value.get<double>());
+    }
+  }
+
+  const json q = doc.value("quadrature", json::object());
+  const std::string method = q.value("method", std::string("fourier"));
+  c.quadrature.method = method == "adaptive"         ? NpQuadratureConfig::Method::adaptive
+                        : method == "gauss-legendre" ? NpQuadratureConfig::Method::gauss_legendre
+                                                     : NpQuadratureConfig::Method::fourier;
+  c.quadrature.order = q.value("order", 256);
+  c.quadrature.variable = parse_integration_variable(q.value("variable", std::string("gamma")), "quadrature.variable");
+  c.quadrature.tolerance = get_number(q, "tolerance", 1e-12);
+  c.quadrature.energy_order = q.value("energy_order", 128);
+
+  const json tables = doc.value("tables", json::object());
+  if (tables.contains("np")) parse_np_tables(doc, tables, c);
+  if (tables.contains("mp")) parse_mp_tables(doc, tables, c);
+  if (tables.contains("melanin")) parse_melanin_tables(tables, c);
+
+  if (c.marschner)
+    for (const char* key : {"dual_scattering", "engine"})
+      if (tables.contains(key))
+        fail(std::string("tables.") + key, "applies to model deon2011 only (computed from d'Eon's energy-conserving M_p and N_p)");
+  if (tables.contains("dual_scattering")) c.dual_scattering = parse_dual_scattering(tables.at("dual_scattering"), c.lobe_count, c.residual);
+  if (tables.contains("engine")) c.engine = parse_engine(tables.at("engine"), names);
+
+  if (doc.contains("scene")) parse_scene(doc, c);
+  if (!c.np_axes && !c.mp_axes && !c.melanin_axes && !c.dual_scattering && !c.engine)
+    fail("tables", "must ask for at least one table (np, mp, melanin, dual_scattering or engine)");
+
+  if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", json::object());
+  const json& out = doc.at("output");
+  std::filesystem::path dir = out.value("directory", std::string("."));
+  c.output.directory = dir.is_absolute() ? dir : (base_dir / dir).lexically_normal();
+  c.output.basename = out.at("basename").get<std::string>();
+  for (const auto& f : out.at("formats")) (f == "hdf5" ? c.output.hdf5 : c.output.exr) = true;
+  const json h5 = out.value("hdf5", json::object());
+  c.output.hdf5_double = h5.value("precision", std::string("float32")) == "float64";
+  c.output.hdf5_deflate = h5.value("compression", 6);
+  const json exr = out.value("exr", json::object());
+  c.output.exr_half = exr.value("precision", std::string("float")) == "half";
+  c.output.exr_compression = exr.value("compression", std::string("zip"));
+
+  // Normalized form: every default filled in, angles in radians, keys sorted (nlohmann::json).
+  json n;
+  n["name"] = c.name;
+  n["description"] = c.description;
+  n["model"] = c.model;
+  n["fiber"] = {{"eta", c.eta}, {"absorption_path", to_string(c.path)}};
+  if (c.marschner) {
+    n["lobes"] = {{"explicit", names}, {"residual", false}};
+    n["marschner"] = marschner_json(*c.marschner);
+  } else {
+    json tilt = json::object();
+    for (int p = 0; p < c.lobe_count; ++p) tilt[lobe_name(p)] = c.tilt[static_cast<std::size_t>(p)];
+    tilt["residual"] = c.residual_tilt;
+    n["lobes"] = {{"explicit", names}, {"residual", c.residual}, {"fold_below", c.fold_below}, {"tilt", tilt}};
+    n["quadrature"] = {{"method", to_string(c.quadrature.method)},
+                       {"order", c.quadrature.order},
+                       {"variable", to_string(c.quadrature.variable)},
+                       {"tolerance", c.quadrature.tolerance},
+                       {"energy_order", c.quadrature.energy_order}};
+  }
+  json t = json::object();
+  if (c.np_axes) {
+    t["np"] = {{"axes", axes_json(*c.np_axes)}};
+    if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
+    if (c.np_normalize_energy) t["np"]["normalize"] = "energy";
+    if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);
+    if (!c.np_beta_bands.empty()) t["np"]["beta_bands"] = beta_bands_json(c.np_beta_bands);
+  }
+  if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
+  if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};
+  if (c.dual_scattering) t["dual_scattering"] = dual_scattering_json(*c.dual_scattering);
+  if (c.engine) t["engine"] = engine_json(*c.engine);
+  n["tables"] = t;
+  if (c.scene) {
+    json mats = json::array();
+    for (const MaterialConfig& m : c.scene->materials) {
+      json mj = {{"name", m.name}, {"sigma_a", m.sigma_a}, {"beta_m", m.beta_m}, {"beta_n", m.beta_n},
+                 {"residual_beta_m", m.residual_beta_m}, {"residual_beta_n", m.residual_beta_n}};
+      if (m.melanin) mj["melanin"] = {{"eumelanin", (*m.melanin)[0]}, {"pheomelanin", (*m.melanin)[1]}, {"model", m.melanin_model}};
+      mats.push_back(mj);
+    }
+    n["scene"] = {{"mode", c.scene->mode == SceneConfig::Mode::per_material ? "per-material" : "restrict-generic"},
+                  {"materials", mats}};
+  }
+  json formats = json::array();
+  if (c.output.hdf5) formats.push_back("hdf5");
+  if (c.output.exr) formats.push_back("exr");
+  n["output"] = {{"basename", c.output.basename},
+                 {"formats", formats},
+                 {"hdf5", {{"precision", c.output.hdf5_double ? "float64" : "float32"}, {"compression", c.output.hdf5_deflate}}},
+                 {"exr", {{"precision", c.output.exr_half ? "half" : "float"}, {"compression", c.output.exr_compression}}}};
+  // The validation thresholds travel with the tables (the stored config), so that a file is judged
+  // by the thresholds it was baked with.
+  if (c.validate_thresholds.is_object() && !c.validate_thresholds.empty()) n["validate"] = {{"thresholds", c.validate_thresholds}};
+  c.normalized = n;
+  c.hash = fnv1a64_hex(n.dump() + "\nhairlut " + kVersion);
+  return c;
+}
+
+
+}  // namespace
+
+nlohmann::json marschner_json(const MarschnerConfig& m) {
+  const CausticParams& k = m.params.caustic;
+  return {{"roots", to_string(m.params.roots)},
+          {"caustic", {{"k_G", k.k_G}, {"w_c", k.w_c}, {"delta_eta_prime", k.delta_eta_prime}, {"delta_h_max", k.delta_h_max}}},
+          {"eccentricity", m.params.eccentricity},
+          {"eccentric_fresnel", to_string(m.params.eccentric_fresnel)},
+          {"longitudinal", {{"alpha_R", m.alpha_r}, {"argument", m.argument == GaussianArgument::theta_h ? "theta-h" : "2theta-h"},
+                            {"relations", "alpha_TT = -alpha_R/2, alpha_TRT = -3 alpha_R/2, beta_TT = beta_R/2, beta_TRT = 2 beta_R (Table 1)"}}}};
+}
+
+MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path) {
+  MarschnerConfig m;
+  try {
+    m.params.eta = eta;
+    m.params.path = path;
+    m.params.roots = parse_marschner_roots(j.at("roots").get<std::string>(), "marschner.roots");
+    const auto& k = j.at("caustic");
+    m.params.caustic.k_G = k.at("k_G").get<double>();
+    m.params.caustic.w_c = k.at("w_c").get<double>();
+    m.params.caustic.delta_eta_prime = k.at("delta_eta_prime").get<double>();
+    m.params.caustic.delta_h_max = k.at("delta_h_max").get<double>();
+    m.params.eccentricity = j.at("eccentricity").get<double>();
+    m.params.eccentric_fresnel = parse_eccentric_fresnel(j.at("eccentric_fresnel").get<std::string>(), "marschner.eccentric_fresnel");
+    const auto& l = j.at("longitudinal");
+    m.alpha_r = l.at("alpha_R").get<double>();
+    const std::string arg = l.at("argument").get<std::string>();
+    if (arg != "theta-h" && arg != "2theta-h") throw DomainError("marschner.longitudinal.argument must be theta-h or 2theta-h (got \"" + arg + "\")");
+    m.argument = arg == "theta-h" ? GaussianArgument::theta_h : GaussianArgument::two_theta_h;
+  } catch (const nlohmann::json::exception& e) {
+    throw DomainError(std::string("marschner settings malformed (") + e.what() + ")");
+  }
+  try {
+    m.params.validate();
+  } catch (const DomainError& e) {
+    throw DomainError("marschner." + std::string(e.what()));
+  }
+  return m;
+}
+
+BakeConfig parse_config(const nlohmann::json& document, const std::string& source, const std::filesystem::path& base_dir) {
+  static_assert(sizeof(char) == 1);
+  const JsonSchema schema(nlohmann::json::parse(config_schema_text()));
+  const auto violations = schema.validate(document, 1);
+  if (!violations.empty()) throw ConfigError(source + ": " + violations.front().message);
+  try {
+    return parse_checked(document, base_dir);
+  } catch (const KeyError& e) {
+    throw ConfigError(source + ": " + e.path + ": " + e.reason);
+  } catch (const DomainError& e) {
+    throw ConfigError(source + ": " + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    // The schema should make this unreachable; keep the message one line anyway.
+    throw ConfigError(source + ": " + e.what());
+  }
+}
+
+BakeConfig load_config(const std::filesystem::path& file) {
+  const std::string source = file.string();
+  // A config is a small file: refuse directories and devices (/dev/zero never ends), and stop
+  // reading past kMaxConfigBytes (a pipe is read up to that bound).
+  constexpr std::uintmax_t kMaxConfigBytes = std::uintmax_t{16} << 20;
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (status.type() == std::filesystem::file_type::directory) throw ConfigError(source + ": is a directory, not a config file");
+  if (!ec && status.type() != std::filesystem::file_type::regular && status.type() != std::filesystem::file_type::fifo &&
+      status.type() != std::filesystem::file_type::not_found)
+    throw ConfigError(source + ": not a regular file or pipe (a config is a JSON file)");
+  if (const auto bytes = std::filesystem::file_size(file, ec); !ec && bytes > kMaxConfigBytes)
+    throw ConfigError(source + ": config file too large (" + std::to_string(bytes) + " bytes; at most 16 MiB)");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ConfigError(source + ": cannot open config file (" + std::string(std::strerror(errno)) + ")");
+  std::string text;
+  std::vector<char> block(1 << 16);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    text.append(block.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxConfigBytes) throw ConfigError(source + ": config file too large (more than 16 MiB)");
+  }
+  if (in.bad()) throw ConfigError(source + ": cannot read config file");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::out_of_range& e) {
+    throw ConfigError(source + ": invalid JSON: a number is out of range (" + std::string(e.what()) + ")");
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.byte is the offset of the error; turn it into line:column.
+    const std::string& s = text;
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < s.size(); ++i) {
+      if (s[i] == '\n') ++line, col = 1;
+      else ++col;
+    }
+    std::string what = e.what();
+    const auto pos = what.find("syntax error");
+    if (pos != std::string::npos) what = what.substr(pos);
+    throw ConfigError(source + ":" + std::to_string(line) + ":" + std::to_string(col) + ": invalid JSON: " + what);
+  }
+  std::filesystem::path base = file.parent_path();
+  if (base.empty()) base = ".";
+  return parse_config(doc, source, base);
+}
+
+}  // namespace hairlut

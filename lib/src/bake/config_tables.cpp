@@ -1,0 +1,288 @@
+// The config's table kinds (config_parse.hpp): tables.np, tables.mp, tables.melanin, the scene's
+// materials, model marschner2003's settings, tables.dual_scattering and tables.engine.
+#include <array>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <string>
+
+#include "config_parse.hpp"
+#include "hairlut/physics/hair_model.hpp"
+#include "hairlut/physics/melanin.hpp"
+#include "hairlut/util/angles.hpp"
+
+namespace hairlut::detail::config_parse {
+
+void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
+  const json& ax = tables.at("np").at("axes");
+  const std::string p = "tables.np.axes.";
+  // Per-material scenes take sigma_a and beta from their materials; generic tables need them.
+  const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
+  if (c.marschner && ax.contains("beta"))
+    fail(p + "beta", "model marschner2003 has no azimuthal roughness (its N_p is the smooth fiber's): remove this axis");
+  if (!c.marschner && ax.contains("phi_h")) fail(p + "phi_h", "applies to model marschner2003 with an eccentric fiber only");
+  for (const char* key : {"sigma_a", "beta"})
+    if (!ax.contains(key) && !per_material && !(c.marschner && key == std::string("beta")))
+      fail("tables.np.axes", std::string("missing required key \"") + key + "\" (needed unless scene.mode is per-material)");
+  GridAxis beta_axis, sigma_axis;
+  beta_axis.name = "beta", sigma_axis.name = "sigma_a";
+  beta_axis.count = sigma_axis.count = 0;  // unused (per-material scene) unless given
+  if (ax.contains("beta"))
+    beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)");
+  if (ax.contains("sigma_a"))
+    sigma_axis = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius",
+                           "absorption coefficient per unit fiber radius");
+  if (tables.at("np").contains("target_error")) {
+    if (c.marschner) fail("tables.np.target_error", "applies to model deon2011 only");
+    c.np_target_error = tables.at("np").at("target_error").get<double>();
+  }
+  const GridAxis theta_axis = make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                                        "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+  if (c.marschner) {
+    // N_R, N_TT over (sigma_a, theta_d, phi); an eccentric TRT also over phi_h (before phi).
+    c.np_axes = std::vector<GridAxis>{sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
+    const bool eccentric = c.marschner->params.eccentricity != 1.0;
+    if (ax.contains("phi_h") && !eccentric)
+      fail(p + "phi_h", "applies to an eccentric fiber only (marschner.eccentricity is 1)");
+    if (eccentric) {
+      const json def = {{"count", 9}, {"range_deg", {0, 90}}};
+      GridAxis ph = make_axis(ax.contains("phi_h") ? ax.at("phi_h") : def, p + "phi_h", "phi_h", true, 0.0, kHalfPi, "rad",
+                              "azimuthal half angle phi_h = (phi_i + phi_r)/2 from the axis where eta* = eta1* (period pi, even)");
+      ph.wrap = Wrap::reflect;
+      if (ph.lo != 0.0 || std::abs(ph.hi - kHalfPi) > 1e-12)
+        fail(p + "phi_h", "must cover [0, 90] degrees (eta* is even in phi_h with period 180 degrees; the sampler folds phi_h into it)");
+      ph.hi = kHalfPi;
+      c.np_axes->insert(c.np_axes->begin() + 2, ph);
+    }
+  } else {
+    c.np_axes = std::vector<GridAxis>{beta_axis, sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
+  }
+  checked([&] { validate_interpolation(*c.np_axes, "tables.np"); });
+  const json& np = tables.at("np");
+  if (np.value("normalize", std::string("none")) == "energy") {
+    if (c.marschner) fail("tables.np.normalize", "applies to model deon2011 only");
+    if (per_material) fail("tables.np.normalize", "applies to generic N_p tables (not to a per-material scene)");
+    c.np_normalize_energy = true;
+  }
+  if (np.contains("energy_axes")) {
+    if (c.marschner || per_material) fail("tables.np.energy_axes", "applies to generic deon2011 N_p tables only");
+    const json& ea = np.at("energy_axes");
+    const std::string eq = "tables.np.energy_axes.";
+    GridAxis es = sigma_axis, et = theta_axis;
+    if (ea.contains("sigma_a"))
+      es = make_axis(ea.at("sigma_a"), eq + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
+    if (ea.contains("theta_d"))
+      et = make_axis(ea.at("theta_d"), eq + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                     "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+    if (es.lo > sigma_axis.lo || es.hi < sigma_axis.hi)
+      fail(eq + "sigma_a", "must cover the N_p axis's range (the energies multiply every N_p value)");
+    if (et.lo > theta_axis.lo || et.hi < theta_axis.hi)
+      fail(eq + "theta_d", "must cover the N_p axis's range (the energies multiply every N_p value)");
+    c.np_energy_axes = std::vector<GridAxis>{es, et};
+    checked([&] { validate_interpolation(*c.np_energy_axes, "tables.np.energy_axes"); });
+  }
+  if (np.contains("beta_bands")) {  // β bands (beta_bands.cpp): band 0 becomes the N_p axes
+    if (c.marschner || doc.contains("scene") || c.np_target_error)
+      fail("tables.np.beta_bands", "applies to generic deon2011 N_p tables without a scene or target_error");
+    checked([&] {
+      c.np_beta_bands = parse_beta_bands(np.at("beta_bands"), ax, [&](const json& bx, const std::string& bp) {
+        std::vector<GridAxis> b{make_axis(bx.at("beta"), bp + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)"),
+                                make_axis(bx.at("sigma_a"), bp + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius"),
+                                make_axis(bx.at("theta_d"), bp + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad", "longitudinal difference angle theta_d = (theta_r - theta_i)/2"),
+                                make_phi_axis(bx.at("phi"), bp + "phi")};
+        validate_interpolation(b, bp.substr(0, bp.size() - 1));
+        return b;
+      });
+    });
+    if (std::abs(c.np_beta_bands.front().lo() - beta_axis.lo) > 1e-12 || std::abs(c.np_beta_bands.back().hi() - beta_axis.hi) > 1e-12)
+      fail("tables.np.beta_bands", "must cover tables.np.axes.beta's range from its first band's lo to its last band's hi");
+    c.np_axes = c.np_beta_bands.front().axes;
+  }
+}
+
+void parse_mp_tables(const json& doc, const json& tables, BakeConfig& c) {
+  const json& ax = tables.at("mp").at("axes");
+  const std::string p = "tables.mp.axes.";
+  const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
+  if (!ax.contains("beta") && !per_material)
+    fail("tables.mp.axes", "missing required key \"beta\" (needed unless scene.mode is per-material)");
+  GridAxis beta_axis;
+  beta_axis.name = "beta";
+  beta_axis.count = 0;  // unused (per-material scene) unless given
+  if (ax.contains("beta"))
+    beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad",
+                          c.marschner ? "width beta_R of the R lobe's Gaussian (lobe p uses Table 1's beta_p = ratio_p beta_R)"
+                                      : "longitudinal roughness beta, v = beta^2");
+  c.mp_axes = std::vector<GridAxis>{
+      beta_axis,
+      make_axis(ax.at("theta_i"), p + "theta_i", "theta_i", true, -kHalfPi, kHalfPi, "rad", "incident inclination theta_i"),
+      make_axis(ax.at("theta_r"), p + "theta_r", "theta_r", true, -kHalfPi, kHalfPi, "rad", "exit inclination theta_r")};
+  checked([&] { validate_interpolation(*c.mp_axes, "tables.mp"); });
+}
+
+void parse_melanin_tables(const json& tables, BakeConfig& c) {
+  const json& m = tables.at("melanin");
+  const std::string p = "tables.melanin.axes.";
+  c.melanin_axes = std::vector<GridAxis>{
+      make_axis(m.at("axes").at("eumelanin"), p + "eumelanin", "eumelanin", false, 0.0, 100.0, "1",
+                "eumelanin concentration (d'Eon 2011 / pbrt units)"),
+      make_axis(m.at("axes").at("pheomelanin"), p + "pheomelanin", "pheomelanin", false, 0.0, 100.0, "1",
+                "pheomelanin concentration (d'Eon 2011 / pbrt units)")};
+  c.melanin_path_length = get_number(m, "path_length", 2.0);
+}
+
+void parse_scene(const json& doc, BakeConfig& c) {
+  const json& s = doc.at("scene");
+  SceneConfig scene;
+  scene.mode = s.value("mode", std::string("per-material")) == "restrict-generic" ? SceneConfig::Mode::restrict_generic
+                                                                               : SceneConfig::Mode::per_material;
+  if (!c.np_axes) fail("scene", "needs tables.np: its theta_d and phi axes (and, for restrict-generic, sigma_a and beta counts)");
+  std::set<std::string> seen;
+  std::optional<SpectralMelanin> spectral;
+  for (std::size_t i = 0; i < s.at("materials").size(); ++i) {
+    const json& mj = s.at("materials")[i];
+    const std::string path = "scene.materials[" + std::to_string(i) + "]";
+    MaterialConfig m;
+    m.name = mj.at("name").get<std::string>();
+    if (!seen.insert(m.name).second) fail(path + ".name", "duplicates the name of an earlier material (\"" + m.name + "\")");
+    if (mj.contains("melanin")) {
+      const json& mel = mj.at("melanin");
+      const double ce = mel.at("eumelanin").get<double>(), cp = get_number(mel, "pheomelanin", 0.0);
+      m.melanin = std::array<double, 2>{ce, cp};
+      m.melanin_model = mel.value("model", std::string("rgb"));
+      Rgb rgb;
+      if (m.melanin_model == "spectral") {
+        if (!spectral) spectral = SpectralMelanin::builtin();
+        rgb = spectral->sigma_a_rgb(ce, cp);
+      } else {
+        rgb = melanin_sigma_a_rgb(ce, cp);
+      }
+      m.sigma_a = {rgb.r, rgb.g, rgb.b};
+    } else {
+      const auto v = mj.at("sigma_a").get<std::vector<double>>();
+      m.sigma_a = {v[0], v[1], v[2]};
+    }
+    if (c.marschner) {
+      // Gaussian widths: R given, TT and TRT given or from Table 1 (β_R/2, 2β_R).
+      const json& b = mj.at("beta_deg");
+      if (!b.contains("R")) fail(path + ".beta_deg", "must give R for model marschner2003 (TT and TRT default to Table 1's beta_R/2 and 2 beta_R)");
+      if (b.contains("residual")) fail(path + ".beta_deg.residual", "model marschner2003 has no residual lobe");
+      if (mj.contains("beta_n_deg")) fail(path + ".beta_n_deg", "applies to model deon2011 only (marschner2003 has no azimuthal roughness)");
+      for (const auto& [key, value] : b.items()) lobe_index(key, c.lobe_count, path + ".beta_deg." + key);
+      const MarschnerLobes table1 = c.marschner->lobes(radians(b.at("R").get<double>()));
+      for (int lobe = 0; lobe < c.lobe_count; ++lobe)
+        m.beta_m.push_back(b.contains(lobe_name(lobe)) ? radians(b.at(lobe_name(lobe)).get<double>()) : table1.beta[lobe]);
+      m.beta_n = m.beta_m;
+      scene.materials.push_back(std::move(m));
+      continue;
+    }
+    per_lobe_values(mj.at("beta_deg"), path + ".beta_deg", c.lobe_count, kPi / 180.0, m.beta_m, m.residual_beta_m);
+    if (mj.contains("beta_n_deg"))
+      per_lobe_values(mj.at("beta_n_deg"), path + ".beta_n_deg", c.lobe_count, kPi / 180.0, m.beta_n, m.residual_beta_n);
+    else
+      m.beta_n = m.beta_m, m.residual_beta_n = m.residual_beta_m;
+    scene.materials.push_back(std::move(m));
+  }
+  c.scene = std::move(scene);
+}
+
+
+// The settings of model marschner2003, and the keys of the d'Eon model it has no use for.
+MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeConfig& c) {
+  if (c.lobe_count > 3)
+    fail("lobes.explicit", "model marschner2003 has the lobes R, TT and TRT only (got " + std::to_string(c.lobe_count) + " lobes)");
+  if (lobes.contains("residual") && lobes.at("residual").get<bool>())
+    fail("lobes.residual", "model marschner2003 has no residual lobe: set it to false or leave it out");
+  if (lobes.contains("tilt_deg"))
+    fail("lobes.tilt_deg", "does not apply to model marschner2003: its lobes are shifted by marschner.longitudinal.alpha_R_deg with Table 1's relations");
+  if (lobes.contains("fold_below")) fail("lobes.fold_below", "applies to model deon2011 only");
+  if (doc.contains("quadrature")) fail("quadrature", "applies to model deon2011 only (marschner2003 solves for the smooth fiber's paths)");
+  const json mj = doc.value("marschner", json::object());
+  MarschnerConfig m;
+  m.params.eta = c.eta;
+  m.params.path = c.path;
+  m.params.roots = parse_marschner_roots(mj.value("roots", std::string("exact")), "marschner.roots");
+  const json k = mj.value("caustic", json::object());
+  m.params.caustic.k_G = get_number(k, "k_G", 0.5);
+  m.params.caustic.w_c = radians(get_number(k, "w_c_deg", 15.0));
+  m.params.caustic.delta_eta_prime = get_number(k, "delta_eta_prime", 0.3);
+  m.params.caustic.delta_h_max = get_number(k, "delta_h_max", 0.5);
+  m.params.eccentricity = get_number(mj, "eccentricity", 1.0);
+  m.params.eccentric_fresnel = parse_eccentric_fresnel(mj.value("eccentric_fresnel", std::string("eta")), "marschner.eccentric_fresnel");
+  const json l = mj.value("longitudinal", json::object());
+  m.alpha_r = radians(get_number(l, "alpha_R_deg", -5.0));
+  m.argument = l.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
+  checked([&] {
+    try {
+      m.params.validate();
+    } catch (const DomainError& e) {
+      throw DomainError("marschner." + std::string(e.what()));
+    }
+  });
+  return m;
+}
+
+// ---- tables.dual_scattering and tables.engine -------------------------------------------------
+
+// tables.dual_scattering: axes theta_i, beta, sigma_a; lobe_scale per lobe (lobes not listed: 1).
+DualScatteringTablesConfig parse_dual_scattering(const json& j, int lobe_count, bool residual) {
+  DualScatteringTablesConfig d;
+  const json& ax = j.at("axes");
+  const std::string p = "tables.dual_scattering.axes.";
+  d.axes = {make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius"),
+            make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad",
+                      "roughness beta: beta_m,p = beta_n,p = lobe_scale_p * beta"),
+            make_axis(ax.at("theta_i"), p + "theta_i", "theta_i", true, -kHalfPi, kHalfPi, "rad", "incident inclination theta_i")};
+  d.lobe_scale.assign(static_cast<std::size_t>(lobe_count) + (residual ? 1 : 0), 1.0);
+  if (j.contains("lobe_scale"))
+    for (const auto& [key, value] : j.at("lobe_scale").items()) {
+      const int lobe = lobe_index(key, lobe_count, "tables.dual_scattering.lobe_scale." + key);
+      if (lobe < 0 && !residual) fail("tables.dual_scattering.lobe_scale.residual", "is given but lobes.residual is false");
+      d.lobe_scale[lobe < 0 ? d.lobe_scale.size() - 1 : static_cast<std::size_t>(lobe)] = value.get<double>();
+    }
+  d.density_factor = get_number(j, "density_factor", 0.7);
+  return d;
+}
+
+// tables.engine: a preset of engine textures; the presets bake R, TT, TRT (and the residual).
+EngineConfig parse_engine(const json& j, const std::vector<std::string>& lobe_names) {
+  EngineConfig e;
+  e.preset = j.at("preset").get<std::string>();
+  if (j.contains("textures")) e.textures = j.at("textures").get<std::vector<std::string>>();
+  e.density_factor = get_number(j, "density_factor", 0.7);
+  if (j.contains("unity")) {
+    if (e.preset != "unity-hdrp-hair") fail("tables.engine.unity", "applies to the unity-hdrp-hair preset only (preset is " + e.preset + ")");
+    const json& u = j.at("unity");
+    e.radial_smoothness = get_number(u, "radial_smoothness", e.radial_smoothness);
+    e.cuticle_angle_deg = get_number(u, "cuticle_angle_deg", e.cuticle_angle_deg);
+    e.attenuation_scale = get_number(u, "attenuation_scale", e.attenuation_scale);
+  }
+  if (lobe_names != std::vector<std::string>{"R", "TT", "TRT"}) {
+    std::string got;
+    for (const auto& n : lobe_names) got += (got.empty() ? "" : ", ") + n;
+    fail("lobes.explicit", "must be [\"R\", \"TT\", \"TRT\"] for tables.engine (engines shade these three lobes; got [" + got + "])");
+  }
+  checked([&] {
+    try {
+      engine_preset_textures(e);
+    } catch (const DomainError& err) {
+      // "tables.engine.textures ..." names its key; the unknown-preset message names tables.engine.preset.
+      const std::string m = err.what();
+      throw DomainError(m.rfind("tables.engine", 0) == 0 ? m : "tables.engine.preset " + m);
+    }
+  });
+  return e;
+}
+
+json dual_scattering_json(const DualScatteringTablesConfig& d) {
+  return {{"axes", axes_json(d.axes)}, {"lobe_scale", d.lobe_scale}, {"density_factor", d.density_factor}};
+}
+
+json engine_json(const EngineConfig& e) {
+  json j = {{"preset", e.preset}, {"textures", e.textures}, {"density_factor", e.density_factor}};
+  if (e.preset == "unity-hdrp-hair")
+    j["unity"] = {{"radial_smoothness", e.radial_smoothness}, {"cuticle_angle_deg", e.cuticle_angle_deg}, {"attenuation_scale", e.attenuation_scale}};
+  return j;
+}
+
+}  // namespace hairlut::detail::config_parse

@@ -1,0 +1,284 @@
+#include "hairlut/bake/table_truth.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hairlut/util/angles.hpp"
+#include "hairlut/physics/azimuthal_fourier.hpp"
+#include "hairlut/physics/azimuthal_np.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
+#include "hairlut/physics/lobe_energy.hpp"
+#include "hairlut/physics/longitudinal_mp.hpp"
+#include "hairlut/physics/melanin.hpp"
+
+namespace hairlut {
+namespace {
+
+constexpr double kWhiteFloor = 1e-3;      // a lobe absorbed below this fraction of its white value no longer counts
+constexpr double kEnergyFloor = 1e-6;      // absolute floor of an energy or N_p value (dimensionless, 1/rad)
+constexpr double kMelaninFloor = 1e-2;     // absolute floor of σa (1/radius): exp(−2·0.01) ≈ 0.98 per diameter
+
+const char* kNpWords = "peak over all phi of the exact N_p of the same (beta, sigma_a, theta_d) slice, floored at 1e-3 x that peak of "
+                       "the white fibre (sigma_a = 0) at the same (beta, theta_d)";
+const char* kEnergyWords = "the exact value itself (relative error), floored at 1e-3 x the white fibre's (sigma_a = 0) value at the same "
+                           "theta_d and at 1e-6";
+const char* kMpWords = "peak over theta_r in [-pi/2, pi/2] of the exact M_p at the same (beta, theta_i)";
+
+TableTruth peak_over_phi(TableTruth t) {
+  t.peak_axis = -1;  // set by the caller (the index of phi)
+  t.peak_lo = -kPi, t.peak_hi = kPi;
+  t.white_floor = kWhiteFloor;
+  t.absolute_floor = 1e-300;
+  t.denominator = kNpWords;
+  return t;
+}
+
+// Marschner 2003 tables: N_p and energies over (σa or channel, θd, [φh,] φ) evaluated directly
+// (no quadrature in N_p; the energies by adaptive quadrature), M_p the closed-form Gaussian.
+std::optional<TableTruth> marschner_truth(const Table& t, const MarschnerConfig& m, const std::vector<std::string>& dims) {
+  const int p = t.attributes.value("p", -1);
+  if (dims.size() < 2 || p < 0 || p > 2) return std::nullopt;
+  if (t.quantity == "M_p" && t.attributes.value("function", std::string()) == "gaussian") {
+    const double alpha = t.attributes.value("alpha_theta_h", 0.0);
+    const GaussianArgument arg = t.attributes.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
+    TableTruth tr;
+    tr.peak_lo = -kHalfPi, tr.peak_hi = kHalfPi;
+    tr.denominator = kMpWords;
+    if (dims == std::vector<std::string>{"beta", "theta_i", "theta_r"}) {
+      const double ratio = t.attributes.value("beta_ratio", 1.0);
+      tr.peak_axis = 2;
+      tr.make = [=](const std::vector<double>&) {
+        return PointFunction([=](const std::vector<double>& y) { return longitudinal_gaussian(ratio * y[0], alpha, y[1], y[2], arg); });
+      };
+      return tr;
+    }
+    if (dims == std::vector<std::string>{"theta_i", "theta_r"}) {
+      const double beta = t.attributes.value("beta", 0.1);
+      tr.peak_axis = 1;
+      tr.make = [=](const std::vector<double>&) {
+        return PointFunction([=](const std::vector<double>& y) { return longitudinal_gaussian(beta, alpha, y[0], y[1], arg); });
+      };
+      return tr;
+    }
+    return std::nullopt;
+  }
+  if (dims[0] != "sigma_a" && dims[0] != "channel") return std::nullopt;
+  if (dims[1] != "theta_d") return std::nullopt;
+  const bool with_h = dims.size() > 2 && dims[2] == "phi_h";
+  std::vector<double> channel_sigmas;
+  if (dims[0] == "channel") {
+    if (!t.attributes.contains("sigma_a")) return std::nullopt;
+    channel_sigmas = t.attributes["sigma_a"].get<std::vector<double>>();
+  }
+  auto sigma_of = [channel_sigmas](double x) {
+    return channel_sigmas.empty() ? x : channel_sigmas[static_cast<std::size_t>(std::clamp<long>(std::lround(x), 0, static_cast<long>(channel_sigmas.size()) - 1))];
+  };
+  const std::vector<int> slab = with_h ? std::vector<int>{1, 2} : std::vector<int>{1};
+  const MarschnerParams params = m.params;
+  const bool np = t.quantity == "N_p" && dims.back() == "phi" && dims.size() == (with_h ? 4u : 3u);
+  const bool energy = t.quantity == "energy" && dims.size() == (with_h ? 3u : 2u);
+  if (!np && !energy) return std::nullopt;
+  auto build = [=](bool white) {
+    return [=](const std::vector<double>& x) {
+      auto az = std::make_shared<MarschnerAzimuthal>(params, x[1], with_h ? x[2] : 0.0);
+      return PointFunction([=](const std::vector<double>& y) {
+        const double sig = white ? 0.0 : sigma_of(y[0]);
+        if (np) return az->np(p, sig, y.back());
+        double e = 0.0;
+        az->energy(p, std::span<const double>(&sig, 1), std::span<double>(&e, 1));
+        return e;
+      });
+    };
+  };
+  TableTruth tr;
+  tr.slab_axes = slab;
+  tr.make = build(false);
+  tr.make_white = build(true);
+  if (np) {
+    tr = peak_over_phi(tr);
+    tr.peak_axis = static_cast<int>(dims.size()) - 1;
+  } else {
+    tr.white_floor = kWhiteFloor, tr.absolute_floor = kEnergyFloor, tr.denominator = kEnergyWords;
+  }
+  return tr;
+}
+
+// N_p(β, φ) of lobe p at (θd, σa) by the Fourier series (azimuthal_fourier.hpp) to 1e−10 for every
+// β ≥ beta_min: the coefficients once, each β's weights once per β (the last one is kept), then
+// N terms per φ. For the peak search only (the points use the Gauss–Legendre reference).
+PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double sigma, int p, double beta_min, int beta_axis, double beta_fixed,
+                         int phi_axis) {
+  constexpr double kTolerance = 1e-10;
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
+  const int terms = fourier_terms(beta_min, kTolerance);
+  const GaussLegendreRule rule(fourier_nodes(terms, p, g, kTolerance));
+  struct State {
+    std::vector<double> c, w;
+    double beta = -1.0;
+  };
+  auto st = std::make_shared<State>();
+  fourier_coefficients(g, path, p, std::span<const double>(&sigma, 1), terms, rule, st->c);
+  return [=](const std::vector<double>& y) {
+    const double beta = beta_axis >= 0 ? y[static_cast<std::size_t>(beta_axis)] : beta_fixed;
+    if (beta != st->beta) {
+      st->w.assign(st->c.size(), 0.0);
+      for (std::size_t n = 0; n < st->c.size(); ++n) {
+        const double nb = static_cast<double>(n) * beta;
+        st->w[n] = st->c[n] * (n == 0 ? 1.0 : 2.0 * std::exp(-0.5 * nb * nb)) / kTwoPi;
+      }
+      st->beta = beta;
+    }
+    const double phi = y[static_cast<std::size_t>(phi_axis)];
+    double sum = 0.0;
+    for (std::size_t n = 0; n < st->w.size(); ++n) sum += st->w[n] * std::cos(static_cast<double>(n) * phi);
+    return sum;
+  };
+}
+
+}  // namespace
+
+std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, std::shared_ptr<const GaussLegendreRule> rule) {
+  std::vector<std::string> dims;
+  for (const GridAxis& a : t.axes) dims.push_back(a.name);
+  if (info.marschner && t.attributes.value("model", std::string()) == "marschner2003") return marschner_truth(t, *info.marschner, dims);
+  const int p = t.attributes.value("p", -1);
+  const bool is_residual = t.attributes.value("lobe", std::string()) == "residual";
+  // Exact N_p: Gauss–Legendre of order 1024 in γ (converged to ~1e−14 for β ≥ 1°, see the
+  // tests), the adaptive reference below 1°.
+  auto np_slab = [info, rule](double theta_d, double sigma, int lobe) {
+    const AttenuationSlice slice(info.eta, theta_d, sigma, info.path);
+    auto slab = std::make_shared<NpQuadratureSlab>(slice, lobe, *rule, IntegrationVariable::gamma);
+    return std::function<double(double, double)>([slice, slab, lobe](double beta, double phi) {
+      if (beta < radians(1.0)) return azimuthal_np_reference(slice, lobe, beta, phi, 1e-9).value[0];
+      return (*slab)(beta, phi);
+    });
+  };
+  auto energy_of = [info](double theta_d, double sigma, int lobe_index, bool residual) {
+    const AttenuationSlice slice(info.eta, theta_d, sigma, info.path);
+    const auto e = lobe_energies_reference(slice, {info.explicit_lobes, true}, 1e-13).value;
+    return residual ? e.back() : e[static_cast<std::size_t>(lobe_index)];
+  };
+  if (t.quantity == "N_p" && dims == std::vector<std::string>{"beta", "sigma_a", "theta_d", "phi"} && p >= 0) {
+    auto build = [=](bool white) {
+      return [=](const std::vector<double>& x) {
+        auto f = np_slab(x[2], white ? 0.0 : x[1], p);
+        return PointFunction([f](const std::vector<double>& y) { return f(y[0], y[3]); });
+      };
+    };
+    TableTruth tr;
+    tr.slab_axes = {1, 2};
+    tr.make = build(false);
+    tr.make_white = build(true);
+    const double beta_min = std::max(radians(0.25), t.axes[0].nodes().front());
+    tr.make_fast = [=](const std::vector<double>& x, bool white) {
+      return fourier_np(info.eta, info.path, x[2], white ? 0.0 : x[1], p, beta_min, 0, 0.0, 3);
+    };
+    tr = peak_over_phi(tr);
+    tr.peak_axis = 3;
+    tr.peak_lo = 0.0;  // N_p of a circular fiber is even in phi
+    return tr;
+  }
+  if (t.quantity == "N_p" && dims == std::vector<std::string>{"channel", "theta_d", "phi"} && p >= 0 && t.attributes.contains("sigma_a")) {
+    const auto sig = t.attributes["sigma_a"].get<std::vector<double>>();
+    const double beta = t.attributes.value("beta", 0.1);
+    auto build = [=](bool white) {
+      return [=](const std::vector<double>& x) {
+        const auto c = static_cast<std::size_t>(std::clamp<long>(std::lround(x[0]), 0, static_cast<long>(sig.size()) - 1));
+        auto f = np_slab(x[1], white ? 0.0 : sig[c], p);
+        return PointFunction([f, beta](const std::vector<double>& y) { return f(beta, y[2]); });
+      };
+    };
+    TableTruth tr;
+    tr.slab_axes = {0, 1};
+    tr.make = build(false);
+    tr.make_white = build(true);
+    tr.make_fast = [=](const std::vector<double>& x, bool white) {
+      const auto c = static_cast<std::size_t>(std::clamp<long>(std::lround(x[0]), 0, static_cast<long>(sig.size()) - 1));
+      return fourier_np(info.eta, info.path, x[1], white ? 0.0 : sig[c], p, std::max(beta, radians(0.25)), -1, beta, 2);
+    };
+    tr = peak_over_phi(tr);
+    tr.peak_axis = 2;
+    tr.peak_lo = 0.0;  // N_p of a circular fiber is even in phi
+    tr.denominator = "peak over all phi of the exact N_p of the same (channel, theta_d) slice at the material's beta and the "
+                     "channel's sigma_a, floored at 1e-3 x that peak of the white fibre (sigma_a = 0) at the same theta_d";
+    return tr;
+  }
+  if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && dims == std::vector<std::string>{"sigma_a", "theta_d"}) {
+    const bool res = is_residual;
+    const double scale = t.quantity == "N_p" ? 1.0 / kTwoPi : 1.0;
+    auto build = [=](bool white) {
+      return [=](const std::vector<double>&) {
+        return PointFunction([=](const std::vector<double>& y) { return scale * energy_of(y[1], white ? 0.0 : y[0], res ? 0 : p, res); });
+      };
+    };
+    TableTruth tr;
+    tr.make = build(false);
+    tr.make_white = build(true);
+    tr.white_floor = kWhiteFloor, tr.absolute_floor = kEnergyFloor * scale;
+    tr.denominator = kEnergyWords;
+    return tr;
+  }
+  if (t.quantity == "M_p" && (dims == std::vector<std::string>{"beta", "theta_i", "theta_r"} || dims == std::vector<std::string>{"theta_i", "theta_r"})) {
+    const double alpha = t.attributes.value("alpha", 0.0);
+    const bool with_beta = dims.size() == 3;
+    const double beta = t.attributes.value("beta", 0.1);
+    TableTruth tr;
+    tr.make = [=](const std::vector<double>&) {
+      return PointFunction([=](const std::vector<double>& y) {
+        return with_beta ? longitudinal_deon_tilted(y[0] * y[0], alpha, y[1], y[2]) : longitudinal_deon_tilted(beta * beta, alpha, y[0], y[1]);
+      });
+    };
+    tr.peak_axis = with_beta ? 2 : 1;
+    tr.peak_lo = -kHalfPi, tr.peak_hi = kHalfPi;
+    tr.denominator = kMpWords;
+    return tr;
+  }
+  if (t.quantity == "sigma_a" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
+    TableTruth tr;
+    tr.absolute_floor = kMelaninFloor;
+    tr.denominator = "the exact sigma_a itself (relative error), floored at 0.01 per radius";
+    if (t.name == "sigma_a_deon") {
+      tr.make = [](const std::vector<double>&) {
+        return PointFunction([](const std::vector<double>& y) {
+          const Rgb s = melanin_sigma_a_rgb(y[0], y[1]);
+          const double c[3] = {s.r, s.g, s.b};
+          return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
+        });
+      };
+      return tr;
+    }
+    SpectralMelanin::Options so;
+    so.path_length = t.attributes.value("path_length", 2.0);
+    so.spectral_scale = t.attributes.value("spectral_scale", 0.0);
+    auto model = std::make_shared<SpectralMelanin>(SpectralMelanin::builtin(so));
+    tr.make = [model](const std::vector<double>&) {
+      return PointFunction([model](const std::vector<double>& y) {
+        const Rgb s = model->sigma_a_rgb(y[0], y[1]);
+        const double c[3] = {s.r, s.g, s.b};
+        return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
+      });
+    };
+    return tr;
+  }
+  if (t.quantity == "transmittance" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
+    TableTruth tr;
+    tr.absolute_floor = 1e-3;
+    tr.denominator = "the exact transmittance itself (relative error), floored at 1e-3 (darker than 1e-3 over the path reads as black)";
+    SpectralMelanin::Options so;
+    so.path_length = t.attributes.value("path_length", 2.0);
+    so.spectral_scale = t.attributes.value("spectral_scale", 0.0);
+    auto model = std::make_shared<SpectralMelanin>(SpectralMelanin::builtin(so));
+    const double length = so.path_length;
+    tr.make = [model, length](const std::vector<double>&) {
+      return PointFunction([model, length](const std::vector<double>& y) {
+        const Rgb s = model->transmittance_unclamped(y[0], y[1], length);
+        const double c[3] = {s.r, s.g, s.b};
+        return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
+      });
+    };
+    return tr;
+  }
+  return std::nullopt;
+}
+
+}  // namespace hairlut

@@ -1,0 +1,189 @@
+// Reading a table set from HDF5 (hdf5_io.hpp): the file screened first (signature, global heap,
+// format version), then every table checked against the checksummed metadata.
+#include "hairlut/io/hdf5_io.hpp"
+
+#include <hdf5.h>
+#include <hdf5_hl.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+
+#include "hairlut/util/error.hpp"
+#include "hairlut/util/hash.hpp"
+#include "hdf5_bytes.hpp"
+#include "hdf5_objects.hpp"
+
+namespace hairlut {
+
+using namespace detail::h5;
+
+namespace {
+TableSet read_open_file(const File& f, hid_t file_id);
+}
+
+TableSet read_hdf5(const std::filesystem::path& path) {
+  const ErrorSilencer silence;
+  const File f{path.string()};
+  check_signature(f, path);
+  if (const std::string why = detail::global_heap_problem(path); !why.empty()) f.fail(why);
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // closing the file closes whatever a failed read left open
+  Handle file(quiet([&] { return H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()); }), H5Fclose);
+  f.check(file.get(), "cannot open as HDF5 (truncated or corrupted file)");
+  return read_open_file(f, file.get());
+}
+
+TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name) {
+  const ErrorSilencer silence;
+  const File f{name};
+  check_signature_bytes(f, reinterpret_cast<const unsigned char*>(data), size);
+  if (const std::string why = detail::global_heap_problem(reinterpret_cast<const unsigned char*>(data), size); !why.empty()) f.fail(why);
+  // An in-memory file image (core driver, no backing store): HDF5 reads from a private copy.
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
+  f.check_status(H5Pset_fapl_core(fapl.get(), 1 << 16, 0), "cannot set up an in-memory HDF5 file");
+  f.check_status(quiet([&] { return H5Pset_file_image(fapl.get(), const_cast<char*>(data), size); }), "cannot load the HDF5 file image");
+  Handle file(quiet([&] { return H5Fopen("hairlut-memory-image.h5", H5F_ACC_RDONLY, fapl.get()); }), H5Fclose);
+  f.check(file.get(), "cannot open as HDF5 (truncated or corrupted file)");
+  return read_open_file(f, file.get());
+}
+
+namespace {
+TableSet read_open_file(const File& f, hid_t file_id) {
+  Handle root(quiet([&] { return H5Gopen2(file_id, "/", H5P_DEFAULT); }), H5Gclose);
+  f.check(root.get(), "cannot open the root group");
+
+  if (quiet([&] { return H5Aexists(root.get(), "hairlut_format_version"); }) <= 0) {
+    (void)read_string_attr(f, root.get(), "hairlut_metadata", "/");  // no hairlut metadata at all: says so
+    f.fail("missing attribute hairlut_format_version (written before the table format was versioned; bake the tables again)");
+  }
+  check_format_version(read_string_attr(f, root.get(), "hairlut_format_version", "/"), f.name);
+
+  TableSet set;
+  json index;
+  try {
+    set.metadata = json::parse(read_string_attr(f, root.get(), "hairlut_metadata", "/"));
+    index = json::parse(read_string_attr(f, root.get(), "hairlut_tables", "/"));
+  } catch (const json::exception&) {
+    f.fail("malformed hairlut metadata (JSON) on the root group");
+  }
+  if (!set.metadata.is_object() || !index.is_array()) f.fail("malformed hairlut metadata on the root group");
+  std::set<std::string> seen;
+  ScaleNames scale_names;
+  for (const json& entry : index) {
+    if (!entry.is_string()) f.fail("malformed table index");
+    const std::string tpath = entry.get<std::string>();
+    if (!seen.insert(tpath).second) f.fail("table " + tpath + " listed twice");
+    const auto slash = tpath.rfind('/');
+    if (slash == std::string::npos || slash == 0) f.fail("malformed table path " + tpath);
+    if (quiet([&] { return H5Lexists(root.get(), tpath.c_str(), H5P_DEFAULT); }) <= 0 &&
+        quiet([&] { return H5Oexists_by_name(root.get(), tpath.c_str(), H5P_DEFAULT); }) <= 0)
+      f.fail("table " + tpath + " is listed but missing");
+    Handle ds(quiet([&] { return H5Dopen2(root.get(), tpath.c_str(), H5P_DEFAULT); }), H5Dclose);
+    f.check(ds.get(), "cannot open table " + tpath + " (missing or corrupted)");
+    json desc;
+    try {
+      desc = json::parse(read_string_attr(f, ds.get(), "hairlut_table", tpath));
+    } catch (const json::exception&) {
+      f.fail(tpath + ": malformed hairlut_table attribute");
+    }
+    Table t;
+    try {
+      t.group = desc.at("group").get<std::string>();
+      t.name = desc.at("name").get<std::string>();
+      t.quantity = desc.at("quantity").get<std::string>();
+      t.units = desc.at("units").get<std::string>();
+      t.long_name = desc.value("long_name", std::string());
+      t.attributes = desc.value("attributes", json::object());
+      const json& axes = desc.at("axes");
+      if (!axes.is_array() || axes.size() > 8) f.fail(tpath + ": malformed axes");
+      for (std::size_t k = 0; k < axes.size(); ++k) t.axes.push_back(GridAxis::from_json(axes[k], tpath + ".axes[" + std::to_string(k) + "]"));
+    } catch (const json::exception& e) {
+      f.fail(tpath + ": malformed hairlut_table attribute (" + std::string(e.what()) + ")");
+    } catch (const DomainError& e) {
+      f.fail(e.what());
+    }
+    if (t.path() != tpath) f.fail(tpath + ": hairlut_table names a different path (" + t.path() + ")");
+    // The stored shape must be the axes' shape.
+    Handle space(quiet([&] { return H5Dget_space(ds.get()); }), H5Sclose);
+    f.check(space.get(), tpath + ": cannot read the dataspace");
+    const int rank = H5Sget_simple_extent_ndims(space.get());
+    if (rank != static_cast<int>(t.axes.size())) f.fail(tpath + ": has rank " + std::to_string(rank) + " but " + std::to_string(t.axes.size()) + " axes");
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+    for (int k = 0; k < rank; ++k)
+      if (dims[static_cast<std::size_t>(k)] != static_cast<hsize_t>(t.axes[static_cast<std::size_t>(k)].count))
+        f.fail(tpath + ": dimension " + std::to_string(k) + " has " + std::to_string(dims[static_cast<std::size_t>(k)]) +
+               " entries but axis " + t.axes[static_cast<std::size_t>(k)].name + " has " +
+               std::to_string(t.axes[static_cast<std::size_t>(k)].count));
+    std::size_t n = 0;
+    try {
+      n = grid_size(t.axes);
+    } catch (const DomainError&) {
+      f.fail(tpath + ": too large");
+    }
+    if (n > (std::size_t{1} << 32)) f.fail(tpath + ": too large (" + std::to_string(n) + " values)");
+    Handle ftype(quiet([&] { return H5Dget_type(ds.get()); }), H5Tclose);
+    if (!ftype.valid() || H5Tget_class(ftype.get()) != H5T_FLOAT) f.fail(tpath + ": values are not floating point");
+    const std::size_t bytes = H5Tget_size(ftype.get());
+    if (bytes != 4 && bytes != 8) f.fail(tpath + ": values are neither float32 nor float64");
+    t.allocate(bytes == 8 ? Precision::float64 : Precision::float32);
+    void* data = bytes == 8 ? static_cast<void*>(t.f64.data()) : static_cast<void*>(t.f32.data());
+    const herr_t status = quiet([&] {
+      return H5Dread(ds.get(), bytes == 8 ? H5T_NATIVE_DOUBLE : H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+    });
+    if (status < 0) f.fail(tpath + ": cannot read the values (data corrupted: checksum or decompression failed)");
+    // Each axis must be attached as a dimension scale whose values are the axis's nodes.
+    Handle group(quiet([&] { return H5Gopen2(root.get(), t.group.c_str(), H5P_DEFAULT); }), H5Gclose);
+    f.check(group.get(), tpath + ": cannot open group " + t.group);
+    for (std::size_t k = 0; k < t.axes.size(); ++k) {
+      const GridAxis& a = t.axes[k];
+      const std::string scale_name = scale_names.of(t.group, a);
+      Handle scale(quiet([&] { return H5Dopen2(group.get(), scale_name.c_str(), H5P_DEFAULT); }), H5Dclose);
+      if (!scale.valid()) f.fail(tpath + ": missing dimension scale " + t.group + "/" + scale_name);
+      // The attachment itself (DIMENSION_LIST) lives in the unchecksummed global heap, so it is
+      // not read here; tests check it with h5py.
+      Handle sspace(quiet([&] { return H5Dget_space(scale.get()); }), H5Sclose);
+      if (!sspace.valid() || H5Sget_simple_extent_npoints(sspace.get()) != a.count)
+        f.fail(tpath + ": dimension scale " + a.name + " has the wrong length");
+      std::vector<double> values(static_cast<std::size_t>(a.count));
+      if (quiet([&] { return H5Dread(scale.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()); }) < 0)
+        f.fail(tpath + ": cannot read dimension scale " + a.name + " (corrupted)");
+      if (values != a.nodes()) f.fail(tpath + ": dimension scale " + a.name + " disagrees with the axis metadata");
+    }
+    set.tables.push_back(std::move(t));
+  }
+  // The content checksum covers everything read above; HDF5 checksums only part of it.
+  if (read_string_attr(f, root.get(), "hairlut_checksum", "/") != content_checksum(set))
+    f.fail("content checksum mismatch: the file is corrupted");
+  // The visible copies of the metadata (what h5py shows) must agree with the checksummed ones.
+  verify_json_attrs(f, root.get(), set.metadata, "/");
+  ScaleNames visible_scales;
+  for (const Table& t : set.tables) {
+    const std::string object = "/" + t.path();
+    Handle ds(quiet([&] { return H5Dopen2(root.get(), t.path().c_str(), H5P_DEFAULT); }), H5Dclose);
+    f.check(ds.get(), "cannot open table " + object);
+    verify_attr(f, ds.get(), "quantity", t.quantity, object);
+    verify_attr(f, ds.get(), "units", t.units, object);
+    verify_attr(f, ds.get(), "long_name", t.long_name, object);
+    verify_json_attrs(f, ds.get(), t.attributes, object);
+    verify_dimension_list(f, ds.get(), t.axes.size(), object);
+    for (const GridAxis& a : t.axes) {
+      const std::string scale_path = t.group + "/" + visible_scales.of(t.group, a);
+      Handle scale(quiet([&] { return H5Dopen2(root.get(), scale_path.c_str(), H5P_DEFAULT); }), H5Dclose);
+      f.check(scale.get(), "cannot open dimension scale /" + scale_path);
+      verify_scale_attrs(f, scale.get(), a, "/" + scale_path);
+    }
+  }
+  return set;
+}
+}  // namespace
+
+
+}  // namespace hairlut

@@ -1,0 +1,255 @@
+// Writing a table set as HDF5 (hdf5_io.hpp): whole in memory, or slab by slab from a writer thread.
+#include "hairlut/io/hdf5_io.hpp"
+
+#include <hdf5.h>
+#include <hdf5_hl.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <condition_variable>
+#include <cstring>
+#include <deque>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "hairlut/util/error.hpp"
+#include "hairlut/util/hash.hpp"
+#include "hdf5_bytes.hpp"
+#include "hdf5_objects.hpp"
+#include "table_checksum.hpp"
+#include "slab_queue.hpp"
+
+namespace hairlut {
+
+using namespace detail::h5;
+
+std::string format_version_text() { return std::to_string(kFormatVersionMajor) + "." + std::to_string(kFormatVersionMinor); }
+
+void check_format_version(const std::string& text, const std::string& name) {
+  const auto dot = text.find('.');
+  auto digits = [](const std::string& d) {
+    return !d.empty() && d.size() <= 6 && std::all_of(d.begin(), d.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (dot == std::string::npos || !digits(text.substr(0, dot)) || !digits(text.substr(dot + 1)))
+    throw IoError(name + ": malformed format version \"" + text.substr(0, 40) + "\" (expected MAJOR.MINOR)");
+  const int major = std::stoi(text.substr(0, dot));
+  if (major > kFormatVersionMajor)
+    throw IoError(name + ": written in table format " + text + ", newer than this hairlut reads (format " + format_version_text() +
+                  ", major version " + std::to_string(kFormatVersionMajor) + "); use a newer hairlut");
+  if (major < kFormatVersionMajor)
+    throw IoError(name + ": written in table format " + text + ", older than this hairlut reads (major version " +
+                  std::to_string(kFormatVersionMajor) + "); bake the tables again");
+}
+
+namespace {
+
+// Leading-axis row ranges [row0, row0 + rows) of each slabbed table (empty for tables held whole).
+using SlabRanges = std::vector<std::vector<std::pair<std::size_t, std::size_t>>>;
+
+struct SlabFeed {
+  const SlabRanges* ranges;
+  detail::SlabQueue* queue;
+};
+
+struct WriterStopped {};  // the baking side stopped: unwind the writer quietly
+
+// Everything write_hdf5 stores, into an open file. With a feed, the values of slabbed tables
+// arrive slab by slab and the content checksum is computed while writing, over the same bytes in
+// the same order as content_checksum (the metadata, then each table's description and values),
+// and stored last; without one it is computed first from the tables in memory.
+void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5WriteOptions& options, SlabFeed* feed) {
+  Handle root(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose);
+  write_fixed_string_attr(f, root.get(), "hairlut_format_version", format_version_text());
+  // Provenance on the root, both as individual attributes and as one JSON text.
+  write_json_attrs(f, root.get(), set.metadata);
+  write_fixed_string_attr(f, root.get(), "hairlut_metadata", set.metadata.dump());
+  json index = json::array();
+  for (const Table& t : set.tables) index.push_back(t.path());
+  write_fixed_string_attr(f, root.get(), "hairlut_tables", index.dump());
+  Fnv1a64 hash;
+  // Each table's description, dumped once for the checksum and its hairlut_table attribute.
+  std::vector<std::string> described;
+  for (const Table& t : set.tables) described.push_back(t.describe().dump());
+  if (!feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", detail::content_checksum_of(set, described));
+  else hash.update(set.metadata.dump());
+
+  // Dimension scales per group, then the tables.
+  ScaleNames names;
+  std::map<std::string, std::map<std::string, GridAxis>> scales;
+  for (const Table& t : set.tables)
+    for (const GridAxis& a : t.axes) scales[t.group].emplace(names.of(t.group, a), a);
+  for (const auto& [group, axes] : scales) {
+    Handle g = open_or_create_group(f, file, group);
+    for (const auto& [name, axis] : axes) write_scale(f, g.get(), axis, name, options.deflate);
+  }
+  for (std::size_t i = 0; i < set.tables.size(); ++i) {
+    const Table& t = set.tables[i];
+    const bool slabbed = feed && !(*feed->ranges)[i].empty();
+    Handle g = open_or_create_group(f, file, t.group);
+    std::vector<hsize_t> dims;
+    for (const GridAxis& a : t.axes) dims.push_back(static_cast<hsize_t>(a.count));
+    if (!slabbed && grid_size(t.axes) != t.size())
+      f.fail("table " + t.path() + " holds " + std::to_string(t.size()) + " values for its axes' grid");
+    const bool dbl = t.precision == Precision::float64;
+    const hid_t mem_type = dbl ? H5T_NATIVE_DOUBLE : H5T_NATIVE_FLOAT;
+    Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
+    Handle dcpl = dataset_create_plist(f, dims, dbl ? 8 : 4, options.deflate, !slabbed);
+    Handle ds(quiet([&] {
+                return H5Dcreate2(g.get(), t.name.c_str(), dbl ? H5T_IEEE_F64LE : H5T_IEEE_F32LE, space.get(), H5P_DEFAULT,
+                                  dcpl.get(), H5P_DEFAULT);
+              }),
+              H5Dclose);
+    f.check(ds.get(), "cannot create dataset " + t.path());
+    if (feed) hash.update(described[i]);
+    if (!slabbed) {
+      const void* data = dbl ? static_cast<const void*>(t.f64.data()) : static_cast<const void*>(t.f32.data());
+      f.check_status(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "cannot write dataset " + t.path());
+      if (feed) hash.update(data, t.size() * (dbl ? 8 : 4));
+    } else {
+      // Each slab as a hyperslab of whole leading-axis rows (chunk-aligned by SlabRanges).
+      for (const auto& [row0, rows] : (*feed->ranges)[i]) {
+        detail::SlabQueue::Item item;
+        if (!feed->queue->take_full(item)) throw WriterStopped{};
+        if (item.row0 != row0 || item.rows != rows) f.fail("internal: slab of " + t.path() + " out of order");
+        const Table& v = *item.values;
+        std::vector<hsize_t> start(dims.size(), 0), count = dims;
+        start[0] = row0, count[0] = rows;
+        f.check_status(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+                       "cannot select rows of " + t.path());
+        const hsize_t n = v.size();
+        Handle mem(H5Screate_simple(1, &n, nullptr), H5Sclose);
+        const void* data = dbl ? static_cast<const void*>(v.f64.data()) : static_cast<const void*>(v.f32.data());
+        f.check_status(quiet([&] { return H5Dwrite(ds.get(), mem_type, mem.get(), space.get(), H5P_DEFAULT, data); }),
+                       "cannot write rows " + std::to_string(row0) + "-" + std::to_string(row0 + rows - 1) + " of dataset " + t.path());
+        hash.update(data, v.size() * (dbl ? 8 : 4));
+        feed->queue->put_empty(item.values);
+      }
+    }
+    for (std::size_t k = 0; k < t.axes.size(); ++k) {
+      Handle scale(H5Dopen2(g.get(), names.of(t.group, t.axes[k]).c_str(), H5P_DEFAULT), H5Dclose);
+      f.check_status(H5DSattach_scale(ds.get(), scale.get(), static_cast<unsigned>(k)), "cannot attach axis " + t.axes[k].name);
+    }
+    write_string_attr(f, ds.get(), "quantity", t.quantity);
+    write_string_attr(f, ds.get(), "units", t.units);
+    write_string_attr(f, ds.get(), "long_name", t.long_name);
+    write_json_attrs(f, ds.get(), t.attributes);
+    write_fixed_string_attr(f, ds.get(), "hairlut_table", described[i]);
+  }
+  if (feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", hash.hex());
+}
+
+// The whole HDF5 file, built in memory (HDF5's core driver without a backing store): HDF5 never
+// writes to disk, so a full disk or a file-size limit cannot leave HDF5 with a file it fails to
+// close (HDF5 1.10 then crashes when the library shuts down); write_file_bytes reports it instead.
+// (Slabbed tables cannot be held in memory: write_slabbed_file writes them to disk directly.)
+std::vector<char> hdf5_image(const TableSet& set, const File& f, const Hdf5WriteOptions& options) {
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // on an error path, closing the file closes every object in it
+  H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);  // 1.10 format: compact chunk indexes
+  f.check_status(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0), "cannot set up an in-memory HDF5 file");
+  Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_obj_track_times(fcpl.get(), 0);
+  Handle file(quiet([&] { return H5Fcreate(f.name.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
+  f.check(file.get(), "cannot create HDF5 file");
+  write_contents(f, file.get(), set, options, nullptr);
+  f.check_status(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush HDF5 file");
+  const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
+  if (size <= 0) f.fail("cannot take the HDF5 file image");
+  std::vector<char> image(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.get(), image.data(), image.size()) != size) f.fail("cannot take the HDF5 file image");
+  detail::fix_superblock_checksum(image);
+  f.check_status(file.close_now(), "cannot close HDF5 file");
+  return image;
+}
+
+// The slabbed file, written straight to disk (HDF5's default driver) from the writer thread.
+void write_slabbed_file(const TableSet& set, const std::filesystem::path& path, const Hdf5WriteOptions& options, SlabFeed& feed) {
+  const ErrorSilencer silence;
+  const File f{path.string()};
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
+  H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);
+  Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_obj_track_times(fcpl.get(), 0);
+  Handle file(quiet([&] { return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
+  f.check(file.get(), "cannot create HDF5 file");
+  write_contents(f, file.get(), set, options, &feed);
+  f.check_status(quiet([&] { return file.close_now(); }), "cannot close HDF5 file");
+  detail::sync_file(path);
+}
+
+}  // namespace
+
+void write_hdf5_slabbed(const TableSet& set, const SlabbedTables& slabbed, const std::filesystem::path& path,
+                        const Hdf5WriteOptions& options) {
+  if (slabbed.empty()) return write_hdf5(set, path, options);
+  // Slabs: whole multiples of the chunk's leading extent, as many as fit in slab_bytes.
+  SlabRanges ranges(set.tables.size());
+  std::vector<const SlabbedTable*> order;
+  for (const SlabbedTable& st : slabbed.tables) {
+    const Table& t = set.tables.at(st.table);
+    std::vector<hsize_t> dims;
+    for (const GridAxis& a : t.axes) dims.push_back(static_cast<hsize_t>(a.count));
+    const std::size_t element = t.precision == Precision::float64 ? 8 : 4;
+    const std::vector<hsize_t> chunk = chunk_dims(dims, element);
+    std::uint64_t row_bytes = element;
+    for (std::size_t k = 1; k < dims.size(); ++k) row_bytes *= dims[k];
+    const std::uint64_t step = std::max<hsize_t>(chunk[0], 1);
+    if (row_bytes * step > slabbed.slab_bytes)
+      throw DomainError("table " + t.path() + ": one row of its leading axis " + t.axes[0].name + " takes " +
+                        std::to_string(row_bytes * step >> 20) + " MiB, more than a slab of the memory budget (" +
+                        std::to_string(slabbed.slab_bytes >> 20) + " MiB); raise --memory-budget or use fewer nodes on the other axes");
+    const std::size_t per = static_cast<std::size_t>(slabbed.slab_bytes / (row_bytes * step) * step);
+    for (std::size_t row0 = 0; row0 < dims[0]; row0 += per) ranges[st.table].emplace_back(row0, std::min<std::size_t>(per, dims[0] - row0));
+    order.push_back(&st);
+  }
+  std::sort(order.begin(), order.end(), [](const SlabbedTable* a, const SlabbedTable* b) { return a->table < b->table; });
+
+  detail::SlabQueue queue;
+  SlabFeed feed{&ranges, &queue};
+  std::exception_ptr writer_error;
+  std::thread writer([&] {
+    try {
+      write_slabbed_file(set, path, options, feed);
+    } catch (const WriterStopped&) {
+    } catch (...) {
+      writer_error = std::current_exception();
+    }
+    queue.close();
+  });
+  std::exception_ptr baker_error;
+  try {
+    for (const SlabbedTable* st : order) {
+      const Table& t = set.tables[st->table];
+      const std::size_t row_values = grid_size(t.axes) / static_cast<std::size_t>(std::max(t.axes[0].count, 1));
+      for (const auto& [row0, rows] : ranges[st->table]) {
+        Table* buffer = queue.take_empty();
+        if (!buffer) break;
+        buffer->precision = t.precision;
+        if (t.precision == Precision::float64) buffer->f64.resize(rows * row_values);
+        else buffer->f32.resize(rows * row_values);
+        st->fill(row0, rows, *buffer);
+        queue.put_full({buffer, row0, rows});
+      }
+    }
+  } catch (...) {
+    baker_error = std::current_exception();
+    queue.close();
+  }
+  writer.join();
+  if (baker_error) std::rethrow_exception(baker_error);
+  if (writer_error) std::rethrow_exception(writer_error);
+}
+
+void write_hdf5(const TableSet& set, const std::filesystem::path& path, const Hdf5WriteOptions& options) {
+  const ErrorSilencer silence;
+  const File f{path.string()};
+  const std::vector<char> image = hdf5_image(set, f, options);
+  detail::write_file_bytes(path, image);
+}
+
+}  // namespace hairlut

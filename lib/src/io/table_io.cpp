@@ -1,0 +1,278 @@
+#include "hairlut/io/table_io.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <fstream>
+#include <sstream>
+
+#include "hairlut/io/engine_exr.hpp"
+#include "hairlut/util/error.hpp"
+#include "hairlut/util/hash.hpp"
+#include "hairlut/util/version.hpp"
+
+namespace hairlut {
+namespace {
+
+using json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
+
+// FNV-1a 64 of a file, read in blocks (no copy of the whole file in memory).
+std::string file_fnv(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  Fnv1a64 h;
+  std::vector<char> block(1 << 20);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    h.update(block.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  return h.hex();
+}
+
+fs::path temporary_for(const fs::path& final_path) {
+  return final_path.parent_path() / (final_path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+}
+
+// Removes the listed files when destroyed unless released.
+struct TempFiles {
+  std::vector<fs::path> paths;
+  ~TempFiles() {
+    std::error_code ec;
+    for (const auto& p : paths) fs::remove(p, ec);
+  }
+};
+
+// An advisory lock (flock) on a directory, held while alive: exclusive while a bake writes and
+// commits its set there, shared while a reader loads a file of a set and checks it against the
+// set's sidecar. Without a lock (a directory that cannot be opened, or a file system without
+// flock) the work goes on unlocked.
+class DirectoryLock {
+ public:
+  DirectoryLock(const fs::path& dir, bool exclusive) {
+    fd_ = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd_ < 0) return;
+    while (::flock(fd_, exclusive ? LOCK_EX : LOCK_SH) != 0 && errno == EINTR) {
+    }
+  }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+  ~DirectoryLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+// When `file` is listed in the sidecar of its set (same directory, same base name, ".json"), its
+// size and FNV-1a 64 must be the recorded ones: a file of another bake, or one replaced after the
+// set was committed, is refused.
+void check_against_sidecar(const fs::path& file) {
+  const fs::path sidecar = fs::path(file).replace_extension(".json");
+  std::error_code ec;
+  const auto side_bytes = fs::file_size(sidecar, ec);
+  if (ec || side_bytes > (std::uintmax_t{64} << 20)) return;
+  json side;
+  try {
+    std::ifstream in(sidecar, std::ios::binary);
+    side = json::parse(in);
+  } catch (const json::exception&) {
+    throw IoError(sidecar.string() + ": the set's sidecar is not valid JSON (incomplete or corrupted set)");
+  }
+  if (!side.is_object() || side.value("format", std::string()) != "hairlut-tables" || !side.contains("files") || !side["files"].is_array()) return;
+  for (const json& f : side["files"]) {
+    if (!f.is_object() || f.value("path", std::string()) != file.filename().string()) continue;
+    const std::uintmax_t bytes = fs::file_size(file, ec);
+    const std::string want = f.value("fnv1a64", std::string());
+    if (ec || !f.contains("bytes") || !f["bytes"].is_number_unsigned() || f["bytes"].get<std::uintmax_t>() != bytes || file_fnv(file) != want)
+      throw IoError(file.string() + ": does not match its set's sidecar " + sidecar.filename().string() +
+                    " (size or FNV-1a 64 differ): the file belongs to another bake or was changed after the set was written");
+    return;
+  }
+}
+
+}  // namespace
+
+OutputPaths output_paths(const BakeConfig& c) {
+  const fs::path base = c.output.directory / c.output.basename;
+  return {fs::path(base.string() + ".h5"), fs::path(base.string() + ".exr"), fs::path(base.string() + ".json")};
+}
+
+bool outputs_up_to_date(const BakeConfig& c) {
+  const OutputPaths paths = output_paths(c);
+  std::ifstream in(paths.sidecar);
+  if (!in) return false;
+  try {
+    const json s = json::parse(in);
+    if (s.value("config_hash", std::string()) != c.hash || s.value("hairlut_version", std::string()) != kVersion) return false;
+    std::size_t formats = 0;
+    for (const json& f : s.at("files")) {
+      const fs::path p = c.output.directory / f.at("path").get<std::string>();
+      std::error_code ec;
+      if (fs::file_size(p, ec) != f.at("bytes").get<std::uintmax_t>() || ec) return false;
+      ++formats;
+    }
+    return formats == static_cast<std::size_t>(c.output.hdf5) + static_cast<std::size_t>(c.output.exr) + engine_outputs(c).size();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& report,
+                  const std::vector<std::pair<std::string, fs::path>>& files) {
+  json s;
+  s["format"] = "hairlut-tables";
+  s["format_version"] = 1;
+  s["hairlut_version"] = kVersion;
+  s["name"] = c.name;
+  s["model"] = c.model;
+  s["config_hash"] = c.hash;
+  s["files"] = json::array();
+  for (const auto& [format, path] : files) {
+    json f = {{"format", format}, {"path", path.filename().string()}, {"bytes", fs::file_size(path)}, {"fnv1a64", file_fnv(path)}};
+    if (format == "hdf5") f["precision"] = c.output.hdf5_double ? "float64" : "float32";
+    else if (format == "engine-exr") f["precision"] = "half";  // engine textures are RGBA half
+    else f["precision"] = c.output.exr_half ? "half" : "float32";
+    s["files"].push_back(f);
+  }
+  // EXR part and channel of each table.
+  std::map<std::string, std::pair<std::string, std::string>> exr_place;
+  if (c.output.exr)
+    for (const auto& [part, paths] : exr_part_plan(set))
+      for (std::size_t i = 0; i < paths.size(); ++i) exr_place[paths[i]] = {part, paths.size() > 1 ? std::string(1, "RGBA"[i]) : ""};
+  s["tables"] = json::array();
+  for (const Table& t : set.tables) {
+    json d = t.describe();
+    if (c.output.hdf5) d["hdf5"] = {{"dataset", "/" + t.path()}};
+    if (c.output.exr) {
+      const auto& [part, channel] = exr_place[t.path()];
+      d["exr"] = {{"part", part}};
+      if (!channel.empty()) d["exr"]["channel"] = channel;
+      else {
+        const bool rgb = std::any_of(t.axes.begin(), t.axes.end(), [](const GridAxis& a) { return a.name == "channel"; });
+        d["exr"]["channel"] = rgb ? "R,G,B (the channel axis)" : "R";
+      }
+    }
+    s["tables"].push_back(d);
+  }
+  json folded = json::array();
+  for (const auto& f : report.folded) folded.push_back({{"lobe", f.lobe}, {"max_energy", f.max_energy}});
+  s["report"] = {{"explicit_lobes", report.explicit_lobes}, {"folded_lobes", folded}, {"notes", report.notes}, {"entries", report.entries}};
+  s["metadata"] = set.metadata;
+  // Engine textures (tables.engine): which file holds which texture and how it is laid out.
+  if (c.engine) {
+    s["engine_textures"] = json::array();
+    for (const EngineOutput& e : engine_outputs(c)) {
+      json d = e.texture.describe();
+      d["path"] = e.path.filename().string();
+      s["engine_textures"].push_back(d);
+    }
+  }
+  return s;
+}
+
+std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, const BakeReport& report,
+                                    const std::atomic<bool>* cancel, const SlabbedTables* slabbed) {
+  if (slabbed && !slabbed->empty() && c.output.exr)
+    throw DomainError("output.exr: tables larger than the memory budget are baked slab by slab into HDF5 only (EXR files hold "
+                      "engine-sized textures); set output.exr to false or raise --memory-budget");
+  const OutputPaths paths = output_paths(c);
+  std::error_code ec;
+  fs::create_directories(c.output.directory, ec);
+  if (ec) throw IoError(c.output.directory.string() + ": cannot create output directory (" + ec.message() + ")");
+  // One bake at a time writes and commits into a directory, so that its set is never mixed with
+  // another's; readers of the directory wait for the commit (load_tables).
+  const DirectoryLock lock(c.output.directory, true);
+  TempFiles temps;
+  std::vector<std::pair<std::string, fs::path>> written;  // format, temporary path
+  if (c.output.hdf5) {
+    const fs::path t = temporary_for(paths.hdf5);
+    temps.paths.push_back(t);
+    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, {c.output.hdf5_deflate});
+    else write_hdf5(set, t, {c.output.hdf5_deflate});
+    written.emplace_back("hdf5", t);
+  }
+  if (c.output.exr) {
+    const fs::path t = temporary_for(paths.exr);
+    temps.paths.push_back(t);
+    write_exr(set, t, {c.output.exr_half, c.output.exr_compression});
+    written.emplace_back("exr", t);
+  }
+  std::vector<fs::path> engine_finals;  // final paths of the engine textures, in `written` order after hdf5/exr
+  for (const EngineOutput& e : engine_outputs(c)) {
+    const fs::path t = temporary_for(e.path);
+    temps.paths.push_back(t);
+    write_engine_texture(set, e.texture, t);
+    written.emplace_back("engine-exr", t);
+    engine_finals.push_back(e.path);
+  }
+  // The sidecar describes the final names.
+  json side = sidecar_json(set, c, report, written);
+  for (auto& f : side["files"]) {
+    const std::string name = f["path"].get<std::string>();
+    f["path"] = name.substr(0, name.rfind(".tmp-"));
+  }
+  const fs::path side_tmp = temporary_for(paths.sidecar);
+  temps.paths.push_back(side_tmp);
+  {
+    std::ofstream out(side_tmp, std::ios::binary);
+    out << side.dump(2) << "\n";
+    if (!out) throw IoError(side_tmp.string() + ": cannot write sidecar");
+  }
+  std::vector<fs::path> finals;
+  auto commit = [&](const fs::path& tmp, const fs::path& final_path) {
+    if (cancel && cancel->load()) throw BakeCancelled();
+    fs::rename(tmp, final_path, ec);
+    if (ec) throw IoError(final_path.string() + ": cannot move the finished file into place (" + ec.message() + ")");
+    finals.push_back(final_path);
+  };
+  std::size_t engine_index = 0;
+  for (const auto& [format, tmp] : written)
+    commit(tmp, format == "hdf5" ? paths.hdf5 : format == "exr" ? paths.exr : engine_finals[engine_index++]);
+  commit(side_tmp, paths.sidecar);  // last: its presence marks a complete, up-to-date output
+  temps.paths.clear();
+  return finals;
+}
+
+void remove_stale_temporaries(const BakeConfig& c) {
+  std::error_code ec;
+  if (!fs::is_directory(c.output.directory, ec)) return;
+  const std::string prefix = c.output.basename + ".";
+  for (const auto& entry : fs::directory_iterator(c.output.directory, ec)) {
+    const std::string n = entry.path().filename().string();
+    const auto pos = n.find(".tmp-");
+    if ((n.rfind(prefix, 0) != 0 && n.rfind(c.output.basename + "-", 0) != 0) || pos == std::string::npos) continue;
+    // Only temporaries of processes that no longer run (a concurrent bake keeps its own).
+    const long pid = std::strtol(n.c_str() + pos + 5, nullptr, 10);
+    // (kill(pid, 0) fails with EPERM for a live process of another user: that one is kept too.)
+    if (pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) continue;
+    fs::remove(entry.path(), ec);
+  }
+}
+
+TableSet load_tables(const fs::path& file) {
+  const DirectoryLock lock(file.parent_path(), false);
+  TableSet set = load_table_file(file);
+  check_against_sidecar(file);
+  return set;
+}
+
+TableSet load_table_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw IoError(file.string() + ": cannot open file (" + std::string(std::strerror(errno)) + ")");
+  char head[8] = {};
+  in.read(head, 8);
+  if (in.gcount() >= 4 && static_cast<unsigned char>(head[0]) == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01)
+    return read_exr(file);
+  if (in.gcount() == 8 && std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) == 0) return read_hdf5(file);
+  throw IoError(file.string() + ": not a hairlut table file (neither HDF5 nor OpenEXR)");
+}
+
+}  // namespace hairlut

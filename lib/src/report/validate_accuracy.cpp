@@ -1,0 +1,171 @@
+// The validator's accuracy section: every table's sampled error at random points over its declared
+// domain against direct evaluation (sampled_error.hpp), per kind of table, with heat maps of where
+// the error sits.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "hairlut/bake/sampled_error.hpp"
+#include "hairlut/bake/table_truth.hpp"
+#include "hairlut/util/error.hpp"
+#include "validate_sections.hpp"
+
+namespace hairlut::detail::validation {
+namespace {
+// ---------------------------------------------------------------------------------------------
+// Accuracy where a renderer samples: random points over every table's declared domain against
+// direct evaluation, relative to the local denominator of each kind (sampled_error.hpp).
+
+// The kind of a table for the per-kind checks: "np" (the N_p tables of the lobes, also per
+// material), "energy" (energies, and the residual's N_p: its energy / 2π, uniform in φ and β),
+// "mp", "melanin", or "" (no check).
+std::string accuracy_kind(const Table& t) {
+  if (t.quantity == "N_p") return t.attributes.value("lobe", std::string()) == "residual" ? "energy" : "np";
+  if (t.quantity == "energy") return "energy";
+  if (t.quantity == "M_p") return "mp";
+  if (t.quantity == "sigma_a" || t.quantity == "transmittance") return "melanin";
+  return "";
+}
+
+json error_stats(const SampledErrorStats& s) {
+  return {{"points", s.points}, {"max_rel", s.worst}, {"p99_rel", s.p99}, {"mean_rel", s.mean}, {"max_abs", s.worst_abs}};
+}
+
+std::string point_text(const Table& t, const std::vector<double>& x) {
+  std::string s;
+  for (std::size_t k = 0; k < t.axes.size() && k < x.size(); ++k) {
+    const GridAxis& a = t.axes[k];
+    const bool angle = a.units == "rad";
+    s += (s.empty() ? "" : ", ") + a.name + " = " + fmt(angle ? degrees(x[k]) : x[k], 4) + (angle ? " deg" : "");
+    if (a.count > 1 && a.name != "channel") s += " (cell " + std::to_string(cell_of(a, x[k])) + ")";
+  }
+  return s;
+}
+
+// Midpoint of cell i in the axis's mapped coordinate (heat-map labels).
+double cell_centre(const GridAxis& a, int i) {
+  if (a.spacing == Spacing::explicit_values) return 0.5 * (a.values[static_cast<std::size_t>(i)] + a.values[static_cast<std::size_t>(i) + 1]);
+  const double t0 = sampler::mapped(a.spacing, sampler::node(a.view(), i));
+  const double t1 = sampler::mapped(a.spacing, sampler::node(a.view(), i + 1));
+  return sampler::unmapped(a.spacing, 0.5 * (t0 + t1));
+}
+
+std::uint64_t seed_of(const std::string& path) {  // FNV-1a: the same points for a table in every run
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : path) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+constexpr std::size_t kDualScatteringPoints = 256;
+
+}  // namespace
+
+json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
+  json out = json::array();
+  struct Worst {
+    double value = -1.0;
+    std::string where;
+    bool any = false;
+    void update(double v, const std::string& w) {
+      any = true;
+      if (v > value) value = v, where = w;
+    }
+  };
+  std::map<std::string, Worst> worst_max, worst_p99;
+  std::map<std::string, std::string> denominators;
+  const auto rule = std::make_shared<const GaussLegendreRule>(1024);
+  const TruthModel model{info.eta, info.path, info.explicit_lobes, info.marschner};
+  const auto ds_memo = make_dual_scattering_memo();
+  std::size_t done = 0;
+  for (const Table& t : set.tables) {
+    if (opt.progress) opt.progress("accuracy", done, set.tables.size());
+    ++done;
+    check_cancel(opt);
+    std::string kind = accuracy_kind(t);
+    auto truth = kind.empty() ? std::nullopt : table_truth(t, model, rule);
+    if (!truth && (truth = dual_scattering_truth(set, t, ds_memo))) kind = "ds";
+    if (!truth) continue;
+    SampledErrorOptions so;
+    // Dual-scattering references are slow (adaptive θr integrals of half-range energies): at most
+    // kDualScatteringPoints points, the same for every table of the groups (one evaluation each).
+    so.points = std::max<std::size_t>(kind == "ds" ? std::min(opt.max_points, kDualScatteringPoints) : opt.max_points, 1);
+    so.seed = kind == "ds" ? seed_of("dual_scattering") : seed_of(t.path());
+    so.threads = opt.threads;
+    so.half_float = true;
+    so.keep_points = true;
+    so.cancel = opt.cancel;
+    const SampledError r = measure_sampled_error(set, t, *truth, so);
+    check_cancel(opt);
+    json tj = {{"path", t.path()}, {"quantity", t.quantity}, {"kind", kind}, {"denominator", r.denominator}, {"dims", json::array()}};
+    for (const GridAxis& a : t.axes) tj["dims"].push_back(a.name);
+    if (t.attributes.contains("beta_band")) tj["beta_band"] = t.attributes["beta_band"];  // N_p in β bands (beta_bands.hpp)
+    tj["off_node"] = error_stats(r.error);
+    tj["off_node_half"] = error_stats(r.half);
+    json at = json::object();
+    for (std::size_t k = 0; k < t.axes.size(); ++k) at[t.axes[k].name] = r.worst_at[k];
+    tj["worst"] = {{"at", at}, {"where", point_text(t, r.worst_at)}, {"sampled", r.worst_sampled}, {"exact", r.worst_exact},
+                   {"denominator", r.worst_denominator}};
+    // Per axis: the worst error among the points in each cell of the axis.
+    json per_axis = json::array();
+    for (std::size_t k = 0; k < t.axes.size(); ++k) {
+      if (t.axes[k].count < 2 || t.axes[k].name == "channel") continue;
+      const auto& cells = r.per_axis_cells[k];
+      const auto mx = std::max_element(cells.begin(), cells.end());
+      per_axis.push_back({{"axis", t.axes[k].name}, {"count", t.axes[k].count}, {"max_rel", *mx},
+                          {"worst_cell", static_cast<int>(mx - cells.begin())}, {"cells_max_rel", cells}});
+    }
+    tj["per_axis"] = per_axis;
+    // Heat maps of the largest relative error per pair of axes (cells of the table).
+    json heat = json::array();
+    for (std::size_t i = 0; i < t.axes.size(); ++i)
+      for (std::size_t j = i + 1; j < t.axes.size(); ++j) {
+        const GridAxis &ai = t.axes[i], &aj = t.axes[j];
+        if (ai.count < 2 || aj.count < 2 || ai.name == "channel" || aj.name == "channel") continue;
+        const auto ni = static_cast<std::size_t>(ai.count - 1), nj = static_cast<std::size_t>(aj.count - 1);
+        std::vector<std::vector<double>> grid(ni, std::vector<double>(nj, NAN));  // NaN: no point in this cell
+        for (std::size_t q = 0; q < r.x.size(); ++q) {
+          double& g = grid[static_cast<std::size_t>(cell_of(ai, r.x[q][i]))][static_cast<std::size_t>(cell_of(aj, r.x[q][j]))];
+          g = std::isnan(g) ? r.rel[q] : std::max(g, r.rel[q]);
+        }
+        std::vector<double> ci, cj;
+        for (int c = 0; c + 1 < ai.count; ++c) ci.push_back(cell_centre(ai, c));
+        for (int c = 0; c + 1 < aj.count; ++c) cj.push_back(cell_centre(aj, c));
+        heat.push_back({{"x", aj.name}, {"y", ai.name}, {"x_centres", cj}, {"y_centres", ci}, {"max_rel", grid}});
+      }
+    tj["heatmaps"] = heat;
+    out.push_back(tj);
+    worst_max[kind].update(r.error.worst, t.path() + " at " + point_text(t, r.worst_at) + ": sampled " + fmt(r.worst_sampled, 4) + ", exact " +
+                                              fmt(r.worst_exact, 4) + ", denominator " + fmt(r.worst_denominator, 4));
+    worst_p99[kind].update(r.error.p99, t.path());
+    denominators[kind] = r.denominator;
+  }
+  if (opt.progress) opt.progress("accuracy", set.tables.size(), set.tables.size());
+  const ValidationThresholds& th = opt.thresholds;
+  auto words = [&](const std::string& kind) { return "; denominator: " + denominators[kind]; };
+  if (!worst_max["np"].any) {
+    checks.push_back(skipped("accuracy_max_rel", "N_p tables where a renderer samples", "no N_p table of a known kind"));
+  } else {
+    checks.push_back(check("accuracy_max_rel", "N_p tables: worst error at random points over the domain, relative to the slice's peak over phi",
+                           worst_max["np"].value <= th.accuracy_max_rel, worst_max["np"].value, th.accuracy_max_rel, "<=",
+                           worst_max["np"].where + words("np")));
+    checks.push_back(check("accuracy_p99_rel", "N_p tables: 99th percentile of the same", worst_p99["np"].value <= th.accuracy_p99_rel,
+                           worst_p99["np"].value, th.accuracy_p99_rel, "<=", worst_p99["np"].where));
+  }
+  const std::tuple<const char*, const char*, const char*, double> kinds[] = {
+      {"energy", "accuracy_energy_max_rel", "Energy tables and the residual's N_p: worst relative error at random points over the domain",
+       th.accuracy_energy_max_rel},
+      {"mp", "accuracy_mp_max_rel", "M_p tables: worst error at random points, relative to the peak over theta_r", th.accuracy_mp_max_rel},
+      {"melanin", "accuracy_melanin_max_rel", "Melanin tables (sigma_a, spectral transmittance): worst relative error at random points", th.accuracy_melanin_max_rel},
+      {"ds", "accuracy_ds_max_rel", "Dual-scattering and mean-energy tables: worst relative error at random points", th.accuracy_ds_max_rel}};
+  for (const auto& [kind, id, title, threshold] : kinds)
+    if (worst_max[kind].any)
+      checks.push_back(check(id, title, worst_max[kind].value <= threshold, worst_max[kind].value, threshold, "<=", worst_max[kind].where + words(kind)));
+  return out;
+}
+
+}  // namespace hairlut::detail::validation
+

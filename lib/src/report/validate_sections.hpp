@@ -1,0 +1,66 @@
+// Validator and report sections that live in their own files (internal to the library).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hairlut/tables/tables.hpp"
+#include "hairlut/report/validate.hpp"
+#include "hairlut/bake/config.hpp"
+
+namespace hairlut::detail {
+
+/// The validator's own pieces, shared by its section files (validate.cpp: sanity and the report;
+/// validate_energy.cpp: furnaces, truncation, M_p and absorption; validate_accuracy.cpp: the
+/// sampled error of every table).
+namespace validation {
+
+using json = nlohmann::ordered_json;
+
+// The model the tables were baked with, from their metadata.
+struct ModelInfo {
+  std::string model = "deon2011";
+  double eta = 1.55;
+  AbsorptionPath path = AbsorptionPath::chord;
+  std::vector<std::string> lobes;
+  int explicit_lobes = 0;
+  bool residual = false;
+  int energy_order = 128;
+  std::optional<MarschnerConfig> marschner;  ///< model "marschner2003"
+};
+
+
+ModelInfo model_from(const TableSet& set);
+
+json check(const std::string& id, const std::string& title, bool pass, double value, double threshold, const std::string& comparison,
+           const std::string& detail);
+json skipped(const std::string& id, const std::string& title, const std::string& why);
+std::string fmt(double v, int digits = 3);
+void check_cancel(const ValidationOptions& opt);
+std::vector<double> theta_grid_deg();                   // θ in degrees, −89 … 89, denser near grazing
+std::vector<double> representative(const GridAxis& a);  // up to three nodes: first, middle, last
+
+// Sections: each appends its checks and returns its part of the report.
+json furnace_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
+json truncation_section(const ModelInfo& info, std::vector<json>& checks);
+json marschner_energy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
+json longitudinal_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
+json absorption_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
+json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
+
+}  // namespace validation
+
+/// Mean-energy and dual-scattering tables (tables.dual_scattering, tables.engine): the consistency
+/// a_f + a_b = Σ_p E_p between the two tables, the white furnace of the mean-energy table where it
+/// has σa = 0 and d'Eon's uniform setting, the tables against dual_scattering() (no interpolation)
+/// at sampled nodes, and the curves for the plots. Appends its checks; returns report["dual_scattering"].
+nlohmann::ordered_json dual_scattering_section(const TableSet& set, const ValidationOptions& options,
+                                               std::vector<nlohmann::ordered_json>& checks);
+
+/// The HTML (inline SVG plots) and Markdown of that section; empty when the set has no such tables.
+std::string render_dual_scattering_html(const nlohmann::ordered_json& report);
+std::string render_dual_scattering_markdown(const nlohmann::ordered_json& report);
+
+}  // namespace hairlut::detail

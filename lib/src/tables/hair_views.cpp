@@ -1,0 +1,133 @@
+#include "hairlut/tables/hair_views.hpp"
+
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "hairlut/util/error.hpp"
+#include "hairlut/physics/melanin.hpp"
+#include "hairlut/tables/beta_bands.hpp"
+
+namespace hairlut {
+namespace {
+
+// The table at `path` with the named axes in that order, stored as T.
+template <class T>
+const Table& require(const TableSet& set, const std::string& path, const std::vector<std::string>& axes) {
+  const Table* t = set.find(path);
+  if (!t) throw DomainError("table " + path + ": missing (needed by the typed views)");
+  std::string want, have;
+  for (const auto& a : axes) want += (want.empty() ? "" : ", ") + a;
+  for (const auto& a : t->axes) have += (have.empty() ? "" : ", ") + a.name;
+  if (want != have) throw DomainError("table " + path + ": axes (" + have + "), the typed views need (" + want + ")");
+  const bool f32 = t->precision == Precision::float32;
+  if (f32 != std::is_same_v<T, float>)
+    throw DomainError("table " + path + ": stored as " + std::string(f32 ? "float32" : "float64") + "; use hair_tables<" +
+                      (f32 ? "float" : "double") + ", R>");
+  return *t;
+}
+
+template <class T>
+const T* values(const Table& t) {
+  if constexpr (std::is_same_v<T, float>) return t.f32.data();
+  else return t.f64.data();
+}
+
+template <class T, std::size_t N>
+void axes_of(const Table& t, sampler::Axis (&out)[N]) {
+  for (std::size_t d = 0; d < N; ++d) out[d] = t.axes[d].view();
+}
+
+// The factor table of t (sigma_a, theta_d), or nullptr.
+template <class T>
+const Table* factor_of(const TableSet& set, const Table& t) {
+  const std::string f = t.factor();
+  if (f.empty()) return nullptr;
+  return &require<T>(set, f, {"sigma_a", "theta_d"});
+}
+
+}  // namespace
+
+template <class T, class R>
+sampler::HairTables<T, R> hair_tables(const TableSet& set) {
+  const std::string model = set.metadata.value("model", std::string());
+  if (model != "deon2011") throw DomainError("table set: model " + (model.empty() ? std::string("(none)") : model) + ", the typed views read deon2011 tables");
+  sampler::HairTables<T, R> h;
+  const auto& lobes = set.metadata.at("lobes");
+  if (lobes.size() > static_cast<std::size_t>(h.kMaxLobes) || lobes.empty())
+    throw DomainError("table set: " + std::to_string(lobes.size()) + " lobes, the typed views read 1 to " + std::to_string(h.kMaxLobes));
+  h.lobes = static_cast<int>(lobes.size());
+  h.eta = set.metadata.value("eta", 0.0);
+  for (int p = 0; p < h.lobes; ++p) {
+    const std::string lobe = lobes[static_cast<std::size_t>(p)].get<std::string>();
+    const Table& n = require<T>(set, "np/" + lobe, {"beta", "sigma_a", "theta_d", "phi"});
+    sampler::Axis na[4], ea[2];
+    axes_of<T>(n, na);
+    const Table* e = factor_of<T>(set, n);
+    if (e) axes_of<T>(*e, ea);
+    h.np[p] = sampler::NpLobe<T, R>(values<T>(n), na, e ? values<T>(*e) : nullptr, e ? ea : nullptr);
+    // β bands (beta_bands.hpp): band k ≥ 1 is np/<lobe>_band<k>.
+    const auto bands = set.metadata.find("np_beta_bands");
+    const int nb = bands != set.metadata.end() && bands->is_array() ? static_cast<int>(bands->size()) : 1;
+    if (nb > h.kMaxBetaBands || nb < 1)
+      throw DomainError("table set: " + std::to_string(nb) + " beta bands, the typed views read 1 to " + std::to_string(h.kMaxBetaBands));
+    h.beta_bands = nb;
+    for (int k = 0; k < nb; ++k) {
+      const Table& b = k == 0 ? n : require<T>(set, "np/" + lobe + beta_band_suffix(k), {"beta", "sigma_a", "theta_d", "phi"});
+      h.band_hi[k] = b.axes[0].hi;
+      if (k == 0) continue;
+      sampler::Axis ba[4], bea[2];
+      axes_of<T>(b, ba);
+      const Table* be = factor_of<T>(set, b);
+      if (be) axes_of<T>(*be, bea);
+      h.np_band[k - 1][p] = sampler::NpLobe<T, R>(values<T>(b), ba, be ? values<T>(*be) : nullptr, be ? bea : nullptr);
+    }
+    const Table& m = require<T>(set, "mp/" + lobe, {"beta", "theta_i", "theta_r"});
+    sampler::Axis ma[3];
+    axes_of<T>(m, ma);
+    h.mp[p] = sampler::MpLobe<T, R>(values<T>(m), ma);
+  }
+  if (set.metadata.value("residual", false)) {
+    const Table& n = require<T>(set, "np/residual", {"sigma_a", "theta_d"});
+    sampler::Axis na[2], ea[2];
+    axes_of<T>(n, na);
+    const Table* e = factor_of<T>(set, n);
+    if (e) axes_of<T>(*e, ea);
+    h.np_residual = sampler::NpResidual<T, R>(values<T>(n), na, e ? values<T>(*e) : nullptr, e ? ea : nullptr);
+    const Table& m = require<T>(set, "mp/residual", {"beta", "theta_i", "theta_r"});
+    sampler::Axis ma[3];
+    axes_of<T>(m, ma);
+    h.mp_residual = sampler::MpLobe<T, R>(values<T>(m), ma);
+    h.has_residual = true;
+  }
+  return h;
+}
+
+template sampler::HairTables<float, float> hair_tables<float, float>(const TableSet&);
+template sampler::HairTables<float, double> hair_tables<float, double>(const TableSet&);
+template sampler::HairTables<double, float> hair_tables<double, float>(const TableSet&);
+template sampler::HairTables<double, double> hair_tables<double, double>(const TableSet&);
+
+int lobe_index(const TableSet& set, std::string_view lobe) {
+  const auto it = set.metadata.find("lobes");
+  std::string have;
+  if (it != set.metadata.end())
+    for (std::size_t p = 0; p < it->size(); ++p) {
+      const std::string name = (*it)[p].get<std::string>();
+      if (name == lobe) return static_cast<int>(p);
+      have += (have.empty() ? "" : ", ") + name;
+    }
+  throw DomainError("table set: no lobe " + std::string(lobe) + " (lobes: " + (have.empty() ? std::string("none") : have) + ")");
+}
+
+sampler::Fibre fibre_from_melanin(double eumelanin, double pheomelanin, double beta_m, double beta_n) {
+  require_positive("beta_m", beta_m);
+  require_positive("beta_n", beta_n);
+  const Rgb s = melanin_sigma_a_rgb(eumelanin, pheomelanin);
+  sampler::Fibre f;
+  f.sigma_a[0] = s.r, f.sigma_a[1] = s.g, f.sigma_a[2] = s.b;
+  f.beta_m = beta_m, f.beta_n = beta_n;
+  return f;
+}
+
+}  // namespace hairlut

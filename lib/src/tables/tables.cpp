@@ -1,0 +1,101 @@
+#include "hairlut/tables/tables.hpp"
+
+#include <algorithm>
+
+#include <Imath/half.h>
+
+#include "hairlut/util/error.hpp"
+#include "hairlut/util/hash.hpp"
+
+namespace hairlut {
+
+void Table::allocate(Precision p) {
+  precision = p;
+  const std::size_t n = grid_size(axes);
+  f32.clear();
+  f64.clear();
+  if (p == Precision::float32) f32.assign(n, 0.0f);
+  else f64.assign(n, 0.0);
+}
+
+double Table::sample(const std::vector<double>& x) const {
+  if (x.size() != axes.size())
+    throw DomainError("sample point of table " + path() + " must have " + std::to_string(axes.size()) + " coordinates (got " +
+                      std::to_string(x.size()) + ")");
+  std::vector<sampler::Axis> v;
+  for (const GridAxis& a : axes) v.push_back(a.view());
+  const int dims = static_cast<int>(v.size());
+  const double value = precision == Precision::float32 ? sampler::sample(f32.data(), v.data(), dims, x.data())
+                                                       : sampler::sample(f64.data(), v.data(), dims, x.data());
+  // Cubic interpolation may undershoot below zero next to a steep fall; a non-negative quantity
+  // stays non-negative (shifts are signed, and spectral transmittance is negative out of gamut).
+  return quantity == "shift" || quantity == "transmittance" ? value : std::max(value, 0.0);
+}
+
+double TableSet::sample_value(const Table& t, const std::vector<double>& x) const {
+  const double v = t.sample(x);
+  const std::string f = t.factor();
+  if (f.empty()) return v;
+  const Table* ft = find(f);
+  if (!ft) throw DomainError("table " + t.path() + ": its factor table " + f + " is missing");
+  std::vector<double> y;
+  for (const GridAxis& fa : ft->axes) {
+    std::size_t k = 0;
+    while (k < t.axes.size() && t.axes[k].name != fa.name) ++k;
+    if (k == t.axes.size()) throw DomainError("table " + t.path() + ": its factor table " + f + " has axis " + fa.name + " which it lacks");
+    y.push_back(x[k]);
+  }
+  return v * ft->sample(y);
+}
+
+nlohmann::ordered_json Table::describe() const {
+  nlohmann::ordered_json j;
+  j["path"] = path();
+  j["group"] = group;
+  j["name"] = name;
+  j["quantity"] = quantity;
+  j["units"] = units;
+  j["long_name"] = long_name;
+  j["dims"] = nlohmann::ordered_json::array();
+  for (const GridAxis& a : axes) j["dims"].push_back(a.name);
+  j["shape"] = nlohmann::ordered_json::array();
+  for (const GridAxis& a : axes) j["shape"].push_back(a.count);
+  j["axes"] = nlohmann::ordered_json::array();
+  for (const GridAxis& a : axes) j["axes"].push_back(a.to_json());
+  j["attributes"] = attributes;
+  return j;
+}
+
+const Table* TableSet::find(const std::string& path) const {
+  for (const Table& t : tables)
+    if (t.path() == path) return &t;
+  return nullptr;
+}
+
+std::size_t TableSet::bytes() const {
+  std::size_t b = 0;
+  for (const Table& t : tables) b += t.f32.size() * sizeof(float) + t.f64.size() * sizeof(double);
+  return b;
+}
+
+std::string content_checksum(const TableSet& set, ChecksumRounding rounding) {
+  Fnv1a64 h;
+  h.update(set.metadata.dump());
+  for (const Table& t : set.tables) {
+    h.update(t.describe().dump());
+    if (rounding == ChecksumRounding::as_stored && t.precision == Precision::float64) {
+      h.update(t.f64.data(), t.f64.size() * sizeof(double));
+    } else if (rounding == ChecksumRounding::as_stored || (rounding == ChecksumRounding::float32 && t.precision == Precision::float32)) {
+      h.update(t.f32.data(), t.f32.size() * sizeof(float));
+    } else {
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        float v = static_cast<float>(t.get(i));
+        if (rounding == ChecksumRounding::half) v = static_cast<float>(half(v));
+        h.update(&v, sizeof v);
+      }
+    }
+  }
+  return h.hex();
+}
+
+}  // namespace hairlut

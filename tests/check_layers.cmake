@@ -1,0 +1,78 @@
+# The library's layers, bottom to top, and the rule that dependencies point down only.
+#
+#   sampler  header-only, dependency-free table sampler and importance sampling (an engine copies it)
+#   util     angles, errors, hashing, quadrature rules
+#   physics  the scattering functions themselves
+#   tables   grids, table sets and their typed views
+#   bake     configs, the bakers, engine presets, the resolution planner and its error measure
+#   io       HDF5, OpenEXR and engine textures
+#   report   validation, comparison, reports, plots, benchmark pieces
+#
+# Usage: cmake -DROOT=<a tree with lib/include/hairlut and lib/src> -P check_layers.cmake
+# Every header and source of the library must sit in a layer folder (hairlut.hpp, the umbrella
+# header, is the one exception); a file may include a hairlut header of its own layer or of a layer
+# below, by its layer path ("hairlut/physics/fresnel.hpp"), and a private header of lib/src only
+# from its own folder. The first violation of each file is reported with file and line; the script
+# fails if there is any.
+set(layers sampler util physics tables bake io report)
+string(JOIN " < " layer_order ${layers})
+
+if(NOT ROOT)
+  message(FATAL_ERROR "usage: cmake -DROOT=<source tree> -P check_layers.cmake")
+endif()
+set(include_root ${ROOT}/lib/include/hairlut)
+set(src_root ${ROOT}/lib/src)
+
+set(violations "")
+file(GLOB_RECURSE files RELATIVE ${ROOT}/lib ${include_root}/* ${src_root}/*)
+list(FILTER files INCLUDE REGEX "\\.(hpp|cpp|hpp\\.in)$")
+if(NOT files)
+  message(FATAL_ERROR "no library files under ${ROOT}/lib")
+endif()
+foreach(f IN LISTS files)
+  if(f STREQUAL "include/hairlut/hairlut.hpp")
+    continue()
+  endif()
+  if(NOT f MATCHES "^(include/hairlut|src)/([a-z_]+)/[^/]+$")
+    list(APPEND violations "lib/${f}: not in a layer folder (${layer_order})")
+    continue()
+  endif()
+  set(layer ${CMAKE_MATCH_2})
+  list(FIND layers ${layer} rank)
+  if(rank EQUAL -1)
+    list(APPEND violations "lib/${f}: '${layer}' is not a layer (${layer_order})")
+    continue()
+  endif()
+  get_filename_component(dir ${ROOT}/lib/${f} DIRECTORY)
+  file(STRINGS ${ROOT}/lib/${f} lines REGEX "^[ \t]*#[ \t]*include[ \t]*[\"<]")
+  foreach(line IN LISTS lines)
+    if(line MATCHES "[\"<]hairlut/([^\">]+)[\">]")
+      set(target ${CMAKE_MATCH_1})
+      if(NOT target MATCHES "^([a-z_]+)/[^/]+\\.hpp$")
+        list(APPEND violations "lib/${f}: includes hairlut/${target}, not a layer header")
+        continue()
+      endif()
+      list(FIND layers ${CMAKE_MATCH_1} target_rank)
+      if(target_rank EQUAL -1)
+        list(APPEND violations "lib/${f}: includes hairlut/${target}: '${CMAKE_MATCH_1}' is not a layer")
+      elseif(target_rank GREATER rank)
+        list(APPEND violations "lib/${f}: ${layer}/ includes hairlut/${target}, a higher layer")
+      endif()
+    elseif(line MATCHES "\"([^\"/]+\\.hpp)\"")
+      # A private header of lib/src: must sit beside the file that includes it.
+      if(NOT EXISTS ${dir}/${CMAKE_MATCH_1})
+        list(APPEND violations "lib/${f}: includes \"${CMAKE_MATCH_1}\", which is not in its own folder")
+      endif()
+    elseif(line MATCHES "\"")
+      list(APPEND violations "lib/${f}: unexpected include: ${line}")
+    endif()
+  endforeach()
+endforeach()
+
+if(violations)
+  list(LENGTH violations n)
+  string(REPLACE ";" "\n  " text "${violations}")
+  message(FATAL_ERROR "${n} layering violation(s):\n  ${text}")
+endif()
+list(LENGTH files n)
+message(STATUS "${n} library files, every include points to its own layer or one below (${layer_order})")
