@@ -24,17 +24,6 @@ namespace {
 
 using namespace hairlut;
 
-template <class F>
-double best_ns(std::size_t n, int repeats, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const double t0 = thread_cpu_seconds();
-    f();
-    best = std::min(best, (thread_cpu_seconds() - t0) / static_cast<double>(n) * 1e9);
-  }
-  return best;
-}
-
 struct Points {
   std::vector<float> beta, sigma, theta, phi;
 };

@@ -23,6 +23,18 @@ double process_cpu_seconds();
 /// the time other processes of a shared machine take from it.
 double thread_cpu_seconds();
 
+// Best thread-CPU ns per call of f(), which makes n calls, over `repeats` runs.
+template <class F>
+double best_ns(std::size_t n, int repeats, F&& f) {
+  double best = 1e300;
+  for (int r = 0; r < repeats; ++r) {
+    const double t0 = thread_cpu_seconds();
+    f();
+    best = std::min(best, (thread_cpu_seconds() - t0) / static_cast<double>(n) * 1e9);
+  }
+  return best;
+}
+
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];

@@ -34,18 +34,6 @@ namespace {
 using namespace hairlut;
 using sampler::Axis;
 
-// Best thread-CPU ns per call of f() over n calls.
-template <class F>
-double best_ns(std::size_t n, int repeats, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const double t0 = thread_cpu_seconds();
-    f();
-    best = std::min(best, (thread_cpu_seconds() - t0) / static_cast<double>(n) * 1e9);
-  }
-  return best;
-}
-
 enum class Interp { linear, cubic_last, cubic };
 const char* name(Interp i) { return i == Interp::linear ? "linear" : i == Interp::cubic_last ? "cubic-last-axis" : "cubic"; }
 
