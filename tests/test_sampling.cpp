@@ -5,13 +5,7 @@
 // estimated through sampling, for every lobe of the default tables and of per-material tables.
 #include "sampling_checks.hpp"
 
-using namespace hairlut;
-using namespace sampling_checks;
-using sampler::AxisRow;
-using sampler::AxisSampler;
-using sampler::FibreCoordinates;
-using sampler::HairSampler;
-
+using namespace sampling_checks;  // and the hairlut names it brings (sampling_checks.hpp)
 
 TEST_CASE("Axis sampling: density, mass and inverse CDF are those of the clamped interpolant", "[sampling]") {
   // A table over (a, b, x) with Catmull–Rom along each axis and values that overshoot below 0:

@@ -3,12 +3,7 @@
 // CDF samples the interpolant exactly; checked against the general path and independent quadrature.
 #include "sampling_checks.hpp"
 
-using namespace hairlut;
-using namespace sampling_checks;
-using sampler::AxisRow;
-using sampler::AxisSampler;
-using sampler::FibreCoordinates;
-using sampler::HairSampler;
+using namespace sampling_checks;  // and the hairlut names it brings (sampling_checks.hpp)
 
 TEST_CASE("Axis sampling: the mixture fast path has the general path's density and normalisation, and draws from it", "[sampling]") {
   // Tables over (a, b, x) with linear a and b (weights ≥ 0) and x linear or Catmull–Rom: where
