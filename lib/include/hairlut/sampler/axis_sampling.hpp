@@ -210,25 +210,13 @@ class AxisSampler {
     // The blended node row: Σ over the tensor product of the taps of the node rows.
     std::vector<double>& v = row.nodes;
     v.assign(static_cast<std::size_t>(n_), 0.0);
-    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-    for (;;) {
-      double w = 1.0;
-      std::size_t offset = 0;
-      for (int d = 0; d + 1 < dims_; ++d) {
-        w *= tp[d].w[idx[d]];
-        offset += static_cast<std::size_t>(tp[d].i[idx[d]]) * stride_[d];
-      }
+    each_corner(tp, [&](double w, std::size_t offset) {
       if (w != 0.0) {
         const T* src = data_ + offset;
         for (int j = 0; j < n_; ++j) v[static_cast<std::size_t>(j)] += w * static_cast<double>(src[j]);
       }
-      int d = dims_ - 2;
-      for (; d >= 0; --d) {
-        if (++idx[d] < tp[d].n) break;
-        idx[d] = 0;
-      }
-      if (d < 0) break;
-    }
+      return true;
+    });
     // Cell polynomials, with sampler.hpp's end rules along the sampled axis.
     row.coef.resize(static_cast<std::size_t>(n_ - 1) * 4);
     row.cum.resize(static_cast<std::size_t>(n_));
@@ -280,14 +268,7 @@ class AxisSampler {
       tp[d] = taps(axes_[d], x[d]);
       if (tp[d].n > 2) return false;
     }
-    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-    for (;;) {
-      double w = 1.0;
-      std::size_t offset = 0;
-      for (int d = 0; d + 1 < dims_; ++d) {
-        w *= tp[d].w[idx[d]];
-        offset += static_cast<std::size_t>(tp[d].i[idx[d]]) * stride_[d];
-      }
+    const bool exact = each_corner(tp, [&](double w, std::size_t offset) {
       if (w < 0.0) return false;
       if (w > 0.0) {
         const std::size_t s = offset / static_cast<std::size_t>(n_);
@@ -297,14 +278,9 @@ class AxisSampler {
         ++m.count;
         m.total += w * mass_[s];
       }
-      int d = dims_ - 2;
-      for (; d >= 0; --d) {
-        if (++idx[d] < tp[d].n) break;
-        idx[d] = 0;
-      }
-      if (d < 0) break;
-    }
-    return m.count > 0;
+      return true;
+    });
+    return exact && m.count > 0;
   }
   /// The interpolated value at x along the sampled axis (without the measure's cos x; 0 outside
   /// a clamped axis): Σ w_c s_c(x), each s_c ≥ 0, so no clamp applies.
@@ -400,6 +376,27 @@ class AxisSampler {
   }
 
  private:
+  // Visits the tensor product of the other axes' taps: f(weight, offset of the node slice) for
+  // each corner in row-major order; stops and returns false as soon as f does.
+  template <class F>
+  bool each_corner(const Taps* tp, F&& f) const {
+    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (;;) {
+      double w = 1.0;
+      std::size_t offset = 0;
+      for (int d = 0; d + 1 < dims_; ++d) {
+        w *= tp[d].w[idx[d]];
+        offset += static_cast<std::size_t>(tp[d].i[idx[d]]) * stride_[d];
+      }
+      if (!f(w, offset)) return false;
+      int d = dims_ - 2;
+      for (; d >= 0; --d) {
+        if (++idx[d] < tp[d].n) break;
+        idx[d] = 0;
+      }
+      if (d < 0) return true;
+    }
+  }
   double x_of(int k, double t) const { return lo_ + (k + t) * h_; }
   // The polynomial of cell k of node row v along the sampled axis, with sampler.hpp's end rules
   // (linear, or Catmull–Rom with the clamped-end extrapolation and the mirror nodes of an even axis).
