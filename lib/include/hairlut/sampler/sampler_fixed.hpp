@@ -25,6 +25,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 #include <utility>
 
 #include "hairlut/sampler/sampler.hpp"
@@ -33,8 +34,20 @@
 // overhead is of the same order as their work.
 #if defined(__GNUC__) || defined(__clang__)
 #define HAIRLUT_SAMPLER_INLINE __attribute__((always_inline)) inline
+#define HAIRLUT_SAMPLER_NOINLINE __attribute__((noinline))
 #else
 #define HAIRLUT_SAMPLER_INLINE inline
+#define HAIRLUT_SAMPLER_NOINLINE
+#endif
+
+// SSE2 (every x86-64 target) combines the two values of a pair along the last axis in one
+// register; elsewhere, or with HAIRLUT_SAMPLER_NO_SIMD defined, the same operations run one value
+// at a time. The results are the same (IEEE operations in the same order).
+#if !defined(HAIRLUT_SAMPLER_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
+#define HAIRLUT_SAMPLER_SSE2 1
+#include <emmintrin.h>
+#else
+#define HAIRLUT_SAMPLER_SSE2 0
 #endif
 
 namespace hairlut {
@@ -70,6 +83,12 @@ class FixedAxis {
     top_ = static_cast<R>(n_ > 1 ? n_ - 1 : 0);
     step_ = n_ > 1 ? static_cast<std::ptrdiff_t>(stride) : 0;
     snap_ = sizeof(R) >= sizeof(double) ? static_cast<R>(1e-9) : static_cast<R>(8.0 * 1.1920928955078125e-07 * (n_ > 1 ? n_ : 1));
+    unsnapped_ = R(0.5) - snap_;
+    fold_ = n_ <= 1                      ? Fold::single
+            : a.wrap == Wrap::periodic   ? Fold::periodic
+            : a.wrap == Wrap::even       ? Fold::even
+            : a.wrap == Wrap::reflect && hi_ > lo_ ? Fold::reflect
+                                         : Fold::none;
   }
   bool cubic() const { return cubic_; }
   /// Whether cell(x) applies: a mapped axis (not explicit nodes), or a single node.
@@ -82,7 +101,7 @@ class FixedAxis {
     int i0;
     locate(x, i0, w);
     off = static_cast<std::size_t>(i0) * stride_;
-    step = wrap_ == Wrap::periodic && i0 == n_ - 1 ? -static_cast<std::ptrdiff_t>(i0) * static_cast<std::ptrdiff_t>(stride_) : step_;
+    step = fold_ == Fold::periodic && i0 == n_ - 1 ? -static_cast<std::ptrdiff_t>(i0) * static_cast<std::ptrdiff_t>(stride_) : step_;
   }
   bool geometric() const { return prepared_.axis.interpolation == Interpolation::geometric; }
   int count() const { return n_; }
@@ -91,44 +110,54 @@ class FixedAxis {
   /// The continuous node index s and the cell [i0, i0 + 1] that holds it, with the wrap rule
   /// (PreparedAxis::locate, in R). Not for explicit axes (locate_explicit) nor NaN.
   HAIRLUT_SAMPLER_INLINE void locate(R x, int& i0, R& w) const {
-    const int n = n_;
-    if (n <= 1) {
-      i0 = 0, w = R(0);
-      return;
+    if (fold_ != Fold::none) {
+      if (fold_ == Fold::even) {
+        // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
+        const R pi = static_cast<R>(3.14159265358979323846);
+        x = std::fabs(x);
+        if (x > pi) x = std::fabs(std::remainder(x, R(2) * pi));
+      } else if (fold_ == Fold::reflect) {
+        const R d = x - lo_;
+        if (!(d >= R(0) && d <= hi_ - lo_)) x = lo_ + std::fabs(std::remainder(d, span_));
+      } else if (fold_ == Fold::periodic) {
+        locate_periodic(x, i0, w);
+        return;
+      } else {  // a single node
+        i0 = 0, w = R(0);
+        return;
+      }
     }
-    if (wrap_ == Wrap::periodic) {
-      locate_periodic(x, i0, w);
-      return;
-    }
-    if (wrap_ == Wrap::even) {
-      // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
-      const R pi = static_cast<R>(3.14159265358979323846);
-      x = std::fabs(x);
-      if (x > pi) x = std::fabs(std::remainder(x, R(2) * pi));
-    } else if (wrap_ == Wrap::reflect && hi_ > lo_) {
-      const R d = x - lo_;
-      if (!(d >= R(0) && d <= hi_ - lo_)) x = lo_ + std::fabs(std::remainder(d, span_));
-    }
-    x = x < lo_ ? lo_ : (x > hi_ ? hi_ : x);
+    // A uniform axis needs no clamp of x: s is clamped below, and s(lo) = 0, s(hi) = top up to
+    // rounding, which the snapping and the end rule absorb. A mapped one clamps x first (the
+    // mappings are monotonic only on the range; log and sqrt need it positive).
     R t = x;
-    switch (spacing_) {
-      case Spacing::cos: t = std::cos(x); break;
-      case Spacing::sin: t = std::sin(x); break;
-      case Spacing::log: t = std::log(x); break;
-      case Spacing::sqrt: t = std::sqrt(x); break;
-      default: break;
+    if (spacing_ != Spacing::uniform) {
+      x = x < lo_ ? lo_ : x;
+      x = x > hi_ ? hi_ : x;
+      switch (spacing_) {
+        case Spacing::log: t = std::log(x); break;
+        case Spacing::sqrt: t = std::sqrt(x); break;
+        case Spacing::cos: t = std::cos(x); break;
+        case Spacing::sin: t = std::sin(x); break;
+        default: t = x; break;
+      }
     }
     R s = (t - t0_) * scale_ + offset_;
-    // Clamp, then snap to a node within rounding of it, so that sampling at a node returns its
-    // value. The same as TableView's snap-then-clamp (the bounds are nodes); s − i and 1 − w are
-    // exact (Sterbenz), so the snapping decisions are TableView's too. Branches, not selects:
-    // they are predicted (rarely taken), and a select would lengthen the dependency chain.
-    s = s < R(0) ? R(0) : (s > top_ ? top_ : s);
+    // Clamp to the nodes, upper bound first: a NaN s (an infinite azimuth folded) goes to the
+    // last node, as TableView's clamp of x sends it to hi.
+    s = s < top_ ? s : top_;
+    s = s > R(0) ? s : R(0);
     int i = static_cast<int>(s);
     R f = s - static_cast<R>(i);
-    if (f < snap_) f = R(0);
-    else if (R(1) - f < snap_) f = R(0), ++i;
-    if (i >= n - 1) i = n - 2, f = R(1);
+    // Within snap of a node (|f − ½| > ½ − snap, i.e. f < snap or 1 − f < snap): snap to it, so
+    // that sampling at a node returns its value; then the last node is the end of the last
+    // cell. The same decisions as TableView's snap-then-clamp (the bounds are nodes; s − i is
+    // exact). One branch, rarely taken and predicted.
+    if (std::fabs(f - R(0.5)) > unsnapped_) {
+      if (f > R(0.5)) ++i;
+      f = R(0);
+      if (i >= n_ - 1) i = n_ - 2, f = R(1);
+    }
     i0 = i;
     w = f;
   }
@@ -211,10 +240,13 @@ class FixedAxis {
   }
 
   // The fields a lookup reads first, together; then the prepared axis for the rare paths.
-  R t0_ = R(0), scale_ = R(0), offset_ = R(0), lo_ = R(0), hi_ = R(1), top_ = R(0), span_ = R(2), snap_ = R(1e-9);
+  // What locate does before mapping: nothing (clamp), fold (even, reflect), or another path.
+  enum class Fold : unsigned char { none, even, reflect, periodic, single };
+  R t0_ = R(0), scale_ = R(0), offset_ = R(0), lo_ = R(0), hi_ = R(1), top_ = R(0), span_ = R(2), snap_ = R(1e-9), unsnapped_ = R(0.5);
   std::size_t stride_ = 1;
   std::ptrdiff_t step_ = 0;
   int n_ = 1;
+  Fold fold_ = Fold::single;
   Wrap wrap_ = Wrap::clamp;
   Spacing spacing_ = Spacing::uniform;
   bool cubic_ = false;
@@ -238,16 +270,88 @@ inline R fixed_product(const T* p, const FixedTaps<R>* tp) {
   }
 }
 
-// The multilinear interpolation of the cell at p: the last axis first, each as a + w (b − a).
-template <class T, class R, int N>
-HAIRLUT_SAMPLER_INLINE R lerp_cell(const T* p, const std::ptrdiff_t* step, const R* w) {
-  if constexpr (N == 1) {
+// The multilinear interpolation of the cell at p (corner p, step[d] to the second node of axis
+// d), each step a lerp a + w (b − a), in one fixed order: the 2^D values as pairs along the last
+// axis, the pairs combined over axes D − 3 … 0 (nested: T_A(q) = lerp_A(T_A+1(q), T_A+1(q + step
+// A))), then over axis D − 2, then the last pair. lerp_cell_scalar does it one value at a time;
+// lerp_cell below does the same operations on whole pairs in one register where it can (SSE2),
+// with the same result.
+template <class R>
+struct LerpPair {
+  R a, b;
+};
+template <class T, class R, int D, int A>
+HAIRLUT_SAMPLER_INLINE LerpPair<R> pair_tree(const T* q, const std::ptrdiff_t* step, const R* w) {
+  if constexpr (A == D - 2) {
+    return {static_cast<R>(q[0]), static_cast<R>(q[step[D - 1]])};
+  } else {
+    const LerpPair<R> u = pair_tree<T, R, D, A + 1>(q, step, w), v = pair_tree<T, R, D, A + 1>(q + step[A], step, w);
+    return {u.a + w[A] * (v.a - u.a), u.b + w[A] * (v.b - u.b)};
+  }
+}
+template <class T, class R, int D>
+HAIRLUT_SAMPLER_INLINE R lerp_cell_scalar(const T* p, const std::ptrdiff_t* step, const R* w) {
+  if constexpr (D == 1) {
     const R a = static_cast<R>(p[0]), b = static_cast<R>(p[step[0]]);
     return a + w[0] * (b - a);
   } else {
-    const R a = lerp_cell<T, R, N - 1>(p, step + 1, w + 1), b = lerp_cell<T, R, N - 1>(p + step[0], step + 1, w + 1);
-    return a + w[0] * (b - a);
+    const LerpPair<R> u = pair_tree<T, R, D, 0>(p, step, w), v = pair_tree<T, R, D, 0>(p + step[D - 2], step, w);
+    const R a = u.a + w[D - 2] * (v.a - u.a), b = u.b + w[D - 2] * (v.b - u.b);
+    return a + w[D - 1] * (b - a);
   }
+}
+
+#if HAIRLUT_SAMPLER_SSE2
+// pair_tree with the pair in one register, in double: the pair at q (its step 1).
+HAIRLUT_SAMPLER_INLINE __m128d load_pair(const float* q) {
+  return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(q))));
+}
+HAIRLUT_SAMPLER_INLINE __m128d load_pair(const double* q) { return _mm_loadu_pd(q); }
+template <class T, int D, int A>
+HAIRLUT_SAMPLER_INLINE __m128d pair_tree_pd(const T* q, const std::ptrdiff_t* step, const double* w) {
+  if constexpr (A == D - 2) {
+    return load_pair(q);
+  } else {
+    const __m128d u = pair_tree_pd<T, D, A + 1>(q, step, w), v = pair_tree_pd<T, D, A + 1>(q + step[A], step, w);
+    return _mm_add_pd(u, _mm_mul_pd(_mm_set1_pd(w[A]), _mm_sub_pd(v, u)));
+  }
+}
+// In float, two pairs per register: T_A(q) and T_A(q + step D − 2), so that the lerp over axis
+// D − 2 is between the register's halves.
+template <int D, int A>
+HAIRLUT_SAMPLER_INLINE __m128 pair_tree_ps(const float* q, const std::ptrdiff_t* step, const float* w) {
+  if constexpr (A == D - 2) {
+    const __m128 lo = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(q)));
+    return _mm_loadh_pi(lo, reinterpret_cast<const __m64*>(q + step[D - 2]));
+  } else {
+    const __m128 u = pair_tree_ps<D, A + 1>(q, step, w), v = pair_tree_ps<D, A + 1>(q + step[A], step, w);
+    return _mm_add_ps(u, _mm_mul_ps(_mm_set1_ps(w[A]), _mm_sub_ps(v, u)));
+  }
+}
+#endif
+
+// lerp_cell_scalar's value, by pairs in one register where the types allow and the last axis's
+// step is 1 (its second node next to the first, the usual case).
+template <class T, class R, int D>
+HAIRLUT_SAMPLER_INLINE R lerp_cell(const T* p, const std::ptrdiff_t* step, const R* w) {
+#if HAIRLUT_SAMPLER_SSE2
+  if constexpr (D >= 2 && std::is_same_v<R, double> && (std::is_same_v<T, float> || std::is_same_v<T, double>)) {
+    if (step[D - 1] == 1) {
+      const __m128d u = pair_tree_pd<T, D, 0>(p, step, w), v = pair_tree_pd<T, D, 0>(p + step[D - 2], step, w);
+      const __m128d r = _mm_add_pd(u, _mm_mul_pd(_mm_set1_pd(w[D - 2]), _mm_sub_pd(v, u)));
+      const double a = _mm_cvtsd_f64(r), b = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
+      return a + w[D - 1] * (b - a);
+    }
+  } else if constexpr (D >= 2 && std::is_same_v<R, float> && std::is_same_v<T, float>) {
+    if (step[D - 1] == 1) {
+      const __m128 u = pair_tree_ps<D, 0>(p, step, w);
+      const __m128 r = _mm_add_ps(u, _mm_mul_ps(_mm_set1_ps(w[D - 2]), _mm_sub_ps(_mm_movehl_ps(u, u), u)));
+      const float a = _mm_cvtss_f32(r), b = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 1));
+      return a + w[D - 1] * (b - a);
+    }
+  }
+#endif
+  return lerp_cell_scalar<T, R, D>(p, step, w);
 }
 
 // The product for a cubic mask (bit D − 1 − d set: axis d has 4 taps).
@@ -299,31 +403,18 @@ class FixedView {
   const T* data() const { return data_; }
 
   /// The interpolated value at x[0 … D−1]; NaN when a coordinate of an axis of 2 or more nodes is NaN.
-  R operator()(const R* x) const {
+  /// Inline: the common path (every axis linear over mapped nodes, no NaN) is a few dozen
+  /// instructions, the call would be a fair part of it; the other paths are one call away.
+  HAIRLUT_SAMPLER_INLINE R operator()(const R* x) const {
     if (linear_) {
-      // Every axis linear over mapped nodes: the cell's corner and steps, then 2^D values
-      // combined as nested lerps. One NaN test for all coordinates (a sum of infinities of
-      // both signs takes the general path, which tells them apart).
+      // The cell's corner and steps, then 2^D values combined as nested lerps. One NaN test for
+      // all coordinates (a sum of infinities of both signs takes the general path, which tells
+      // them apart).
       R sum = x[0];
       for (int d = 1; d < D; ++d) sum += x[d];
-      if (sum == sum) {
-        std::size_t off = 0;
-        std::ptrdiff_t step[D];
-        R w[D];
-        for (int d = 0; d < D; ++d) {
-          std::size_t o;
-          axes_[d].cell(x[d], o, step[d], w[d]);
-          off += o;
-        }
-        return detail::lerp_cell<T, R, D>(data_ + off, step, w);
-      }
+      if (sum == sum) return lerp_path(x, std::make_index_sequence<D>{});
     }
-    FixedTaps<R> tp[D];
-    for (int d = 0; d < D; ++d) {
-      if (!(x[d] == x[d]) && axes_[d].count() > 1) return x[d];
-      tp[d] = axes_[d].taps(x[d]);
-    }
-    return combine(tp);
+    return general(x);
   }
   /// The same with the taps already computed (FixedAxis::taps), e.g. shared by tables on one grid.
   R combine(FixedTaps<R>* tp) const {
@@ -342,6 +433,26 @@ class FixedView {
   }
 
  private:
+  // Any axes, or a NaN coordinate: the taps of every axis, then the kernel for their counts.
+  HAIRLUT_SAMPLER_NOINLINE R general(const R* x) const {
+    FixedTaps<R> tp[D];
+    for (int d = 0; d < D; ++d) {
+      if (!(x[d] == x[d]) && axes_[d].count() > 1) return x[d];
+      tp[d] = axes_[d].taps(x[d]);
+    }
+    return combine(tp);
+  }
+  // The nested-lerp path: every axis's cell (unrolled, so that each axis's branches are
+  // predicted on their own), then the 2^D values.
+  template <std::size_t... I>
+  HAIRLUT_SAMPLER_INLINE R lerp_path(const R* x, std::index_sequence<I...>) const {
+    std::size_t o[D];
+    std::ptrdiff_t step[D];
+    R w[D];
+    (axes_[I].cell(x[I], o[I], step[I], w[I]), ...);
+    return detail::lerp_cell<T, R, D>(data_ + (o[I] + ...), step, w);
+  }
+
   const T* data_ = nullptr;
   FixedAxis<R> axes_[D];
   int geometric_ = -1;
