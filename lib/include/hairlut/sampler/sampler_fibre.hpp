@@ -32,6 +32,77 @@ template <class R>
 R nonnegative(R v) {
   return v < R(0) ? R(0) : v;  // NaN stays NaN
 }
+// Four values of R in one or two SSE2 registers (float: one __m128; double: two __m128d), or an
+// array where SSE2 is not available: the same operations in the same order either way.
+template <class R, bool Simd = HAIRLUT_SAMPLER_SSE2 != 0>
+struct Vec4 {
+  R v[4];
+  static HAIRLUT_SAMPLER_INLINE Vec4 load(const R* p) { return {{p[0], p[1], p[2], p[3]}}; }
+  static HAIRLUT_SAMPLER_INLINE Vec4 all(R x) { return {{x, x, x, x}}; }
+  friend HAIRLUT_SAMPLER_INLINE Vec4 operator+(const Vec4& a, const Vec4& b) { return {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2], a.v[3] + b.v[3]}}; }
+  friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {{a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]}}; }
+  /// max(v, 0) per lane; NaN stays NaN.
+  HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const {
+    Vec4 r;
+    for (int k = 0; k < 4; ++k) r.v[k] = v[k] < R(0) ? R(0) : v[k];
+    return r;
+  }
+  HAIRLUT_SAMPLER_INLINE R lane0() const { return v[0]; }
+  /// (Σ a, Σ b, Σ c, 0), each sum as (x₀ + x₂) + (x₁ + x₃).
+  static HAIRLUT_SAMPLER_INLINE Vec4 sums(const Vec4& a, const Vec4& b, const Vec4& c) {
+    return {{(a.v[0] + a.v[2]) + (a.v[1] + a.v[3]), (b.v[0] + b.v[2]) + (b.v[1] + b.v[3]), (c.v[0] + c.v[2]) + (c.v[1] + c.v[3]), R(0)}};
+  }
+  HAIRLUT_SAMPLER_INLINE void store3(R* out) const { out[0] = v[0], out[1] = v[1], out[2] = v[2]; }
+};
+#if HAIRLUT_SAMPLER_SSE2
+template <>
+struct Vec4<float, true> {
+  __m128 v;
+  static HAIRLUT_SAMPLER_INLINE Vec4 load(const float* p) { return {_mm_loadu_ps(p)}; }
+  static HAIRLUT_SAMPLER_INLINE Vec4 all(float x) { return {_mm_set1_ps(x)}; }
+  friend HAIRLUT_SAMPLER_INLINE Vec4 operator+(const Vec4& a, const Vec4& b) { return {_mm_add_ps(a.v, b.v)}; }
+  friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {_mm_mul_ps(a.v, b.v)}; }
+  // maxps returns its second operand where either is NaN.
+  HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const { return {_mm_max_ps(_mm_setzero_ps(), v)}; }
+  HAIRLUT_SAMPLER_INLINE float lane0() const { return _mm_cvtss_f32(v); }
+  static HAIRLUT_SAMPLER_INLINE Vec4 sums(const Vec4& a, const Vec4& b, const Vec4& c) {
+    // The transpose of (a, b, c, 0): x_k = (a_k, b_k, c_k, 0).
+    const __m128 z = _mm_setzero_ps();
+    const __m128 ab01 = _mm_unpacklo_ps(a.v, b.v), ab23 = _mm_unpackhi_ps(a.v, b.v);
+    const __m128 c01 = _mm_unpacklo_ps(c.v, z), c23 = _mm_unpackhi_ps(c.v, z);
+    const __m128 x0 = _mm_movelh_ps(ab01, c01), x1 = _mm_movehl_ps(c01, ab01);
+    const __m128 x2 = _mm_movelh_ps(ab23, c23), x3 = _mm_movehl_ps(c23, ab23);
+    return {_mm_add_ps(_mm_add_ps(x0, x2), _mm_add_ps(x1, x3))};
+  }
+  HAIRLUT_SAMPLER_INLINE void store3(float* out) const {
+    alignas(16) float t[4];
+    _mm_store_ps(t, v);
+    out[0] = t[0], out[1] = t[1], out[2] = t[2];
+  }
+};
+template <>
+struct Vec4<double, true> {
+  __m128d lo, hi;
+  static HAIRLUT_SAMPLER_INLINE Vec4 load(const double* p) { return {_mm_loadu_pd(p), _mm_loadu_pd(p + 2)}; }
+  static HAIRLUT_SAMPLER_INLINE Vec4 all(double x) { return {_mm_set1_pd(x), _mm_set1_pd(x)}; }
+  friend HAIRLUT_SAMPLER_INLINE Vec4 operator+(const Vec4& a, const Vec4& b) { return {_mm_add_pd(a.lo, b.lo), _mm_add_pd(a.hi, b.hi)}; }
+  friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {_mm_mul_pd(a.lo, b.lo), _mm_mul_pd(a.hi, b.hi)}; }
+  HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const { return {_mm_max_pd(_mm_setzero_pd(), lo), _mm_max_pd(_mm_setzero_pd(), hi)}; }
+  HAIRLUT_SAMPLER_INLINE double lane0() const { return _mm_cvtsd_f64(lo); }
+  static HAIRLUT_SAMPLER_INLINE Vec4 sums(const Vec4& a, const Vec4& b, const Vec4& c) {
+    // (x₀ + x₂, x₁ + x₃) per input, then the two halves.
+    const __m128d sa = _mm_add_pd(a.lo, a.hi), sb = _mm_add_pd(b.lo, b.hi), sc = _mm_add_pd(c.lo, c.hi);
+    const __m128d ab = _mm_add_pd(_mm_unpacklo_pd(sa, sb), _mm_unpackhi_pd(sa, sb));
+    const __m128d cz = _mm_add_pd(_mm_unpacklo_pd(sc, _mm_setzero_pd()), _mm_unpackhi_pd(sc, _mm_setzero_pd()));
+    return {ab, cz};
+  }
+  HAIRLUT_SAMPLER_INLINE void store3(double* out) const {
+    _mm_storeu_pd(out, lo);
+    out[2] = _mm_cvtsd_f64(hi);
+  }
+};
+#endif
+
 template <class R>
 R fold_phi(R phi, const Axis& a) {
   if (a.wrap == Wrap::periodic) return phi;
@@ -213,7 +284,10 @@ struct Fibre {
 /// tables' (θd, φ) nodes, E_p and the residual per channel over the energy tables' θd nodes, M_p
 /// over the (θi, θr) nodes. A lookup then interpolates these slices with the tables' own
 /// interpolation on the remaining axes (2 or 4 taps each); the slices of all lobes and channels
-/// are interleaved per node, so that one pass over the taps gives every lobe and channel.
+/// are interleaved per node, so that one pass over the taps gives every lobe and channel: per
+/// node, channel-major blocks of the lobes padded to a multiple of 4 (N_p, E_p: [channel][lobe],
+/// then the residual's 3 channels; M_p: [lobe], then the residual's), so that each register of
+/// four holds one channel of four lobes and S per channel is a sum over lanes.
 /// Exactness: for axes interpolated linearly or cubically the tensor product does not depend on
 /// the order of the axes, so the N_p and M_p slices give the tables' values (TableView's up to
 /// rounding). Where a bound axis is geometric (σa of the default energy tables), the slice holds
@@ -222,8 +296,8 @@ struct Fibre {
 /// order in the θd step (the tests bound it against the typed views). The N_p slices use the
 /// first lobe's θd and φ nodes, the energy rows the first lobe's energy θd nodes, the M_p slices
 /// the first lobe's (θi, θr) nodes: exact when every lobe shares them (as baked tables do).
-/// Memory: (3 lobes · N_p θd × φ nodes + 3 (lobes + 1) energy θd nodes + (lobes + 1) θi × θr
-/// nodes) values of type R. Immutable after construction: one instance may serve many threads.
+/// Memory, with P' = lobes rounded up to a multiple of 4: (3 P' · N_p θd × φ nodes + (3 P' + 4)
+/// energy θd nodes + (P' + 4) θi × θr nodes) values of type R (without a residual, no + 4). Immutable after construction: one instance may serve many threads.
 template <class T, class R = double>
 class FibreScattering {
  public:
@@ -237,9 +311,10 @@ class FibreScattering {
       return;
     }
     eval_ = pick<1>(lobes_, residual_);
-    // Blocks padded to multiples of 4 values (whole SIMD registers; the padding holds zeros).
-    const auto bn = static_cast<std::size_t>(pad(3 * lobes_)), be = static_cast<std::size_t>(pad(3 * L_)), bm = static_cast<std::size_t>(pad(L_));
-    // N_p: [θd node][φ node][lobe][channel].
+    // Blocks per node (see the class comment); the padding holds zeros.
+    const int lp = pad(lobes_), h = residual_ ? 4 : 0;
+    const auto bn = static_cast<std::size_t>(3 * lp), be = static_cast<std::size_t>(3 * lp + h), bm = static_cast<std::size_t>(lp + h);
+    // N_p: [θd node][φ node][channel][lobe].
     const NpLobe<T, R>* np = t.np_at(static_cast<R>(f.beta_n));  // the β band of the fibre
     const auto& n0 = np[0].table();
     np_axes_[0] = n0.axis(2).axis(), np_axes_[1] = n0.axis(3).axis();
@@ -253,9 +328,10 @@ class FibreScattering {
           for (int c = 0; c < 3; ++c) {
             const R x[4] = {static_cast<R>(f.beta_n), static_cast<R>(f.sigma_a[c]), static_cast<R>(node(np_axes_[0], k)),
                             static_cast<R>(node(np_axes_[1], j))};
-            np_[static_cast<std::size_t>(k * nf + j) * bn + static_cast<std::size_t>(3 * p + c)] = np[p].table()(x);
+            np_[static_cast<std::size_t>(k * nf + j) * bn + static_cast<std::size_t>(c * lp + p)] = np[p].table()(x);
           }
-    // Energies and the residual: [θd node][lobe][channel] (1 for a lobe that stores N_p itself).
+    // Energies: [θd node][channel][lobe], then the residual [channel] (1 for a lobe that stores
+    // N_p itself).
     has_energy_ = np[0].has_energy();
     e_axis_ = has_energy_ ? np[0].energy().axis(1).axis() : np_axes_[0];
     const int ne = e_axis_.count;
@@ -265,11 +341,11 @@ class FibreScattering {
       const R th = static_cast<R>(node(e_axis_, k));
       for (int c = 0; c < 3; ++c) {
         const R sa = static_cast<R>(f.sigma_a[c]);
-        for (int p = 0; p < lobes_; ++p) e_[static_cast<std::size_t>(k) * be + static_cast<std::size_t>(3 * p + c)] = np[p].energy(sa, th);
-        if (residual_) e_[static_cast<std::size_t>(k) * be + static_cast<std::size_t>(3 * lobes_ + c)] = t.np_residual(sa, th);
+        for (int p = 0; p < lobes_; ++p) e_[static_cast<std::size_t>(k) * be + static_cast<std::size_t>(c * lp + p)] = np[p].energy(sa, th);
+        if (residual_) e_[static_cast<std::size_t>(k) * be + static_cast<std::size_t>(3 * lp + c)] = t.np_residual(sa, th);
       }
     }
-    // M_p: [θi node][θr node][lobe].
+    // M_p: [θi node][θr node][lobe], then the residual.
     const auto& m0 = t.mp[0].table();
     mp_axes_[0] = m0.axis(1).axis(), mp_axes_[1] = m0.axis(2).axis();
     const int ni = mp_axes_[0].count, nr = mp_axes_[1].count;
@@ -280,7 +356,7 @@ class FibreScattering {
       for (int b = 0; b < nr; ++b)
         for (int p = 0; p < L_; ++p) {
           const R x[3] = {static_cast<R>(f.beta_m), static_cast<R>(node(mp_axes_[0], a)), static_cast<R>(node(mp_axes_[1], b))};
-          mp_[static_cast<std::size_t>(a * nr + b) * bm + static_cast<std::size_t>(p)] = (p < lobes_ ? t.mp[p] : t.mp_residual).table()(x);
+          mp_[static_cast<std::size_t>(a * nr + b) * bm + static_cast<std::size_t>(p < lobes_ ? p : lp)] = (p < lobes_ ? t.mp[p] : t.mp_residual).table()(x);
         }
   }
 
@@ -290,8 +366,8 @@ class FibreScattering {
       rgb[0] = rgb[1] = rgb[2] = theta_i + theta_r + phi;
       return;
     }
-    rgb[0] = rgb[1] = rgb[2] = R(0);
     if (eval_) (this->*eval_)(theta_i, theta_r, phi, rgb);
+    else rgb[0] = rgb[1] = rgb[2] = R(0);
   }
 
   /// S per channel for unit vectors wi, wo in the fibre frame (fibre_angles).
@@ -310,26 +386,28 @@ class FibreScattering {
   using Eval = void (FibreScattering::*)(R, R, R, R*) const;
 
   // The lookup for P explicit lobes and H residual lobes (0 or 1): block sizes known at compile
-  // time, so that the loops over lobes and channels unroll and vectorize.
+  // time, so that the loops over lobes and channels unroll into whole registers (detail::Vec4).
   template <int P, int H>
   void eval(R theta_i, R theta_r, R phi, R* rgb) const {
-    constexpr int M = pad(P + H), N = pad(3 * P), E = pad(3 * (P + H));
+    using V = detail::Vec4<R>;
+    constexpr int G = pad(P) / 4, M = G + H, N = 3 * G, E = 3 * G + H;  // registers per node
     const R theta_d = std::fabs(R(0.5) * (theta_r - theta_i));
     const FixedTaps<R> tt = taps4(np_theta_, theta_d), tf = taps4(np_phi_, detail::fold_phi(phi, np_axes_[1]));
     const FixedTaps<R> te = taps4(e_theta_, theta_d);
     const FixedTaps<R> ti = taps4(mp_theta_i_, theta_i), tr = taps4(mp_theta_r_, theta_r);
-    R m[M], n[N], e[E];
+    V m[M], n[N], e[E];
     accumulate2<M>(mp_.data(), ti, tr, m);
     accumulate2<N>(np_.data(), tt, tf, n);
     accumulate1<E>(e_.data(), te, e);
-    for (int p = 0; p < P; ++p) {
-      const R mp = detail::nonnegative(m[p]);
-      for (int c = 0; c < 3; ++c) rgb[c] += mp * detail::nonnegative(n[3 * p + c]) * detail::nonnegative(e[3 * p + c]);
+    // Per channel c and lane (lobe): M_p N_p E_p, summed over the lobes' registers, then over lanes.
+    V sum[3];
+    for (int c = 0; c < 3; ++c) {
+      sum[c] = m[0].nonnegative() * n[c * G].nonnegative() * e[c * G].nonnegative();
+      for (int g = 1; g < G; ++g) sum[c] = sum[c] + m[g].nonnegative() * n[c * G + g].nonnegative() * e[c * G + g].nonnegative();
     }
-    if (H) {
-      const R mp = detail::nonnegative(m[P]);
-      for (int c = 0; c < 3; ++c) rgb[c] += mp * detail::nonnegative(e[3 * P + c]);
-    }
+    V s = V::sums(sum[0], sum[1], sum[2]);
+    if (H) s = s + V::all(detail::nonnegative(m[G].lane0())) * e[3 * G].nonnegative();
+    s.store3(rgb);
   }
   template <int P>
   Eval pick(int lobes, bool residual) const {
@@ -345,29 +423,29 @@ class FibreScattering {
     if (!a.cubic()) t.off[2] = t.off[3] = t.off[1], t.w[2] = t.w[3] = R(0);
     return t;
   }
-  // out[0 … B) = Σ_i a.w[i] Σ_j b.w[j] p[a.off[i] + b.off[j] + k].
-  // out[0 … B) = Σ_i a.w[i] Σ_j b.w[j] p[a.off[i] + b.off[j] + k], the four terms of each sum
-  // added pairwise (a shorter dependency chain than a running sum).
+  // out[k] = Σ_i a.w[i] Σ_j b.w[j] p[a.off[i] + b.off[j] + 4k …], registers k < B, the four terms
+  // of each sum added pairwise (a shorter dependency chain than a running sum).
   template <int B>
-  static HAIRLUT_SAMPLER_INLINE void accumulate2(const R* p, const FixedTaps<R>& a, const FixedTaps<R>& b, R* out) {
-    R row[4][B];
-    for (int i = 0; i < 4; ++i) {
-      const R* q = p + a.off[i];
-      const R* v0 = q + b.off[0];
-      const R* v1 = q + b.off[1];
-      const R* v2 = q + b.off[2];
-      const R* v3 = q + b.off[3];
-      for (int k = 0; k < B; ++k) row[i][k] = a.w[i] * ((b.w[0] * v0[k] + b.w[1] * v1[k]) + (b.w[2] * v2[k] + b.w[3] * v3[k]));
-    }
-    for (int k = 0; k < B; ++k) out[k] = (row[0][k] + row[1][k]) + (row[2][k] + row[3][k]);
+  static HAIRLUT_SAMPLER_INLINE void accumulate2(const R* p, const FixedTaps<R>& a, const FixedTaps<R>& b, detail::Vec4<R>* out) {
+    using V = detail::Vec4<R>;
+    const V b0 = V::all(b.w[0]), b1 = V::all(b.w[1]), b2 = V::all(b.w[2]), b3 = V::all(b.w[3]);
+    // Row i of the taps of a: a.w[i] Σ_j b.w[j] v_ij; rows 0 + 1 and 2 + 3 first.
+    auto row = [&](int i, int k) {
+      const R* q = p + a.off[i] + 4 * k;
+      return V::all(a.w[i]) * ((b0 * V::load(q + b.off[0]) + b1 * V::load(q + b.off[1])) + (b2 * V::load(q + b.off[2]) + b3 * V::load(q + b.off[3])));
+    };
+    for (int k = 0; k < B; ++k) out[k] = row(0, k) + row(1, k);
+    for (int k = 0; k < B; ++k) out[k] = out[k] + (row(2, k) + row(3, k));
   }
   template <int B>
-  static HAIRLUT_SAMPLER_INLINE void accumulate1(const R* p, const FixedTaps<R>& a, R* out) {
+  static HAIRLUT_SAMPLER_INLINE void accumulate1(const R* p, const FixedTaps<R>& a, detail::Vec4<R>* out) {
+    using V = detail::Vec4<R>;
+    const V a0 = V::all(a.w[0]), a1 = V::all(a.w[1]), a2 = V::all(a.w[2]), a3 = V::all(a.w[3]);
     const R* q0 = p + a.off[0];
     const R* q1 = p + a.off[1];
     const R* q2 = p + a.off[2];
     const R* q3 = p + a.off[3];
-    for (int k = 0; k < B; ++k) out[k] = (a.w[0] * q0[k] + a.w[1] * q1[k]) + (a.w[2] * q2[k] + a.w[3] * q3[k]);
+    for (int k = 0; k < B; ++k) out[k] = (a0 * V::load(q0 + 4 * k) + a1 * V::load(q1 + 4 * k)) + (a2 * V::load(q2 + 4 * k) + a3 * V::load(q3 + 4 * k));
   }
 
   Eval eval_ = nullptr;
