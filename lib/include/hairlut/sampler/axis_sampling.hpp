@@ -25,6 +25,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "hairlut/sampler/cell_bernstein.hpp"
 #include "hairlut/sampler/sampler.hpp"
 
 namespace hairlut {
@@ -59,24 +60,6 @@ inline const double* gl8_weights() {
   static const double w[8] = {0.05061426814518813, 0.11119051722668724, 0.15685332293894363, 0.18134189168918100,
                               0.18134189168918100, 0.15685332293894363, 0.11119051722668724, 0.05061426814518813};
   return w;
-}
-// min over t ∈ [0, 1] of the cubic ≥ 0: at the ends and at the critical points inside.
-inline bool nonnegative_on_cell(const double* c) {
-  if (!(c[0] >= 0.0) || !(poly(c, 1.0) >= 0.0)) return false;
-  const double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1];
-  if (A != 0.0) {
-    const double disc = B * B - 4.0 * A * C;
-    if (disc > 0.0) {
-      const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
-      const double r0 = q / A, r1 = q != 0.0 ? C / q : 0.0;
-      if (r0 > 0.0 && r0 < 1.0 && !(poly(c, r0) >= 0.0)) return false;
-      if (r1 > 0.0 && r1 < 1.0 && !(poly(c, r1) >= 0.0)) return false;
-    }
-  } else if (B != 0.0) {
-    const double r = -C / B;
-    if (r > 0.0 && r < 1.0 && !(poly(c, r) >= 0.0)) return false;
-  }
-  return true;
 }
 // The intervals of [0, 1] where the cubic is positive (at most 3 roots, so at most 4 pieces).
 inline int positive_intervals(const double* c, double* lo, double* hi) {
@@ -150,13 +133,26 @@ inline int positive_intervals(const double* c, double* lo, double* hi) {
 }
 }  // namespace detail
 
+/// The sampling data of a table along its last axis (AxisSampler::build_data's layout; the
+/// baked files store them, docs/table-format.md "Sampling data"): per node slice its n prefix
+/// masses and its mass, per cell of the other axes the certificate (1: the interpolant is ≥ 0
+/// there). Pointers into the caller's arrays, which must outlive the sampler.
+struct AxisData {
+  const double* cdf = nullptr;
+  const double* mass = nullptr;
+  const float* certified = nullptr;
+};
+
 /// Sampling along the last axis of a table (φ of N_p, θr of M_p). Prepared once per table
 /// (const afterwards, shareable between threads); per lookup, blend() fills an AxisRow.
 template <class T>
 class AxisSampler {
  public:
   AxisSampler() = default;
-  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure) : data_(data), dims_(dims), measure_(measure) {
+  /// With `stored` (all three arrays, as build_data() lays them out, e.g. read from a table file)
+  /// the sampler points into them; without, it computes them (one pass over the table).
+  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, const AxisData& stored = AxisData())
+      : data_(data), dims_(dims), measure_(measure) {
     if (!data || dims < 1 || dims > 8) return;
     std::size_t s = 1;
     for (int d = dims - 1; d >= 0; --d) {
@@ -192,7 +188,13 @@ class AxisSampler {
           for (int j = 0; j < 4; ++j) moments_[static_cast<std::size_t>(k) * 4 + j] += w * std::pow(t, j);
         }
     }
-    prepare_mixture();
+    slices_ = stride_[0] * static_cast<std::size_t>(axes[0].count) / static_cast<std::size_t>(n_);
+    if (stored.cdf && stored.mass && stored.certified) {
+      stored_ = stored;
+    } else {
+      build_data(cdf_, mass_, certified_);
+    }
+    mixture_ = true;
   }
 
   bool supported() const { return supported_; }
@@ -247,43 +249,45 @@ class AxisSampler {
   /// density / total: the probability density of sample() (0 where total is 0).
   double pdf(const AxisRow& row, double x) const { return row.total > 0.0 ? density(row, x) / row.total : 0.0; }
 
-  /// The mixture fast path at one lookup (see the top of this file): the node slices the other
-  /// axes' taps touch, their weights (all > 0) and Σ w_c E_c.
+  /// The certified mixture path at one lookup (see the top of this file): the node slices the
+  /// other axes' taps touch and their weights (of either sign), and Σ w_c E_c.
   struct Mix {
-    static constexpr int max_corners = 16;
+    static constexpr int max_corners = 64;
     int count = 0;
-    int slice[max_corners] = {};
+    std::size_t slice[max_corners] = {};
     double w[max_corners] = {};
     double total = 0.0;
   };
-  /// True when the fast path is exact at the other coordinates x[0 … dims − 2]: every weight ≥ 0
-  /// and every touched slice ≥ 0 along the sampled axis. False otherwise (then use blend()).
+  /// True when the lookup at the other coordinates x[0 … dims − 2] falls in a certified cell (the
+  /// interpolant ≥ 0 there along the whole sampled axis), so the density is Σ w_c s_c exactly.
+  /// False otherwise (then use blend()).
   bool mix(const double* x, Mix& m) const {
     m.count = 0;
     m.total = 0.0;
     if (!mixture_) return false;
     Taps tp[8];
+    std::size_t cell = 0;
     for (int d = 0; d + 1 < dims_; ++d) {
       if (!(x[d] == x[d]) && axes_[d].axis.count > 1) return false;
       tp[d] = taps(axes_[d], x[d]);
-      if (tp[d].n > 2) return false;
+      cell += static_cast<std::size_t>(cell_of(axes_[d], x[d])) * (stride_[d] / static_cast<std::size_t>(n_));
     }
-    const bool exact = each_corner(tp, [&](double w, std::size_t offset) {
-      if (w < 0.0) return false;
-      if (w > 0.0) {
-        const std::size_t s = offset / static_cast<std::size_t>(n_);
-        if (!positive_[s] || m.count == Mix::max_corners) return false;
-        m.slice[m.count] = static_cast<int>(s);
-        m.w[m.count] = w;
-        ++m.count;
-        m.total += w * mass_[s];
-      }
+    if (!(certified()[cell] > 0.0f)) return false;
+    const double* mass = masses();
+    const bool fits = each_corner(tp, [&](double w, std::size_t offset) {
+      if (w == 0.0) return true;
+      if (m.count == Mix::max_corners) return false;
+      const std::size_t s = offset / static_cast<std::size_t>(n_);
+      m.slice[m.count] = s;
+      m.w[m.count] = w;
+      ++m.count;
+      m.total += w * mass[s];
       return true;
     });
-    return exact && m.count > 0;
+    return fits && m.count > 0;
   }
   /// The interpolated value at x along the sampled axis (without the measure's cos x; 0 outside
-  /// a clamped axis): Σ w_c s_c(x), each s_c ≥ 0, so no clamp applies.
+  /// a clamped axis): Σ w_c s_c(x), ≥ 0 in a certified cell up to rounding (clamped at 0).
   double mix_value(const Mix& m, double x) const {
     if (!(x == x)) return 0.0;
     const Axis& a = axes_[dims_ - 1].axis;
@@ -292,14 +296,14 @@ class AxisSampler {
     double sum = 0.0;
     for (int j = 0; j < m.count; ++j) {
       double c[4];
-      cell_coef(data_ + static_cast<std::size_t>(m.slice[j]) * static_cast<std::size_t>(n_), l.i0, c);
+      cell_coef(data_ + m.slice[j] * static_cast<std::size_t>(n_), l.i0, c);
       sum += m.w[j] * detail::poly(c, l.w);
     }
     return std::max(0.0, sum);
   }
-  /// Draws x from the mixture with one u ∈ [0, 1): the slice c with probability w_c E_c / Σ w E,
-  /// then the inverse of that slice's CDF (its prefix sums, then Newton within the cell); NaN
-  /// when the mixture has no mass.
+  /// Draws x from the certified mixture with one u ∈ [0, 1): the cell whose blended cumulative
+  /// Σ w_c F_c brackets u (binary search over the stored prefix masses), then Newton on that
+  /// cell's blended polynomial; NaN when the mixture has no mass. x increases with u.
   double sample_mix(const Mix& m, double u) const {
     if (!(m.total > 0.0)) return std::nan("");
     double sign = 1.0;
@@ -308,34 +312,121 @@ class AxisSampler {
       else u = 2.0 * u - 1.0;
     }
     u = std::min(std::max(u, 0.0), 1.0);
-    // The slice: the last one whose share is positive where u falls beyond the others.
-    const double target = u * m.total;
-    double acc = 0.0, before = 0.0;
-    int j = -1;
-    for (int k = 0; k < m.count; ++k) {
-      const double share = m.w[k] * mass_[static_cast<std::size_t>(m.slice[k])];
-      if (!(share > 0.0)) continue;
-      j = k;
-      before = acc;
-      acc += share;
-      if (target < acc) break;
+    const double* cdf = cdfs();
+    const std::size_t n = static_cast<std::size_t>(n_);
+    auto F = [&](int k) {
+      double s = 0.0;
+      for (int j = 0; j < m.count; ++j) s += m.w[j] * cdf[m.slice[j] * n + static_cast<std::size_t>(k)];
+      return s;
+    };
+    // The cell k with F(k) ≤ target < F(k + 1); F is non-decreasing in a certified cell.
+    const double top = F(n_ - 1), target = u * top;
+    int lo = 0, hi = n_ - 1;
+    double f_lo = 0.0, f_hi = top;
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      const double f = F(mid);
+      if (f <= target) lo = mid, f_lo = f;
+      else hi = mid, f_hi = f;
     }
-    acc = before;
-    if (j < 0) return std::nan("");
-    const std::size_t s = static_cast<std::size_t>(m.slice[j]);
-    const double share = m.w[j] * mass_[s];
-    const double* cum = &cum_[s * static_cast<std::size_t>(n_)];
-    const double v = std::min(std::max((target - acc) / share, 0.0), 1.0) * cum[n_ - 1];
-    int k = static_cast<int>(std::upper_bound(cum, cum + n_, v) - cum) - 1;
-    k = std::max(0, std::min(n_ - 2, k));
-    while (k > 0 && !(cum[k + 1] > cum[k])) --k;
-    double c[4];
-    cell_coef(data_ + s * static_cast<std::size_t>(n_), k, c);
-    const double mass = cum[k + 1] - cum[k];
-    return sign * x_of(k, invert_cell(k, c, std::min(std::max(v - cum[k], 0.0), mass), mass));
+    double c[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int j = 0; j < m.count; ++j) {
+      double cj[4];
+      cell_coef(data_ + m.slice[j] * n, lo, cj);
+      for (int i = 0; i < 4; ++i) c[i] += m.w[j] * cj[i];
+    }
+    const double mass = std::max(0.0, f_hi - f_lo);
+    return sign * x_of(lo, invert_cell(lo, c, std::min(std::max(target - f_lo, 0.0), mass), mass));
   }
-  /// Whether mix() can ever apply: the other axes are linear, the sampled axis is supported.
+  /// Whether mix() can ever apply (the sampled axis is supported and the sampling data are there).
   bool has_mixture() const { return mixture_; }
+
+  /// The node slices along the sampled axis (the product of the other axes' counts) and the cells
+  /// of the other axes (the certificates' index space: one entry per node of the other axes, the
+  /// cell that starts there; entries past an axis's last cell are 0).
+  std::size_t slices() const { return slices_; }
+  /// Computes the sampling data of the table (docs/table-format.md, "Sampling data"): per slice
+  /// the prefix masses of its own interpolant along the sampled axis at the n nodes (unclamped;
+  /// over [0, π] for an even axis; with the cos x weight for Measure::cosine) and its mass over the
+  /// whole domain; per cell of the other axes 1 where the tensor Bernstein coefficients of the
+  /// interpolant over that cell and every cell of the sampled axis are all ≥ 0, else 0.
+  void build_data(std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& certified) const {
+    cdf.assign(slices_ * static_cast<std::size_t>(n_), 0.0);
+    mass.assign(slices_, 0.0);
+    certified.assign(slices_, 0.0f);
+    if (!supported_) return;
+    const std::size_t n = static_cast<std::size_t>(n_), cells = n - 1;
+    std::vector<double> bern(slices_ * cells * 4);  // each slice's cells in Bernstein form
+    for (std::size_t s = 0; s < slices_; ++s) {
+      const T* v = data_ + s * n;
+      double* cum = &cdf[s * n];
+      for (int k = 0; k + 1 < n_; ++k) {
+        double c[4];
+        cell_coef(v, k, c);
+        bernstein_of_cubic(c, &bern[(s * cells + static_cast<std::size_t>(k)) * 4]);
+        const double cell = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
+        cum[k + 1] = cum[k] + cell;
+      }
+      mass[s] = cum[n - 1] * (even_ ? 2.0 : 1.0);
+    }
+    // Every cell of the other axes (multi-index over their cells), in slice order of its first node.
+    const int od = dims_ - 1;
+    std::vector<std::vector<CellBasis>> basis(static_cast<std::size_t>(od));
+    for (int d = 0; d < od; ++d)
+      for (int c = 0; c < axis_cells(axes_[d].axis); ++c) basis[static_cast<std::size_t>(d)].push_back(cell_basis(axes_[d], c));
+    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    std::vector<double> a, b;
+    for (;;) {
+      int shape[9];
+      std::size_t gathered = 4, first = 0;
+      for (int d = 0; d < od; ++d) {
+        const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
+        shape[d] = cb.nodes;
+        gathered *= static_cast<std::size_t>(cb.nodes);
+        first += static_cast<std::size_t>(idx[d]) * (stride_[d] / n);
+      }
+      shape[od] = 4;
+      bool ok = true;
+      for (std::size_t k = 0; k < cells && ok; ++k) {
+        // Gather the Bernstein rows of the slices the cell's bases combine, then apply the bases.
+        a.assign(gathered, 0.0);
+        int j[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+        for (std::size_t g = 0; g < gathered / 4; ++g) {
+          std::size_t s = 0;
+          for (int d = 0; d < od; ++d)
+            s += static_cast<std::size_t>(basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])].node[j[d]]) * (stride_[d] / n);
+          for (int q = 0; q < 4; ++q) a[g * 4 + static_cast<std::size_t>(q)] = bern[(s * cells + k) * 4 + static_cast<std::size_t>(q)];
+          for (int d = od - 1; d >= 0; --d) {
+            if (++j[d] < shape[d]) break;
+            j[d] = 0;
+          }
+        }
+        int sh[9];
+        for (int d = 0; d <= od; ++d) sh[d] = shape[d];
+        for (int d = 0; d < od; ++d) {
+          const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
+          std::size_t size = 1;
+          for (int e = 0; e <= od; ++e) size *= static_cast<std::size_t>(e == d ? cb.terms : sh[e]);
+          b.assign(size, 0.0);
+          apply_along(a.data(), b.data(), sh, od + 1, d, cb);
+          sh[d] = cb.terms;
+          a.swap(b);
+        }
+        for (double v : a)
+          if (!(v >= 0.0)) {
+            ok = false;
+            break;
+          }
+      }
+      certified[first] = ok ? 1.0f : 0.0f;
+      int d = od - 1;
+      for (; d >= 0; --d) {
+        if (++idx[d] < axis_cells(axes_[d].axis)) break;
+        idx[d] = 0;
+      }
+      if (d < 0) break;
+    }
+  }
 
   /// Draws x in proportion to the density from u ∈ [0, 1); returns NaN when the row has no mass.
   double sample(const AxisRow& row, double u) const {
@@ -451,32 +542,14 @@ class AxisSampler {
     }
     return std::max(0.0, sum) * h_;
   }
-  // The mixture fast path's data, once per table: for each node slice along the sampled axis, ≥ 0
-  // throughout (its cells' minima, at the ends and critical points), its cells' prefix masses
-  // (n per slice, exact: closed form, or the cosine moments) and its mass E (both halves of an
-  // even axis). Only where every other axis is linear: a cubic one has negative weights.
-  void prepare_mixture() {
-    for (int d = 0; d + 1 < dims_; ++d)
-      if (axes_[d].axis.count > 2 && axes_[d].axis.interpolation != Interpolation::linear) return;
-    const std::size_t slices = dims_ > 1 ? stride_[0] * static_cast<std::size_t>(axes_[0].axis.count) / static_cast<std::size_t>(n_) : 1;
-    cum_.assign(slices * static_cast<std::size_t>(n_), 0.0);
-    mass_.assign(slices, 0.0);
-    positive_.assign(slices, 0);
-    for (std::size_t s = 0; s < slices; ++s) {
-      const T* v = data_ + s * static_cast<std::size_t>(n_);
-      double* cum = &cum_[s * static_cast<std::size_t>(n_)];
-      bool positive = true;
-      for (int k = 0; k + 1 < n_; ++k) {
-        double c[4];
-        cell_coef(v, k, c);
-        if (!detail::nonnegative_on_cell(c)) positive = false;
-        cum[k + 1] = cum[k] + (positive ? whole_cell_mass(k, c) : 0.0);
-      }
-      positive_[s] = positive ? 1 : 0;
-      mass_[s] = positive ? cum[n_ - 1] * (even_ ? 2.0 : 1.0) : 0.0;
-    }
-    mixture_ = true;
+  // ∫ over the whole cell k of p(t) cos x, unclamped (the cosine moments), in units of x.
+  double unclamped_cosine_mass(int k, const double* c) const {
+    const double* mo = &moments_[static_cast<std::size_t>(k) * 4];
+    return (c[0] * mo[0] + c[1] * mo[1] + c[2] * mo[2] + c[3] * mo[3]) * h_;
   }
+  const double* cdfs() const { return stored_.cdf ? stored_.cdf : cdf_.data(); }
+  const double* masses() const { return stored_.mass ? stored_.mass : mass_.data(); }
+  const float* certified() const { return stored_.certified ? stored_.certified : certified_.data(); }
   // The t ∈ [0, 1] of cell k (polynomial c, ≥ 0 on the cell, mass `mass`) where the mass from 0
   // reaches m: Newton's method kept in its bracket, to rounding. The cosine measure's integral
   // is that of c times the degree-11 Taylor polynomial of cos about the cell's start (remainder
@@ -542,8 +615,10 @@ class AxisSampler {
   std::vector<int> outer_;
   std::vector<double> moments_;
   bool mixture_ = false;
-  std::vector<double> cum_, mass_;
-  std::vector<unsigned char> positive_;
+  std::size_t slices_ = 0;
+  AxisData stored_;                  // the caller's sampling data, when given
+  std::vector<double> cdf_, mass_;   // else computed here
+  std::vector<float> certified_;
 };
 
 }  // namespace sampler

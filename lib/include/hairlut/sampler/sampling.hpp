@@ -85,6 +85,8 @@ struct LobeTables {
   TableRef<T> factor;  ///< the table np is multiplied by (np/energy_<lobe> of a shape table); optional
   TableRef<T> energy;  ///< the lobe's energy for lobe selection (may equal factor); optional
   TableRef<T> mp;      ///< M_p; last axis θr
+  AxisData np_data;    ///< np's stored sampling data along φ (optional: computed when absent)
+  AxisData mp_data;    ///< mp's stored sampling data along θr (optional)
 };
 
 /// The non-angular coordinates of a fibre: the table axes beta, sigma_a and channel read these.
@@ -128,10 +130,10 @@ class HairSampler {
       q.has_phi = l.np.coords[l.np.dims - 1] == Coordinate::phi;
       for (int d = 0; d + 1 < l.np.dims; ++d)
         if (l.np.coords[d] == Coordinate::phi) supported_ = false;
-      q.mp_axis = AxisSampler<T>(l.mp.data, l.mp.axes, l.mp.dims, Measure::cosine);
+      q.mp_axis = AxisSampler<T>(l.mp.data, l.mp.axes, l.mp.dims, Measure::cosine, l.mp_data);
       if (!q.mp_axis.supported()) supported_ = false;
       if (q.has_phi) {
-        q.np_axis = AxisSampler<T>(l.np.data, l.np.axes, l.np.dims, Measure::plain);
+        q.np_axis = AxisSampler<T>(l.np.data, l.np.axes, l.np.dims, Measure::plain, l.np_data);
         if (!q.np_axis.supported()) supported_ = false;
       }
     }
