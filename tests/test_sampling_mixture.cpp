@@ -103,12 +103,14 @@ namespace {
 // reconstruction on which the sampler's mixture fast path applies at every lookup.
 HairTables linear_tables(const TableSet& set, bool cubic_sampled_axis) {
   HairTables h = hair_tables(set, "");
-  for (sampler::LobeTables<float>& l : h.lobes)
+  for (sampler::LobeTables<float>& l : h.lobes) {
+    l.np_data = l.mp_data = sampler::AxisData();  // the stored data are those of the tables as baked
     for (sampler::TableRef<float>* t : {&l.np, &l.mp})
       for (int d = 0; d < t->dims; ++d) {
         sampler::Axis& a = const_cast<sampler::Axis&>(t->axes[d]);
         if (a.interpolation == sampler::Interpolation::cubic && !(cubic_sampled_axis && d + 1 == t->dims)) a.interpolation = sampler::Interpolation::linear;
       }
+  }
   h.sampler = std::make_unique<HairSampler<float>>(h.lobes.data(), static_cast<int>(h.lobes.size()));
   return h;
 }

@@ -30,13 +30,15 @@ json bench_sampling(const Settings& s) {
   for (int r = 0; r < 3; ++r) {
     hairlut::HairTables h = hairlut::hair_tables(set, "");
     if (r > 0) {
-      for (hairlut::sampler::LobeTables<float>& l : h.lobes)
+      for (hairlut::sampler::LobeTables<float>& l : h.lobes) {
+        l.np_data = l.mp_data = hairlut::sampler::AxisData();  // the stored data are those of the tables as baked
         for (hairlut::sampler::TableRef<float>* t : {&l.np, &l.mp})
           for (int d = 0; d < t->dims; ++d) {
             auto& a = const_cast<hairlut::sampler::Axis&>(t->axes[d]);
             if (a.interpolation == hairlut::sampler::Interpolation::cubic && !(r == 2 && d + 1 == t->dims))
               a.interpolation = hairlut::sampler::Interpolation::linear;
           }
+      }
       h.sampler = std::make_unique<HairSampler<float>>(h.lobes.data(), static_cast<int>(h.lobes.size()));
     }
     recons.push_back(std::move(h));
