@@ -22,8 +22,8 @@ json sampling_data_section(const TableSet& set, std::vector<json>& checks) {
                     {"problem", c.problem},
                     {"max_cdf_difference", c.max_cdf_difference},
                     {"max_mass_difference", c.max_mass_difference},
-                    {"certificate_mismatches", c.certificate_mismatches},
-                    {"certified_cells", c.certified},
+                    {"clamp_bound_mismatches", c.bound_mismatches},
+                    {"cells_never_clamped", c.unclamped},
                     {"cells", c.cells}});
     if (!c.problem.empty()) {
       absent += (absent.empty() ? "" : ", ") + c.table;
@@ -31,7 +31,7 @@ json sampling_data_section(const TableSet& set, std::vector<json>& checks) {
     }
     ++compared;
     worst = std::max({worst, c.max_cdf_difference, c.max_mass_difference});
-    mismatches += c.certificate_mismatches;
+    mismatches += c.bound_mismatches;
   }
   const std::string title = "Stored sampling data equal what the sampler computes from the tables";
   if (compared == 0) {
@@ -40,7 +40,7 @@ json sampling_data_section(const TableSet& set, std::vector<json>& checks) {
     const bool pass = worst <= tolerance && mismatches == 0;
     checks.push_back(check("sampling_data", title, pass, worst, tolerance, "<=",
                            std::to_string(compared) + " tables compared, largest prefix difference " + fmt(worst) + " of the slice's scale, " +
-                               std::to_string(mismatches) + " certificate mismatches" + (absent.empty() ? "" : "; not compared: " + absent)));
+                               std::to_string(mismatches) + " clamp bound mismatches" + (absent.empty() ? "" : "; not compared: " + absent)));
   }
   return {{"tolerance", tolerance}, {"tables", rows}};
 }

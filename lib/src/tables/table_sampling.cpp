@@ -25,20 +25,16 @@ std::size_t grid_values(const std::vector<GridAxis>& axes) {
 }
 
 // build_data of table t, in the precision it is stored in.
-void build(const Table& t, sampler::Measure m, std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& certified) {
+void build(const Table& t, sampler::Measure m, std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound) {
   std::vector<sampler::Axis> views;
-  if (t.precision == Precision::float32) axis_sampler<float>(t, t.f32.data(), views, m).build_data(cdf, mass, certified);
-  else axis_sampler<double>(t, t.f64.data(), views, m).build_data(cdf, mass, certified);
+  if (t.precision == Precision::float32) axis_sampler<float>(t, t.f32.data(), views, m).build_data(cdf, mass, bound);
+  else axis_sampler<double>(t, t.f64.data(), views, m).build_data(cdf, mass, bound);
 }
 
-bool supported(const Table& t, sampler::Measure m) {
+bool supported(const Table& t, sampler::Measure) {
   std::vector<sampler::Axis> views;
-  // A sampler with dummy stored data only to ask whether the axes are supported (no pass over the values).
-  const double zero = 0.0;
-  const float flag = 0.0f;
-  const sampler::AxisData dummy{&zero, &zero, &flag};
-  if (t.precision == Precision::float32) return axis_sampler<float>(t, t.f32.data(), views, m, dummy).supported();
-  return axis_sampler<double>(t, t.f64.data(), views, m, dummy).supported();
+  for (const GridAxis& g : t.axes) views.push_back(g.view());
+  return sampler::AxisSampler<float>::supports(views.data(), static_cast<int>(views.size()));
 }
 
 }  // namespace
@@ -60,8 +56,8 @@ std::vector<Table> sampling_tables(const TableSet& set) {
     const auto m = sampled_measure(t);
     if (!m || !supported(t, *m)) continue;
     std::vector<double> cdf, mass;
-    std::vector<float> certified;
-    build(t, *m, cdf, mass, certified);
+    std::vector<float> bound;
+    build(t, *m, cdf, mass, bound);
     const bool cosine = *m == sampler::Measure::cosine;
     const std::string axis = t.axes.back().name;
     nlohmann::ordered_json attrs = {{"sampling_of", t.path()}, {"sampled_axis", axis}, {"measure", cosine ? "cos" : "plain"}};
@@ -88,10 +84,11 @@ std::vector<Table> sampling_tables(const TableSet& set) {
     Table s = make("mass", "sampling_mass", "integral of each node slice's interpolant over the whole " + axis + " domain" + (cosine ? ", times cos theta_r" : ""),
                    other, Precision::float64);
     s.f64 = std::move(mass);
-    Table k = make("certified", "sampling_certificate",
-                   "1 where the cell of the other axes starting at this node keeps " + density + " unclamped (Bernstein bound), else 0", other,
-                   Precision::float32);
-    k.f32 = std::move(certified);
+    Table k = make("clamp_bound", "sampling_clamp_bound",
+                   "per cell of the other axes (at its first node) and cell along " + axis + " (at its first node): a bound of what the clamp in " +
+                       density + " adds to the cell's integral (0: never clamped there)",
+                   t.axes, Precision::float32);
+    k.f32 = std::move(bound);
     out.push_back(std::move(c));
     out.push_back(std::move(s));
     out.push_back(std::move(k));
@@ -108,15 +105,15 @@ sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t) {
   sampler::AxisData d;
   const Table* c = set.find(sampling_path(t, "cdf"));
   const Table* m = set.find(sampling_path(t, "mass"));
-  const Table* k = set.find(sampling_path(t, "certified"));
+  const Table* k = set.find(sampling_path(t, "clamp_bound"));
   if (!c || !m || !k) return d;
   const std::size_t n = grid_values(t.axes), slices = n / static_cast<std::size_t>(t.axes.back().count);
   if (c->precision != Precision::float64 || m->precision != Precision::float64 || k->precision != Precision::float32 || c->f64.size() != n ||
-      m->f64.size() != slices || k->f32.size() != slices)
+      m->f64.size() != slices || k->f32.size() != n)
     return d;
   d.cdf = c->f64.data();
   d.mass = m->f64.data();
-  d.certified = k->f32.data();
+  d.clamp_bound = k->f32.data();
   return d;
 }
 
@@ -129,15 +126,15 @@ std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set) {
     r.table = t.path();
     const sampler::AxisData d = stored_sampling_data(set, t);
     if (!d.cdf) {
-      r.present = set.find(sampling_path(t, "cdf")) || set.find(sampling_path(t, "mass")) || set.find(sampling_path(t, "certified"));
+      r.present = set.find(sampling_path(t, "cdf")) || set.find(sampling_path(t, "mass")) || set.find(sampling_path(t, "clamp_bound"));
       r.problem = r.present ? "stored sampling data have the wrong precision or shape" : "no stored sampling data";
       out.push_back(r);
       continue;
     }
     r.present = true;
     std::vector<double> cdf, mass;
-    std::vector<float> certified;
-    build(t, *m, cdf, mass, certified);
+    std::vector<float> bound;
+    build(t, *m, cdf, mass, bound);
     const std::size_t n = static_cast<std::size_t>(t.axes.back().count);
     for (std::size_t s = 0; s < mass.size(); ++s) {
       // Differences relative to the slice's own scale: the largest |prefix| along it.
@@ -146,8 +143,13 @@ std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set) {
       const double norm = scale > 0.0 ? scale : 1.0;
       for (std::size_t k = 0; k < n; ++k) r.max_cdf_difference = std::max(r.max_cdf_difference, std::fabs(cdf[s * n + k] - d.cdf[s * n + k]) / norm);
       r.max_mass_difference = std::max(r.max_mass_difference, std::fabs(mass[s] - d.mass[s]) / norm);
-      if ((certified[s] > 0.0f) != (d.certified[s] > 0.0f)) ++r.certificate_mismatches;
-      if (certified[s] > 0.0f) ++r.certified;
+      bool clean = true;
+      for (std::size_t k = 0; k + 1 < n; ++k) {
+        const float a = bound[s * n + k], b = d.clamp_bound[s * n + k];
+        if (!(a == b) && !(a != a && b != b)) ++r.bound_mismatches;
+        clean = clean && a == 0.0f;
+      }
+      if (clean) ++r.unclamped;
     }
     r.cells = 1;
     for (std::size_t a = 0; a + 1 < t.axes.size(); ++a) r.cells *= static_cast<std::size_t>(sampler::axis_cells(t.axes[a].view()));

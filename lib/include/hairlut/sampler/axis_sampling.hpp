@@ -135,12 +135,13 @@ inline int positive_intervals(const double* c, double* lo, double* hi) {
 
 /// The sampling data of a table along its last axis (AxisSampler::build_data's layout; the
 /// baked files store them, docs/table-format.md "Sampling data"): per node slice its n prefix
-/// masses and its mass, per cell of the other axes the certificate (1: the interpolant is ≥ 0
-/// there). Pointers into the caller's arrays, which must outlive the sampler.
+/// masses and its mass; per cell of the other axes and cell of the sampled axis, a bound of what
+/// the clamp at 0 can add to that cell's mass (0: the interpolant is ≥ 0 there). Pointers into
+/// the caller's arrays, which must outlive the sampler.
 struct AxisData {
   const double* cdf = nullptr;
   const double* mass = nullptr;
-  const float* certified = nullptr;
+  const float* clamp_bound = nullptr;
 };
 
 /// Sampling along the last axis of a table (φ of N_p, θr of M_p). Prepared once per table
@@ -161,14 +162,9 @@ class AxisSampler {
       s *= static_cast<std::size_t>(axes[d].count);
     }
     const Axis& a = axes[dims - 1];
-    const double pi = 3.14159265358979323846;
-    const bool even = a.wrap == Wrap::even && a.lo == 0.0 && a.hi == pi;
-    supported_ = a.spacing == Spacing::uniform && a.placement == Placement::edges && a.count >= 2 && a.hi > a.lo &&
-                 (a.wrap == Wrap::clamp || even);
-    for (int d = 0; d + 1 < dims; ++d)
-      if (axes[d].interpolation == Interpolation::geometric && axes[d].count > 1) supported_ = false;
+    supported_ = supports(axes, dims);
     if (!supported_) return;
-    even_ = even;
+    even_ = a.wrap == Wrap::even;
     n_ = a.count;
     cubic_ = a.interpolation == Interpolation::cubic && n_ >= 3;
     h_ = (a.hi - a.lo) / (n_ - 1);
@@ -189,15 +185,27 @@ class AxisSampler {
         }
     }
     slices_ = stride_[0] * static_cast<std::size_t>(axes[0].count) / static_cast<std::size_t>(n_);
-    if (stored.cdf && stored.mass && stored.certified) {
+    if (stored.cdf && stored.mass && stored.clamp_bound) {
       stored_ = stored;
     } else {
-      build_data(cdf_, mass_, certified_);
+      build_data(cdf_, mass_, bound_);
     }
+    prepare_fixes();
     mixture_ = true;
   }
 
   bool supported() const { return supported_; }
+  /// Whether a table with these axes can be sampled along its last one (see the top of sampling.hpp).
+  static bool supports(const Axis* axes, int dims) {
+    if (!axes || dims < 1 || dims > 8) return false;
+    const Axis& a = axes[dims - 1];
+    const bool even = a.wrap == Wrap::even && a.lo == 0.0 && a.hi == 3.14159265358979323846;
+    if (!(a.spacing == Spacing::uniform && a.placement == Placement::edges && a.count >= 2 && a.hi > a.lo && (a.wrap == Wrap::clamp || even)))
+      return false;
+    for (int d = 0; d + 1 < dims; ++d)
+      if (axes[d].interpolation == Interpolation::geometric && axes[d].count > 1) return false;
+    return true;
+  }
 
   /// The density along the sampled axis at the other coordinates x[0 … dims − 2].
   void blend(const double* x, AxisRow& row) const {
@@ -249,20 +257,26 @@ class AxisSampler {
   /// density / total: the probability density of sample() (0 where total is 0).
   double pdf(const AxisRow& row, double x) const { return row.total > 0.0 ? density(row, x) / row.total : 0.0; }
 
-  /// The certified mixture path at one lookup (see the top of this file): the node slices the
-  /// other axes' taps touch and their weights (of either sign), and Σ w_c E_c.
+  /// The mixture path at one lookup (see the top of this file): the node slices the other axes'
+  /// taps touch and their weights (of either sign), the sampled cells whose clamp at 0 is
+  /// accounted for (fix_cell, in increasing order, with what the clamp adds to their mass), and
+  /// the normalisation Σ w_c E_c + Σ fixes.
   struct Mix {
-    static constexpr int max_corners = 64;
-    int count = 0;
+    static constexpr int max_corners = 64, max_fixes = 24;
+    int count = 0, fixes = 0;
     std::size_t slice[max_corners] = {};
     double w[max_corners] = {};
+    int fix_cell[max_fixes] = {};
+    double fix_add[max_fixes] = {};
     double total = 0.0;
   };
-  /// True when the lookup at the other coordinates x[0 … dims − 2] falls in a certified cell (the
-  /// interpolant ≥ 0 there along the whole sampled axis), so the density is Σ w_c s_c exactly.
-  /// False otherwise (then use blend()).
+  /// True when the mixture path is exact (to rounding) at the other coordinates x[0 … dims − 2]:
+  /// the sampled cells whose clamp bound matters (those whose bounds, largest first, add up to
+  /// more than 1e-15 of Σ w_c E_c) are at most max_fixes, and their clamped masses are computed
+  /// here. False otherwise (then use blend()).
   bool mix(const double* x, Mix& m) const {
     m.count = 0;
+    m.fixes = 0;
     m.total = 0.0;
     if (!mixture_) return false;
     Taps tp[8];
@@ -272,7 +286,6 @@ class AxisSampler {
       tp[d] = taps(axes_[d], x[d]);
       cell += static_cast<std::size_t>(cell_of(axes_[d], x[d])) * (stride_[d] / static_cast<std::size_t>(n_));
     }
-    if (!(certified()[cell] > 0.0f)) return false;
     const double* mass = masses();
     const bool fits = each_corner(tp, [&](double w, std::size_t offset) {
       if (w == 0.0) return true;
@@ -284,10 +297,27 @@ class AxisSampler {
       m.total += w * mass[s];
       return true;
     });
-    return fits && m.count > 0;
+    if (!fits || m.count == 0 || !(m.total > 0.0)) return false;
+    // The cells that may be clamped, largest bound first, until what is left is below rounding.
+    const double negligible = 1e-15 * m.total;
+    double add = 0.0;
+    for (std::size_t e = fix_begin_[cell]; e < fix_begin_[cell + 1] && fix_rest_[e] > negligible; ++e) {
+      if (m.fixes == Mix::max_fixes || !(fix_rest_[e] < HUGE_VAL)) return false;  // too many, or a NaN node
+      const int k = fix_cell_[e];
+      double c[4];
+      blended_cell(m, k, c);
+      const double unclamped = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
+      int j = m.fixes++;
+      for (; j > 0 && m.fix_cell[j - 1] > k; --j) m.fix_cell[j] = m.fix_cell[j - 1], m.fix_add[j] = m.fix_add[j - 1];
+      m.fix_cell[j] = k;
+      m.fix_add[j] = cell_mass(k, c, 1.0) - unclamped;
+      add += m.fix_add[j];
+    }
+    m.total += add * (even_ ? 2.0 : 1.0);
+    return m.total > 0.0;
   }
   /// The interpolated value at x along the sampled axis (without the measure's cos x; 0 outside
-  /// a clamped axis): Σ w_c s_c(x), ≥ 0 in a certified cell up to rounding (clamped at 0).
+  /// a clamped axis): max(0, Σ w_c s_c(x)), eval's value.
   double mix_value(const Mix& m, double x) const {
     if (!(x == x)) return 0.0;
     const Axis& a = axes_[dims_ - 1].axis;
@@ -301,9 +331,10 @@ class AxisSampler {
     }
     return std::max(0.0, sum);
   }
-  /// Draws x from the certified mixture with one u ∈ [0, 1): the cell whose blended cumulative
-  /// Σ w_c F_c brackets u (binary search over the stored prefix masses), then Newton on that
-  /// cell's blended polynomial; NaN when the mixture has no mass. x increases with u.
+  /// Draws x from the mixture with one u ∈ [0, 1): the cell whose cumulative Σ w_c F_c (plus the
+  /// clamp additions of the fixed cells before it) brackets u, by binary search over the prefix
+  /// masses, then Newton on that cell's blended polynomial (clamped at 0 in a fixed cell); NaN
+  /// when the mixture has no mass. x increases with u.
   double sample_mix(const Mix& m, double u) const {
     if (!(m.total > 0.0)) return std::nan("");
     double sign = 1.0;
@@ -317,9 +348,10 @@ class AxisSampler {
     auto F = [&](int k) {
       double s = 0.0;
       for (int j = 0; j < m.count; ++j) s += m.w[j] * cdf[m.slice[j] * n + static_cast<std::size_t>(k)];
+      for (int j = 0; j < m.fixes && m.fix_cell[j] < k; ++j) s += m.fix_add[j];
       return s;
     };
-    // The cell k with F(k) ≤ target < F(k + 1); F is non-decreasing in a certified cell.
+    // The cell k with F(k) ≤ target < F(k + 1).
     const double top = F(n_ - 1), target = u * top;
     int lo = 0, hi = n_ - 1;
     double f_lo = 0.0, f_hi = top;
@@ -329,31 +361,31 @@ class AxisSampler {
       if (f <= target) lo = mid, f_lo = f;
       else hi = mid, f_hi = f;
     }
-    double c[4] = {0.0, 0.0, 0.0, 0.0};
-    for (int j = 0; j < m.count; ++j) {
-      double cj[4];
-      cell_coef(data_ + m.slice[j] * n, lo, cj);
-      for (int i = 0; i < 4; ++i) c[i] += m.w[j] * cj[i];
-    }
-    const double mass = std::max(0.0, f_hi - f_lo);
-    return sign * x_of(lo, invert_cell(lo, c, std::min(std::max(target - f_lo, 0.0), mass), mass));
+    double c[4];
+    blended_cell(m, lo, c);
+    const double mass = std::max(0.0, f_hi - f_lo), want = std::min(std::max(target - f_lo, 0.0), mass);
+    bool fixed = false;
+    for (int j = 0; j < m.fixes; ++j) fixed = fixed || m.fix_cell[j] == lo;
+    return sign * x_of(lo, fixed ? invert_clamped(lo, c, want, mass) : invert_cell(lo, c, want, mass));
   }
   /// Whether mix() can ever apply (the sampled axis is supported and the sampling data are there).
   bool has_mixture() const { return mixture_; }
 
-  /// The node slices along the sampled axis (the product of the other axes' counts) and the cells
-  /// of the other axes (the certificates' index space: one entry per node of the other axes, the
-  /// cell that starts there; entries past an axis's last cell are 0).
+  /// The node slices along the sampled axis (the product of the other axes' counts; a cell of the
+  /// other axes is indexed by the slice of its first node).
   std::size_t slices() const { return slices_; }
   /// Computes the sampling data of the table (docs/table-format.md, "Sampling data"): per slice
   /// the prefix masses of its own interpolant along the sampled axis at the n nodes (unclamped;
   /// over [0, π] for an even axis; with the cos x weight for Measure::cosine) and its mass over the
-  /// whole domain; per cell of the other axes 1 where the tensor Bernstein coefficients of the
-  /// interpolant over that cell and every cell of the sampled axis are all ≥ 0, else 0.
-  void build_data(std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& certified) const {
+  /// whole domain; per cell of the other axes (at its first node's slice) and cell k of the
+  /// sampled axis (entry k of n; entry n − 1 and cells past an axis's end are 0), the clamp bound
+  /// max(0, −least tensor Bernstein coefficient of the interpolant over the two cells) × the
+  /// cell's width, rounded up to float: the most that max(0, ·) can add to that cell's mass
+  /// anywhere in the cell of the other axes (0: the interpolant is ≥ 0 throughout).
+  void build_data(std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound) const {
     cdf.assign(slices_ * static_cast<std::size_t>(n_), 0.0);
     mass.assign(slices_, 0.0);
-    certified.assign(slices_, 0.0f);
+    bound.assign(slices_ * static_cast<std::size_t>(n_), 0.0f);
     if (!supported_) return;
     const std::size_t n = static_cast<std::size_t>(n_), cells = n - 1;
     std::vector<double> bern(slices_ * cells * 4);  // each slice's cells in Bernstein form
@@ -386,8 +418,7 @@ class AxisSampler {
         first += static_cast<std::size_t>(idx[d]) * (stride_[d] / n);
       }
       shape[od] = 4;
-      bool ok = true;
-      for (std::size_t k = 0; k < cells && ok; ++k) {
+      for (std::size_t k = 0; k < cells; ++k) {
         // Gather the Bernstein rows of the slices the cell's bases combine, then apply the bases.
         a.assign(gathered, 0.0);
         int j[8] = {0, 0, 0, 0, 0, 0, 0, 0};
@@ -412,13 +443,16 @@ class AxisSampler {
           sh[d] = cb.terms;
           a.swap(b);
         }
-        for (double v : a)
-          if (!(v >= 0.0)) {
-            ok = false;
-            break;
-          }
+        // The interpolant is ≥ the least coefficient over the box, so the clamp adds at most its
+        // negative part times the cell's width (cos x ≤ 1); rounded up to float. Infinite when a
+        // coefficient is NaN.
+        double least = 0.0;
+        for (double v : a) least = v >= least ? least : (v == v ? v : -HUGE_VAL);
+        const double most = -least * h_;
+        float f = static_cast<float>(most);
+        if (static_cast<double>(f) < most) f = std::nextafter(f, HUGE_VALF);
+        bound[first * n + k] = f;
       }
-      certified[first] = ok ? 1.0f : 0.0f;
       int d = od - 1;
       for (; d >= 0; --d) {
         if (++idx[d] < axis_cells(axes_[d].axis)) break;
@@ -447,7 +481,14 @@ class AxisSampler {
     const double* c = &row.coef[static_cast<std::size_t>(k) * 4];
     const double mass = row.cum[static_cast<std::size_t>(k + 1)] - row.cum[static_cast<std::size_t>(k)];
     const double m = std::min(std::max(target - row.cum[static_cast<std::size_t>(k)], 0.0), mass);
-    // Invert F(t) = ∫_0^t density: Newton on [lo, hi], bisection when a step leaves the bracket.
+    return sign * x_of(k, invert_clamped(k, c, m, mass));
+  }
+
+ private:
+  // The t ∈ [0, 1] of cell k (polynomial c, clamped at 0) where the mass from 0 reaches m:
+  // F(t) = ∫_0^t density by cell_mass, Newton on [lo, hi], bisection when a step leaves the
+  // bracket; to rounding.
+  double invert_clamped(int k, const double* c, double m, double mass) const {
     double lo = 0.0, hi = 1.0, t = mass > 0.0 ? m / mass : 0.5;
     for (int it = 0; it < 100; ++it) {
       const double f = cell_mass(k, c, t) - m;
@@ -463,10 +504,43 @@ class AxisSampler {
       }
       t = next;
     }
-    return sign * x_of(k, t);
+    return t;
   }
-
- private:
+  // The blended polynomial Σ w_c p_c of sampled cell k over the mixture's slices.
+  void blended_cell(const Mix& m, int k, double* c) const {
+    c[0] = c[1] = c[2] = c[3] = 0.0;
+    for (int j = 0; j < m.count; ++j) {
+      double cj[4];
+      cell_coef(data_ + m.slice[j] * static_cast<std::size_t>(n_), k, cj);
+      for (int i = 0; i < 4; ++i) c[i] += m.w[j] * cj[i];
+    }
+  }
+  // Per cell of the other axes, its sampled cells with a clamp bound > 0, largest bound first,
+  // each with the sum of its own and the later bounds (what is left to account for).
+  void prepare_fixes() {
+    const float* b = bounds();
+    const std::size_t n = static_cast<std::size_t>(n_);
+    fix_begin_.assign(slices_ + 1, 0);
+    fix_cell_.clear();
+    fix_rest_.clear();
+    std::vector<std::pair<float, int>> list;
+    for (std::size_t s = 0; s < slices_; ++s) {
+      list.clear();
+      for (std::size_t k = 0; k + 1 < n; ++k)
+        if (b[s * n + k] > 0.0f || !(b[s * n + k] == b[s * n + k])) list.emplace_back(b[s * n + k] == b[s * n + k] ? b[s * n + k] : HUGE_VALF, static_cast<int>(k));
+      std::sort(list.begin(), list.end(), [](const std::pair<float, int>& x, const std::pair<float, int>& y) { return x.first > y.first; });
+      const std::size_t at = fix_cell_.size();
+      fix_cell_.resize(at + list.size());
+      fix_rest_.resize(at + list.size());
+      double rest = 0.0;
+      for (std::size_t e = list.size(); e-- > 0;) {
+        rest += static_cast<double>(list[e].first);
+        fix_cell_[at + e] = list[e].second;
+        fix_rest_[at + e] = rest;
+      }
+      fix_begin_[s + 1] = fix_cell_.size();
+    }
+  }
   // Visits the tensor product of the other axes' taps: f(weight, offset of the node slice) for
   // each corner in row-major order; stops and returns false as soon as f does.
   template <class F>
@@ -549,7 +623,7 @@ class AxisSampler {
   }
   const double* cdfs() const { return stored_.cdf ? stored_.cdf : cdf_.data(); }
   const double* masses() const { return stored_.mass ? stored_.mass : mass_.data(); }
-  const float* certified() const { return stored_.certified ? stored_.certified : certified_.data(); }
+  const float* bounds() const { return stored_.clamp_bound ? stored_.clamp_bound : bound_.data(); }
   // The t ∈ [0, 1] of cell k (polynomial c, ≥ 0 on the cell, mass `mass`) where the mass from 0
   // reaches m: Newton's method kept in its bracket, to rounding. The cosine measure's integral
   // is that of c times the degree-11 Taylor polynomial of cos about the cell's start (remainder
@@ -618,7 +692,10 @@ class AxisSampler {
   std::size_t slices_ = 0;
   AxisData stored_;                  // the caller's sampling data, when given
   std::vector<double> cdf_, mass_;   // else computed here
-  std::vector<float> certified_;
+  std::vector<float> bound_;
+  std::vector<std::size_t> fix_begin_;  // prepare_fixes(): per slice, its entries in fix_cell_ and fix_rest_
+  std::vector<int> fix_cell_;
+  std::vector<double> fix_rest_;
 };
 
 }  // namespace sampler

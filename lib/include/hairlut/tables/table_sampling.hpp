@@ -20,11 +20,11 @@ namespace hairlut {
 /// The measure along the sampled axis when t is a table the hair sampler samples (N_p over φ:
 /// plain; M_p over θr: cos θr; generic or per material, values present), else nullopt.
 std::optional<sampler::Measure> sampled_measure(const Table& t);
-/// Where t's sampling data live: "sampling/<group>/<name>_<what>", what = cdf, mass or certified.
+/// Where t's sampling data live: "sampling/<group>/<name>_<what>", what = cdf, mass or clamp_bound.
 std::string sampling_path(const Table& t, const std::string& what);
 /// The sampling data of every sampled table of the set whose axes the sampler supports, as tables
 /// (AxisSampler::build_data of the stored values): <name>_cdf (float64, the table's axes),
-/// <name>_mass (float64) and <name>_certified (float32 0/1) over the other axes.
+/// <name>_mass (float64) over the other axes and <name>_clamp_bound (float32, the table's axes).
 std::vector<Table> sampling_tables(const TableSet& set);
 /// Appends sampling_tables(set) to the set (the baker does, after the tables are complete).
 void append_sampling_tables(TableSet& set);
@@ -39,8 +39,8 @@ struct SamplingDataCheck {
   std::string problem;                 ///< why none could be read ("" when read)
   double max_cdf_difference = 0.0;     ///< largest |stored − computed| prefix, over the slice's largest |prefix|
   double max_mass_difference = 0.0;    ///< the same for the slices' masses
-  std::size_t certificate_mismatches = 0;
-  std::size_t certified = 0, cells = 0;  ///< certified cells of the other axes, and all of them
+  std::size_t bound_mismatches = 0;     ///< clamp bounds that differ
+  std::size_t unclamped = 0, cells = 0;  ///< cells of the other axes with every clamp bound 0, and all of them
 };
 std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set);
 
