@@ -8,16 +8,18 @@
 // roots where the clamp at 0 applies, and sums the cells' masses; sample() inverts the cumulative
 // exactly (binary search over cells, then safeguarded Newton within the cell to rounding).
 //
-// The mixture fast path (mix(), mix_value(), sample_mix()): where the other axes are linear (their
-// weights are ≥ 0) and every node slice that a lookup touches is ≥ 0 along the sampled axis (its
-// own interpolant, Catmull–Rom included, checked once per slice at preparation), the clamp at 0
-// never applies and the density is the weight-mixture Σ w_c s_c of the slices' densities. Then
-// drawing a slice with probability w_c E_c / Σ w E (E_c its mass) and inverting that slice's
-// CDF (prefix sums of its exact cell masses, computed once) samples the interpolant exactly, and
-// the normalisation is Σ w_c E_c: no row is blended. mix() says per lookup whether this holds;
-// where it does not (cubic or geometric other axes with a negative weight, a slice dipping below
-// 0) the caller takes the general path above. Both are exact for the same density; they differ
-// only in which u maps to which x.
+// The mixture path (mix(), mix_value(), sample_mix()): the density is max(0, Σ w_c s_c) over the
+// node slices s_c the other axes' taps touch, with weights of either sign. Integrals are linear,
+// so the integral of Σ w_c s_c over cells 0 … k − 1 is Σ w_c F_c(k), F_c the slice's own prefix
+// integrals (AxisData, computed once per table or stored with it), and its total Σ w_c E_c. The
+// clamp at 0 adds ∫ max(0, −Σ w_c s_c) to a cell; the clamp bounds (per cell of the other axes and
+// cell of the sampled axis, from the tensor Bernstein coefficients: cell_bernstein.hpp) bound
+// that addition anywhere in the cell. mix() integrates the cells whose bounds matter under the
+// clamp (largest first, until the rest is below 1e-15 of the total) and adds the differences;
+// sample_mix() searches the cumulative so corrected, then inverts the chosen cell's blended
+// polynomial (under the clamp in a corrected cell). Exact to rounding, like the general path;
+// mix() declines (then use blend()) when more than Mix::max_fixes cells would need the clamp, a
+// lookup touches more than Mix::max_corners slices, or a coordinate is NaN.
 #pragma once
 
 #include <algorithm>

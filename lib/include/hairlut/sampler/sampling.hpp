@@ -26,14 +26,13 @@
 // rounding. So pdf() equals eval()'s lobe value divided by the normalisation that the same
 // interpolant integrates to, up to rounding; sample() draws exactly from pdf().
 //
-// Two paths, both exact for the same density (axis_sampling.hpp): where the other axes of a
-// table are linear and the node slices a lookup touches are ≥ 0 along the sampled axis (always
-// for linear interpolation of non-negative values; for Catmull–Rom along φ or θr where the
-// slice's cubic pieces do not dip below 0, checked once per slice), the density is a mixture of
-// the slices' densities: sample() draws a slice and inverts its precomputed CDF, pdf() is one
-// lookup over Σ w_c E_c. Elsewhere (cubic or geometric other axes, whose weights can be
-// negative; a slice with overshoot below 0) the blended row is built and cut per lookup as
-// above. Which path a lookup takes changes which u gives which direction, never the density.
+// Two paths, both exact for the same density (axis_sampling.hpp): the mixture path reads the
+// node slices' prefix integrals along the sampled axis (stored next to the tables, or computed when
+// the sampler is prepared) and sums the 4–64 slices a lookup touches with their weights (of either
+// sign): exact wherever the clamp at 0 does not act, which the stored clamp bounds tell per cell;
+// the few cells where it may act are integrated under the clamp per lookup. Where too many would
+// need that, the general path builds the blended row and cuts it per lookup as above. Which path a
+// lookup takes changes which u gives which direction, never the density.
 //
 // Supported sampled axes: uniform spacing, edge placement, wrap clamp (θr) or even over [0, π]
 // (φ). Axes before the sampled one may have any spacing, placement and wrap, and linear or cubic
