@@ -264,8 +264,10 @@ class AxisSampler {
   /// accounted for (fix_cell, in increasing order, with what the clamp adds to their mass), and
   /// the normalisation Σ w_c E_c + Σ fixes.
   struct Mix {
-    static constexpr int max_corners = 64, max_fixes = 24;
+    static constexpr int max_corners = 64, max_fixes = 48, max_nodes = 256;
     int count = 0, fixes = 0;
+    double node[max_nodes];          // blended node values, where `blended` says so (mix()'s scratch)
+    unsigned char blended[max_nodes];
     std::size_t slice[max_corners] = {};
     double w[max_corners] = {};
     int fix_cell[max_fixes] = {};
@@ -300,14 +302,25 @@ class AxisSampler {
       return true;
     });
     if (!fits || m.count == 0 || !(m.total > 0.0)) return false;
-    // The cells that may be clamped, largest bound first, until what is left is below rounding.
+    // The cells that may be clamped, largest bound first, until what is left is below rounding:
+    // those whose blended polynomial here has a Bernstein coefficient < 0 are integrated under the
+    // clamp. The blended nodes they need are formed once each (at most the general path's blend).
     const double negligible = 1e-15 * m.total;
     double add = 0.0;
-    for (std::size_t e = fix_begin_[cell]; e < fix_begin_[cell + 1] && fix_rest_[e] > negligible; ++e) {
-      if (m.fixes == Mix::max_fixes || !(fix_rest_[e] < HUGE_VAL)) return false;  // too many, or a NaN node
+    const std::size_t begin = fix_begin_[cell], end = fix_begin_[cell + 1];
+    if (begin < end && fix_rest_[begin] > negligible) {
+      if (n_ > Mix::max_nodes) return false;
+      std::fill(m.blended, m.blended + n_, static_cast<unsigned char>(0));
+    }
+    for (std::size_t e = begin; e < end && fix_rest_[e] > negligible; ++e) {
+      if (!(fix_rest_[e] < HUGE_VAL)) return false;  // a NaN node
       const int k = fix_cell_[e];
-      double c[4];
-      blended_cell(m, k, c);
+      double c[4], b[4];
+      blend_nodes_of_cell(m, k);
+      cell_coef(m.node, k, c);
+      bernstein_of_cubic(c, b);
+      if (b[0] >= 0.0 && b[1] >= 0.0 && b[2] >= 0.0 && b[3] >= 0.0) continue;  // not clamped at this lookup
+      if (m.fixes == Mix::max_fixes) return false;
       const double unclamped = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
       int j = m.fixes++;
       for (; j > 0 && m.fix_cell[j - 1] > k; --j) m.fix_cell[j] = m.fix_cell[j - 1], m.fix_add[j] = m.fix_add[j - 1];
@@ -507,6 +520,22 @@ class AxisSampler {
       t = next;
     }
     return t;
+  }
+  // Blends (once) the nodes that the polynomial of sampled cell k reads, into m.node.
+  void blend_nodes_of_cell(Mix& m, int k) const {
+    int need[4] = {k, k + 1, -1, -1};
+    if (cubic_) {
+      const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
+      need[2] = i0 >= 0 ? i0 : k + 2;
+      need[3] = i3 >= 0 ? i3 : k - 1;
+    }
+    for (int j : need) {
+      if (j < 0 || j >= n_ || m.blended[j]) continue;
+      double v = 0.0;
+      for (int c = 0; c < m.count; ++c) v += m.w[c] * static_cast<double>(data_[m.slice[c] * static_cast<std::size_t>(n_) + static_cast<std::size_t>(j)]);
+      m.node[j] = v;
+      m.blended[j] = 1;
+    }
   }
   // The blended polynomial Σ w_c p_c of sampled cell k over the mixture's slices.
   void blended_cell(const Mix& m, int k, double* c) const {
