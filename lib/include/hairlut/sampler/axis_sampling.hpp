@@ -416,65 +416,7 @@ class AxisSampler {
       }
       mass[s] = cum[n - 1] * (even_ ? 2.0 : 1.0);
     }
-    // Every cell of the other axes (multi-index over their cells), in slice order of its first node.
-    const int od = dims_ - 1;
-    std::vector<std::vector<CellBasis>> basis(static_cast<std::size_t>(od));
-    for (int d = 0; d < od; ++d)
-      for (int c = 0; c < axis_cells(axes_[d].axis); ++c) basis[static_cast<std::size_t>(d)].push_back(cell_basis(axes_[d], c));
-    int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-    std::vector<double> a, b;
-    for (;;) {
-      int shape[9];
-      std::size_t gathered = 4, first = 0;
-      for (int d = 0; d < od; ++d) {
-        const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
-        shape[d] = cb.nodes;
-        gathered *= static_cast<std::size_t>(cb.nodes);
-        first += static_cast<std::size_t>(idx[d]) * (stride_[d] / n);
-      }
-      shape[od] = 4;
-      for (std::size_t k = 0; k < cells; ++k) {
-        // Gather the Bernstein rows of the slices the cell's bases combine, then apply the bases.
-        a.assign(gathered, 0.0);
-        int j[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-        for (std::size_t g = 0; g < gathered / 4; ++g) {
-          std::size_t s = 0;
-          for (int d = 0; d < od; ++d)
-            s += static_cast<std::size_t>(basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])].node[j[d]]) * (stride_[d] / n);
-          for (int q = 0; q < 4; ++q) a[g * 4 + static_cast<std::size_t>(q)] = bern[(s * cells + k) * 4 + static_cast<std::size_t>(q)];
-          for (int d = od - 1; d >= 0; --d) {
-            if (++j[d] < shape[d]) break;
-            j[d] = 0;
-          }
-        }
-        int sh[9];
-        for (int d = 0; d <= od; ++d) sh[d] = shape[d];
-        for (int d = 0; d < od; ++d) {
-          const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
-          std::size_t size = 1;
-          for (int e = 0; e <= od; ++e) size *= static_cast<std::size_t>(e == d ? cb.terms : sh[e]);
-          b.assign(size, 0.0);
-          apply_along(a.data(), b.data(), sh, od + 1, d, cb);
-          sh[d] = cb.terms;
-          a.swap(b);
-        }
-        // The interpolant is ≥ the least coefficient over the box, so the clamp adds at most its
-        // negative part times the cell's width (cos x ≤ 1); rounded up to float. Infinite when a
-        // coefficient is NaN.
-        double least = 0.0;
-        for (double v : a) least = v >= least ? least : (v == v ? v : -HUGE_VAL);
-        const double most = -least * h_;
-        float f = static_cast<float>(most);
-        if (static_cast<double>(f) < most) f = std::nextafter(f, HUGE_VALF);
-        bound[first * n + k] = f;
-      }
-      int d = od - 1;
-      for (; d >= 0; --d) {
-        if (++idx[d] < axis_cells(axes_[d].axis)) break;
-        idx[d] = 0;
-      }
-      if (d < 0) break;
-    }
+    clamp_bounds(bern.data(), axes_, stride_, dims_, n_, h_, bound);
   }
 
   /// Draws x in proportion to the density from u ∈ [0, 1); returns NaN when the row has no mass.

@@ -13,7 +13,9 @@
 // interpolant stays ≥ 0, near a steep fall).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
+#include <vector>
 
 #include "hairlut/sampler/sampler.hpp"
 
@@ -139,6 +141,76 @@ inline void bernstein_of_cubic(const double* c, double* b) {
   b[1] = c[0] + c[1] / 3.0;
   b[2] = c[0] + (2.0 * c[1] + c[2]) / 3.0;
   b[3] = c[0] + c[1] + c[2] + c[3];
+}
+
+/// The clamp bounds (AxisData::clamp_bound) of a table of `dims` axes, the last sampled with n
+/// nodes of spacing h: bern holds each node slice's sampled cells in Bernstein form (slice-major,
+/// n − 1 cells of 4). For every cell of the other axes (written at its first node's slice) and
+/// every sampled cell k, max(0, −least tensor Bernstein coefficient) · h rounded up to float: the
+/// interpolant is ≥ that least coefficient over the two cells, so max(0, ·) adds at most this
+/// to the sampled cell's integral anywhere in the cell of the other axes (cos x ≤ 1 included).
+inline void clamp_bounds(const double* bern, const PreparedAxis* axes, const std::size_t* stride, int dims, int n_nodes, double h,
+                         std::vector<float>& bound) {
+  const std::size_t n = static_cast<std::size_t>(n_nodes), cells = n - 1;
+  // Every cell of the other axes (multi-index over their cells), in slice order of its first node.
+  const int od = dims - 1;
+  std::vector<std::vector<CellBasis>> basis(static_cast<std::size_t>(od));
+  for (int d = 0; d < od; ++d)
+    for (int c = 0; c < axis_cells(axes[d].axis); ++c) basis[static_cast<std::size_t>(d)].push_back(cell_basis(axes[d], c));
+  int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  std::vector<double> a, b;
+  for (;;) {
+    int shape[9];
+    std::size_t gathered = 4, first = 0;
+    for (int d = 0; d < od; ++d) {
+      const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
+      shape[d] = cb.nodes;
+      gathered *= static_cast<std::size_t>(cb.nodes);
+      first += static_cast<std::size_t>(idx[d]) * (stride[d] / n);
+    }
+    shape[od] = 4;
+    for (std::size_t k = 0; k < cells; ++k) {
+      // Gather the Bernstein rows of the slices the cell's bases combine, then apply the bases.
+      a.assign(gathered, 0.0);
+      int j[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (std::size_t g = 0; g < gathered / 4; ++g) {
+        std::size_t s = 0;
+        for (int d = 0; d < od; ++d)
+          s += static_cast<std::size_t>(basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])].node[j[d]]) * (stride[d] / n);
+        for (int q = 0; q < 4; ++q) a[g * 4 + static_cast<std::size_t>(q)] = bern[(s * cells + k) * 4 + static_cast<std::size_t>(q)];
+        for (int d = od - 1; d >= 0; --d) {
+          if (++j[d] < shape[d]) break;
+          j[d] = 0;
+        }
+      }
+      int sh[9];
+      for (int d = 0; d <= od; ++d) sh[d] = shape[d];
+      for (int d = 0; d < od; ++d) {
+        const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
+        std::size_t size = 1;
+        for (int e = 0; e <= od; ++e) size *= static_cast<std::size_t>(e == d ? cb.terms : sh[e]);
+        b.assign(size, 0.0);
+        apply_along(a.data(), b.data(), sh, od + 1, d, cb);
+        sh[d] = cb.terms;
+        a.swap(b);
+      }
+      // The interpolant is ≥ the least coefficient over the box, so the clamp adds at most its
+      // negative part times the cell's width (cos x ≤ 1); rounded up to float. Infinite when a
+      // coefficient is NaN.
+      double least = 0.0;
+      for (double v : a) least = v >= least ? least : (v == v ? v : -HUGE_VAL);
+      const double most = -least * h;
+      float f = static_cast<float>(most);
+      if (static_cast<double>(f) < most) f = std::nextafter(f, HUGE_VALF);
+      bound[first * n + k] = f;
+    }
+    int d = od - 1;
+    for (; d >= 0; --d) {
+      if (++idx[d] < axis_cells(axes[d].axis)) break;
+      idx[d] = 0;
+    }
+    if (d < 0) break;
+  }
 }
 
 }  // namespace sampler
