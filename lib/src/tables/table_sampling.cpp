@@ -93,7 +93,32 @@ std::vector<Table> sampling_tables(const TableSet& set) {
     out.push_back(std::move(s));
     out.push_back(std::move(k));
   }
-  return out;
+  // In the order in which the OpenEXR writer packs tables of one group, quantity and axes (up to
+  // four, without a channel axis) into the channels of one part, so that the file's parts read back
+  // in the set's order.
+  std::vector<std::vector<std::size_t>> packs;
+  auto has_channel = [](const Table& t) {
+    return std::any_of(t.axes.begin(), t.axes.end(), [](const GridAxis& a) { return a.name == "channel"; });
+  };
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Table& t = out[i];
+    bool placed = false;
+    if (!has_channel(t))
+      for (auto& p : packs) {
+        const Table& first = out[p.front()];
+        if (!has_channel(first) && p.size() < 4 && first.group == t.group && first.quantity == t.quantity && first.axes.size() == t.axes.size() &&
+            std::equal(first.axes.begin(), first.axes.end(), t.axes.begin(), [](const GridAxis& a, const GridAxis& b) { return a.to_json() == b.to_json(); })) {
+          p.push_back(i);
+          placed = true;
+          break;
+        }
+      }
+    if (!placed) packs.push_back({i});
+  }
+  std::vector<Table> ordered;
+  for (const auto& p : packs)
+    for (std::size_t i : p) ordered.push_back(std::move(out[i]));
+  return ordered;
 }
 
 void append_sampling_tables(TableSet& set) {
