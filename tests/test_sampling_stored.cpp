@@ -188,3 +188,24 @@ TEST_CASE("Sampling data: stored data, chi-square and furnace of every lobe, per
     for (const Case& c : kMaterialCases)
       stored_sampler_fits(material_tables(), std::string("materials/") + material, FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 24, 960);
 }
+TEST_CASE("Sampling data: an altered stored value is reported", "[sampling]") {
+  TableSet set = material_tables();
+  Table* cdf = nullptr;
+  Table* bound = nullptr;
+  for (Table& t : set.tables) {
+    if (t.quantity == "sampling_cdf" && !cdf) cdf = &t;
+    if (t.quantity == "sampling_clamp_bound" && !bound) bound = &t;
+  }
+  REQUIRE(cdf);
+  REQUIRE(bound);
+  cdf->f64[cdf->f64.size() / 2 + 1] *= 1.0 + 1e-9;
+  bound->f32[0] = bound->f32[0] + 1.0f;
+  std::size_t mismatched = 0;
+  double worst = 0.0;
+  for (const SamplingDataCheck& c : check_sampling_data(set)) {
+    mismatched += c.bound_mismatches;
+    worst = std::max(worst, c.max_cdf_difference);
+  }
+  CHECK(mismatched == 1u);
+  CHECK(worst > 1e-12);
+}
