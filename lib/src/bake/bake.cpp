@@ -10,6 +10,7 @@
 #include "hairlut/bake/bake_engine.hpp"
 #include "hairlut/bake/resolution.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
+#include "hairlut/tables/table_sampling.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/util/version.hpp"
 
@@ -66,7 +67,11 @@ void describe(const BakeConfig& c, const detail::BakeRun& s, const BakeReport& r
 
 TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_out, SlabbedTables* slabbed) {
   if (slabbed) check_slab_by_slab(c);
-  if (c.marschner) return bake_marschner(c, opt, report_out);
+  if (c.marschner) {
+    TableSet m = bake_marschner(c, opt, report_out);
+    append_sampling_tables(m);  // the importance sampler's data next to every N_p and M_p table
+    return m;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   BakeReport report;
   TableSet set;
@@ -84,6 +89,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   if (c.mp_axes) detail::bake_mp_tables(run, per_material, set, report);
   detail::append_melanin_tables(c, precision, set, report);
   bake_dual_scattering_tables(c, opt, set, report);  // mean energy, dual scattering, engine presets
+  append_sampling_tables(set);                       // the importance sampler's data next to every N_p and M_p table
 
   if (run.unconverged) report.notes.push_back(std::to_string(run.unconverged) + " adaptive N_p entries did not reach the tolerance");
   if (!report.resolution.is_null() && generic_np) {

@@ -157,7 +157,7 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
       const double v = t.get(i);
       if (std::isnan(v)) ++tn;
       else if (std::isinf(v)) ++ti;
-      else if (v < 0.0 && t.quantity != "shift" && t.quantity != "transmittance") ++tneg;  // shifts are signed; spectral transmittance is negative out of gamut
+      else if (v < 0.0 && t.quantity != "shift" && t.quantity != "transmittance" && t.quantity != "sampling_cdf") ++tneg;  // shifts are signed; spectral transmittance is negative out of gamut; a sampling prefix integrates an unclamped interpolant
     }
     nan += tn, inf += ti, neg += tneg;
     per_table.push_back({{"path", t.path()}, {"values", t.size()}, {"nan", tn}, {"inf", ti}, {"negative", tneg}});
@@ -292,6 +292,7 @@ nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& s
   report["longitudinal"] = longitudinal_section(set, info, opt, checks);
   report["accuracy"] = accuracy_section(set, info, opt, checks);
   report["absorption"] = absorption_section(set, info, opt, checks);
+  report["sampling_data"] = sampling_data_section(set, checks);
   report["dual_scattering"] = detail::dual_scattering_section(set, opt, checks);
   int passed = 0, failed = 0, skipped_n = 0;
   for (const json& c : checks) {

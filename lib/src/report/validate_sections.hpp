@@ -49,6 +49,7 @@ json marschner_energy_section(const TableSet& set, const ModelInfo& info, const 
 json longitudinal_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
 json absorption_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
 json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
+json sampling_data_section(const TableSet& set, std::vector<json>& checks);  // validate_sampling.cpp
 
 }  // namespace validation
 

@@ -8,16 +8,18 @@
 // roots where the clamp at 0 applies, and sums the cells' masses; sample() inverts the cumulative
 // exactly (binary search over cells, then safeguarded Newton within the cell to rounding).
 //
-// The mixture fast path (mix(), mix_value(), sample_mix()): where the other axes are linear (their
-// weights are ≥ 0) and every node slice that a lookup touches is ≥ 0 along the sampled axis (its
-// own interpolant, Catmull–Rom included, checked once per slice at preparation), the clamp at 0
-// never applies and the density is the weight-mixture Σ w_c s_c of the slices' densities. Then
-// drawing a slice with probability w_c E_c / Σ w E (E_c its mass) and inverting that slice's
-// CDF (prefix sums of its exact cell masses, computed once) samples the interpolant exactly, and
-// the normalisation is Σ w_c E_c: no row is blended. mix() says per lookup whether this holds;
-// where it does not (cubic or geometric other axes with a negative weight, a slice dipping below
-// 0) the caller takes the general path above. Both are exact for the same density; they differ
-// only in which u maps to which x.
+// The mixture path (mix(), mix_value(), sample_mix()): the density is max(0, Σ w_c s_c) over the
+// node slices s_c the other axes' taps touch, with weights of either sign. Integrals are linear,
+// so the integral of Σ w_c s_c over cells 0 … k − 1 is Σ w_c F_c(k), F_c the slice's own prefix
+// integrals (AxisData, computed once per table or stored with it), and its total Σ w_c E_c. The
+// clamp at 0 adds ∫ max(0, −Σ w_c s_c) to a cell; the clamp bounds (per cell of the other axes and
+// cell of the sampled axis, from the tensor Bernstein coefficients: cell_bernstein.hpp) bound
+// that addition anywhere in the cell. mix() integrates the cells whose bounds matter under the
+// clamp (largest first, until the rest is below 1e-15 of the total) and adds the differences;
+// sample_mix() searches the cumulative so corrected, then inverts the chosen cell's blended
+// polynomial (under the clamp in a corrected cell). Exact to rounding, like the general path;
+// mix() declines (then use blend()) when more than Mix::max_fixes cells would need the clamp, a
+// lookup touches more than Mix::max_corners slices, or a coordinate is NaN.
 #pragma once
 
 #include <algorithm>
@@ -25,6 +27,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "hairlut/sampler/cell_bernstein.hpp"
 #include "hairlut/sampler/sampler.hpp"
 
 namespace hairlut {
@@ -59,24 +62,6 @@ inline const double* gl8_weights() {
   static const double w[8] = {0.05061426814518813, 0.11119051722668724, 0.15685332293894363, 0.18134189168918100,
                               0.18134189168918100, 0.15685332293894363, 0.11119051722668724, 0.05061426814518813};
   return w;
-}
-// min over t ∈ [0, 1] of the cubic ≥ 0: at the ends and at the critical points inside.
-inline bool nonnegative_on_cell(const double* c) {
-  if (!(c[0] >= 0.0) || !(poly(c, 1.0) >= 0.0)) return false;
-  const double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1];
-  if (A != 0.0) {
-    const double disc = B * B - 4.0 * A * C;
-    if (disc > 0.0) {
-      const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
-      const double r0 = q / A, r1 = q != 0.0 ? C / q : 0.0;
-      if (r0 > 0.0 && r0 < 1.0 && !(poly(c, r0) >= 0.0)) return false;
-      if (r1 > 0.0 && r1 < 1.0 && !(poly(c, r1) >= 0.0)) return false;
-    }
-  } else if (B != 0.0) {
-    const double r = -C / B;
-    if (r > 0.0 && r < 1.0 && !(poly(c, r) >= 0.0)) return false;
-  }
-  return true;
 }
 // The intervals of [0, 1] where the cubic is positive (at most 3 roots, so at most 4 pieces).
 inline int positive_intervals(const double* c, double* lo, double* hi) {
@@ -150,13 +135,27 @@ inline int positive_intervals(const double* c, double* lo, double* hi) {
 }
 }  // namespace detail
 
+/// The sampling data of a table along its last axis (AxisSampler::build_data's layout; the
+/// baked files store them, docs/table-format.md "Sampling data"): per node slice its n prefix
+/// masses and its mass; per cell of the other axes and cell of the sampled axis, a bound of what
+/// the clamp at 0 can add to that cell's mass (0: the interpolant is ≥ 0 there). Pointers into
+/// the caller's arrays, which must outlive the sampler.
+struct AxisData {
+  const double* cdf = nullptr;
+  const double* mass = nullptr;
+  const float* clamp_bound = nullptr;
+};
+
 /// Sampling along the last axis of a table (φ of N_p, θr of M_p). Prepared once per table
 /// (const afterwards, shareable between threads); per lookup, blend() fills an AxisRow.
 template <class T>
 class AxisSampler {
  public:
   AxisSampler() = default;
-  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure) : data_(data), dims_(dims), measure_(measure) {
+  /// With `stored` (all three arrays, as build_data() lays them out, e.g. read from a table file)
+  /// the sampler points into them; without, it computes them (one pass over the table).
+  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, const AxisData& stored = AxisData())
+      : data_(data), dims_(dims), measure_(measure) {
     if (!data || dims < 1 || dims > 8) return;
     std::size_t s = 1;
     for (int d = dims - 1; d >= 0; --d) {
@@ -165,14 +164,9 @@ class AxisSampler {
       s *= static_cast<std::size_t>(axes[d].count);
     }
     const Axis& a = axes[dims - 1];
-    const double pi = 3.14159265358979323846;
-    const bool even = a.wrap == Wrap::even && a.lo == 0.0 && a.hi == pi;
-    supported_ = a.spacing == Spacing::uniform && a.placement == Placement::edges && a.count >= 2 && a.hi > a.lo &&
-                 (a.wrap == Wrap::clamp || even);
-    for (int d = 0; d + 1 < dims; ++d)
-      if (axes[d].interpolation == Interpolation::geometric && axes[d].count > 1) supported_ = false;
+    supported_ = supports(axes, dims);
     if (!supported_) return;
-    even_ = even;
+    even_ = a.wrap == Wrap::even;
     n_ = a.count;
     cubic_ = a.interpolation == Interpolation::cubic && n_ >= 3;
     h_ = (a.hi - a.lo) / (n_ - 1);
@@ -192,10 +186,28 @@ class AxisSampler {
           for (int j = 0; j < 4; ++j) moments_[static_cast<std::size_t>(k) * 4 + j] += w * std::pow(t, j);
         }
     }
-    prepare_mixture();
+    slices_ = stride_[0] * static_cast<std::size_t>(axes[0].count) / static_cast<std::size_t>(n_);
+    if (stored.cdf && stored.mass && stored.clamp_bound) {
+      stored_ = stored;
+    } else {
+      build_data(cdf_, mass_, bound_);
+    }
+    prepare_fixes();
+    mixture_ = true;
   }
 
   bool supported() const { return supported_; }
+  /// Whether a table with these axes can be sampled along its last one (see the top of sampling.hpp).
+  static bool supports(const Axis* axes, int dims) {
+    if (!axes || dims < 1 || dims > 8) return false;
+    const Axis& a = axes[dims - 1];
+    const bool even = a.wrap == Wrap::even && a.lo == 0.0 && a.hi == 3.14159265358979323846;
+    if (!(a.spacing == Spacing::uniform && a.placement == Placement::edges && a.count >= 2 && a.hi > a.lo && (a.wrap == Wrap::clamp || even)))
+      return false;
+    for (int d = 0; d + 1 < dims; ++d)
+      if (axes[d].interpolation == Interpolation::geometric && axes[d].count > 1) return false;
+    return true;
+  }
 
   /// The density along the sampled axis at the other coordinates x[0 … dims − 2].
   void blend(const double* x, AxisRow& row) const {
@@ -247,43 +259,80 @@ class AxisSampler {
   /// density / total: the probability density of sample() (0 where total is 0).
   double pdf(const AxisRow& row, double x) const { return row.total > 0.0 ? density(row, x) / row.total : 0.0; }
 
-  /// The mixture fast path at one lookup (see the top of this file): the node slices the other
-  /// axes' taps touch, their weights (all > 0) and Σ w_c E_c.
+  /// The mixture path at one lookup (see the top of this file): the node slices the other axes'
+  /// taps touch and their weights (of either sign), the sampled cells whose clamp at 0 is
+  /// accounted for (fix_cell, in increasing order, with what the clamp adds to their mass), and
+  /// the normalisation Σ w_c E_c + Σ fixes.
   struct Mix {
-    static constexpr int max_corners = 16;
-    int count = 0;
-    int slice[max_corners] = {};
+    static constexpr int max_corners = 64, max_fixes = 48, max_nodes = 256;
+    int count = 0, fixes = 0;
+    double node[max_nodes];          // blended node values, where `blended` says so (mix()'s scratch)
+    unsigned char blended[max_nodes];
+    std::size_t slice[max_corners] = {};
     double w[max_corners] = {};
+    int fix_cell[max_fixes] = {};
+    double fix_add[max_fixes] = {};
     double total = 0.0;
   };
-  /// True when the fast path is exact at the other coordinates x[0 … dims − 2]: every weight ≥ 0
-  /// and every touched slice ≥ 0 along the sampled axis. False otherwise (then use blend()).
+  /// True when the mixture path is exact (to rounding) at the other coordinates x[0 … dims − 2]:
+  /// the sampled cells whose clamp bound matters (those whose bounds, largest first, add up to
+  /// more than 1e-15 of Σ w_c E_c) are at most max_fixes, and their clamped masses are computed
+  /// here. False otherwise (then use blend()).
   bool mix(const double* x, Mix& m) const {
     m.count = 0;
+    m.fixes = 0;
     m.total = 0.0;
     if (!mixture_) return false;
     Taps tp[8];
+    std::size_t cell = 0;
     for (int d = 0; d + 1 < dims_; ++d) {
       if (!(x[d] == x[d]) && axes_[d].axis.count > 1) return false;
       tp[d] = taps(axes_[d], x[d]);
-      if (tp[d].n > 2) return false;
+      cell += static_cast<std::size_t>(cell_of(axes_[d], x[d])) * (stride_[d] / static_cast<std::size_t>(n_));
     }
-    const bool exact = each_corner(tp, [&](double w, std::size_t offset) {
-      if (w < 0.0) return false;
-      if (w > 0.0) {
-        const std::size_t s = offset / static_cast<std::size_t>(n_);
-        if (!positive_[s] || m.count == Mix::max_corners) return false;
-        m.slice[m.count] = static_cast<int>(s);
-        m.w[m.count] = w;
-        ++m.count;
-        m.total += w * mass_[s];
-      }
+    const double* mass = masses();
+    const bool fits = each_corner(tp, [&](double w, std::size_t offset) {
+      if (w == 0.0) return true;
+      if (m.count == Mix::max_corners) return false;
+      const std::size_t s = offset / static_cast<std::size_t>(n_);
+      m.slice[m.count] = s;
+      m.w[m.count] = w;
+      ++m.count;
+      m.total += w * mass[s];
       return true;
     });
-    return exact && m.count > 0;
+    if (!fits || m.count == 0 || !(m.total > 0.0)) return false;
+    // The cells that may be clamped, largest bound first, until what is left is below rounding:
+    // those whose blended polynomial here has a Bernstein coefficient < 0 are integrated under the
+    // clamp. The blended nodes they need are formed once each (at most the general path's blend).
+    const double negligible = 1e-15 * m.total;
+    double add = 0.0;
+    const std::size_t begin = fix_begin_[cell], end = fix_begin_[cell + 1];
+    if (begin < end && fix_rest_[begin] > negligible) {
+      if (n_ > Mix::max_nodes) return false;
+      std::fill(m.blended, m.blended + n_, static_cast<unsigned char>(0));
+    }
+    for (std::size_t e = begin; e < end && fix_rest_[e] > negligible; ++e) {
+      if (!(fix_rest_[e] < HUGE_VAL)) return false;  // a NaN node
+      const int k = fix_cell_[e];
+      double c[4], b[4];
+      blend_nodes_of_cell(m, k);
+      cell_coef(m.node, k, c);
+      bernstein_of_cubic(c, b);
+      if (b[0] >= 0.0 && b[1] >= 0.0 && b[2] >= 0.0 && b[3] >= 0.0) continue;  // not clamped at this lookup
+      if (m.fixes == Mix::max_fixes) return false;
+      const double unclamped = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
+      int j = m.fixes++;
+      for (; j > 0 && m.fix_cell[j - 1] > k; --j) m.fix_cell[j] = m.fix_cell[j - 1], m.fix_add[j] = m.fix_add[j - 1];
+      m.fix_cell[j] = k;
+      m.fix_add[j] = cell_mass(k, c, 1.0) - unclamped;
+      add += m.fix_add[j];
+    }
+    m.total += add * (even_ ? 2.0 : 1.0);
+    return m.total > 0.0;
   }
   /// The interpolated value at x along the sampled axis (without the measure's cos x; 0 outside
-  /// a clamped axis): Σ w_c s_c(x), each s_c ≥ 0, so no clamp applies.
+  /// a clamped axis): max(0, Σ w_c s_c(x)), eval's value.
   double mix_value(const Mix& m, double x) const {
     if (!(x == x)) return 0.0;
     const Axis& a = axes_[dims_ - 1].axis;
@@ -292,14 +341,15 @@ class AxisSampler {
     double sum = 0.0;
     for (int j = 0; j < m.count; ++j) {
       double c[4];
-      cell_coef(data_ + static_cast<std::size_t>(m.slice[j]) * static_cast<std::size_t>(n_), l.i0, c);
+      cell_coef(data_ + m.slice[j] * static_cast<std::size_t>(n_), l.i0, c);
       sum += m.w[j] * detail::poly(c, l.w);
     }
     return std::max(0.0, sum);
   }
-  /// Draws x from the mixture with one u ∈ [0, 1): the slice c with probability w_c E_c / Σ w E,
-  /// then the inverse of that slice's CDF (its prefix sums, then Newton within the cell); NaN
-  /// when the mixture has no mass.
+  /// Draws x from the mixture with one u ∈ [0, 1): the cell whose cumulative Σ w_c F_c (plus the
+  /// clamp additions of the fixed cells before it) brackets u, by binary search over the prefix
+  /// masses, then Newton on that cell's blended polynomial (clamped at 0 in a fixed cell); NaN
+  /// when the mixture has no mass. x increases with u.
   double sample_mix(const Mix& m, double u) const {
     if (!(m.total > 0.0)) return std::nan("");
     double sign = 1.0;
@@ -308,34 +358,66 @@ class AxisSampler {
       else u = 2.0 * u - 1.0;
     }
     u = std::min(std::max(u, 0.0), 1.0);
-    // The slice: the last one whose share is positive where u falls beyond the others.
-    const double target = u * m.total;
-    double acc = 0.0, before = 0.0;
-    int j = -1;
-    for (int k = 0; k < m.count; ++k) {
-      const double share = m.w[k] * mass_[static_cast<std::size_t>(m.slice[k])];
-      if (!(share > 0.0)) continue;
-      j = k;
-      before = acc;
-      acc += share;
-      if (target < acc) break;
+    const double* cdf = cdfs();
+    const std::size_t n = static_cast<std::size_t>(n_);
+    auto F = [&](int k) {
+      double s = 0.0;
+      for (int j = 0; j < m.count; ++j) s += m.w[j] * cdf[m.slice[j] * n + static_cast<std::size_t>(k)];
+      for (int j = 0; j < m.fixes && m.fix_cell[j] < k; ++j) s += m.fix_add[j];
+      return s;
+    };
+    // The cell k with F(k) ≤ target < F(k + 1).
+    const double top = F(n_ - 1), target = u * top;
+    int lo = 0, hi = n_ - 1;
+    double f_lo = 0.0, f_hi = top;
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      const double f = F(mid);
+      if (f <= target) lo = mid, f_lo = f;
+      else hi = mid, f_hi = f;
     }
-    acc = before;
-    if (j < 0) return std::nan("");
-    const std::size_t s = static_cast<std::size_t>(m.slice[j]);
-    const double share = m.w[j] * mass_[s];
-    const double* cum = &cum_[s * static_cast<std::size_t>(n_)];
-    const double v = std::min(std::max((target - acc) / share, 0.0), 1.0) * cum[n_ - 1];
-    int k = static_cast<int>(std::upper_bound(cum, cum + n_, v) - cum) - 1;
-    k = std::max(0, std::min(n_ - 2, k));
-    while (k > 0 && !(cum[k + 1] > cum[k])) --k;
     double c[4];
-    cell_coef(data_ + s * static_cast<std::size_t>(n_), k, c);
-    const double mass = cum[k + 1] - cum[k];
-    return sign * x_of(k, invert_cell(k, c, std::min(std::max(v - cum[k], 0.0), mass), mass));
+    blended_cell(m, lo, c);
+    const double mass = std::max(0.0, f_hi - f_lo), want = std::min(std::max(target - f_lo, 0.0), mass);
+    bool fixed = false;
+    for (int j = 0; j < m.fixes; ++j) fixed = fixed || m.fix_cell[j] == lo;
+    return sign * x_of(lo, fixed ? invert_clamped(lo, c, want, mass) : invert_cell(lo, c, want, mass));
   }
-  /// Whether mix() can ever apply: the other axes are linear, the sampled axis is supported.
+  /// Whether mix() can ever apply (the sampled axis is supported and the sampling data are there).
   bool has_mixture() const { return mixture_; }
+
+  /// The node slices along the sampled axis (the product of the other axes' counts; a cell of the
+  /// other axes is indexed by the slice of its first node).
+  std::size_t slices() const { return slices_; }
+  /// Computes the sampling data of the table (docs/table-format.md, "Sampling data"): per slice
+  /// the prefix masses of its own interpolant along the sampled axis at the n nodes (unclamped;
+  /// over [0, π] for an even axis; with the cos x weight for Measure::cosine) and its mass over the
+  /// whole domain; per cell of the other axes (at its first node's slice) and cell k of the
+  /// sampled axis (entry k of n; entry n − 1 and cells past an axis's end are 0), the clamp bound
+  /// max(0, −least tensor Bernstein coefficient of the interpolant over the two cells) × the
+  /// cell's width, rounded up to float: the most that max(0, ·) can add to that cell's mass
+  /// anywhere in the cell of the other axes (0: the interpolant is ≥ 0 throughout).
+  void build_data(std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound) const {
+    cdf.assign(slices_ * static_cast<std::size_t>(n_), 0.0);
+    mass.assign(slices_, 0.0);
+    bound.assign(slices_ * static_cast<std::size_t>(n_), 0.0f);
+    if (!supported_) return;
+    const std::size_t n = static_cast<std::size_t>(n_), cells = n - 1;
+    std::vector<double> bern(slices_ * cells * 4);  // each slice's cells in Bernstein form
+    for (std::size_t s = 0; s < slices_; ++s) {
+      const T* v = data_ + s * n;
+      double* cum = &cdf[s * n];
+      for (int k = 0; k + 1 < n_; ++k) {
+        double c[4];
+        cell_coef(v, k, c);
+        bernstein_of_cubic(c, &bern[(s * cells + static_cast<std::size_t>(k)) * 4]);
+        const double cell = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
+        cum[k + 1] = cum[k] + cell;
+      }
+      mass[s] = cum[n - 1] * (even_ ? 2.0 : 1.0);
+    }
+    clamp_bounds(bern.data(), axes_, stride_, dims_, n_, h_, bound);
+  }
 
   /// Draws x in proportion to the density from u ∈ [0, 1); returns NaN when the row has no mass.
   double sample(const AxisRow& row, double u) const {
@@ -356,7 +438,14 @@ class AxisSampler {
     const double* c = &row.coef[static_cast<std::size_t>(k) * 4];
     const double mass = row.cum[static_cast<std::size_t>(k + 1)] - row.cum[static_cast<std::size_t>(k)];
     const double m = std::min(std::max(target - row.cum[static_cast<std::size_t>(k)], 0.0), mass);
-    // Invert F(t) = ∫_0^t density: Newton on [lo, hi], bisection when a step leaves the bracket.
+    return sign * x_of(k, invert_clamped(k, c, m, mass));
+  }
+
+ private:
+  // The t ∈ [0, 1] of cell k (polynomial c, clamped at 0) where the mass from 0 reaches m:
+  // F(t) = ∫_0^t density by cell_mass, Newton on [lo, hi], bisection when a step leaves the
+  // bracket; to rounding.
+  double invert_clamped(int k, const double* c, double m, double mass) const {
     double lo = 0.0, hi = 1.0, t = mass > 0.0 ? m / mass : 0.5;
     for (int it = 0; it < 100; ++it) {
       const double f = cell_mass(k, c, t) - m;
@@ -372,10 +461,59 @@ class AxisSampler {
       }
       t = next;
     }
-    return sign * x_of(k, t);
+    return t;
   }
-
- private:
+  // Blends (once) the nodes that the polynomial of sampled cell k reads, into m.node.
+  void blend_nodes_of_cell(Mix& m, int k) const {
+    int need[4] = {k, k + 1, -1, -1};
+    if (cubic_) {
+      const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
+      need[2] = i0 >= 0 ? i0 : k + 2;
+      need[3] = i3 >= 0 ? i3 : k - 1;
+    }
+    for (int j : need) {
+      if (j < 0 || j >= n_ || m.blended[j]) continue;
+      double v = 0.0;
+      for (int c = 0; c < m.count; ++c) v += m.w[c] * static_cast<double>(data_[m.slice[c] * static_cast<std::size_t>(n_) + static_cast<std::size_t>(j)]);
+      m.node[j] = v;
+      m.blended[j] = 1;
+    }
+  }
+  // The blended polynomial Σ w_c p_c of sampled cell k over the mixture's slices.
+  void blended_cell(const Mix& m, int k, double* c) const {
+    c[0] = c[1] = c[2] = c[3] = 0.0;
+    for (int j = 0; j < m.count; ++j) {
+      double cj[4];
+      cell_coef(data_ + m.slice[j] * static_cast<std::size_t>(n_), k, cj);
+      for (int i = 0; i < 4; ++i) c[i] += m.w[j] * cj[i];
+    }
+  }
+  // Per cell of the other axes, its sampled cells with a clamp bound > 0, largest bound first,
+  // each with the sum of its own and the later bounds (what is left to account for).
+  void prepare_fixes() {
+    const float* b = bounds();
+    const std::size_t n = static_cast<std::size_t>(n_);
+    fix_begin_.assign(slices_ + 1, 0);
+    fix_cell_.clear();
+    fix_rest_.clear();
+    std::vector<std::pair<float, int>> list;
+    for (std::size_t s = 0; s < slices_; ++s) {
+      list.clear();
+      for (std::size_t k = 0; k + 1 < n; ++k)
+        if (b[s * n + k] > 0.0f || !(b[s * n + k] == b[s * n + k])) list.emplace_back(b[s * n + k] == b[s * n + k] ? b[s * n + k] : HUGE_VALF, static_cast<int>(k));
+      std::sort(list.begin(), list.end(), [](const std::pair<float, int>& x, const std::pair<float, int>& y) { return x.first > y.first; });
+      const std::size_t at = fix_cell_.size();
+      fix_cell_.resize(at + list.size());
+      fix_rest_.resize(at + list.size());
+      double rest = 0.0;
+      for (std::size_t e = list.size(); e-- > 0;) {
+        rest += static_cast<double>(list[e].first);
+        fix_cell_[at + e] = list[e].second;
+        fix_rest_[at + e] = rest;
+      }
+      fix_begin_[s + 1] = fix_cell_.size();
+    }
+  }
   // Visits the tensor product of the other axes' taps: f(weight, offset of the node slice) for
   // each corner in row-major order; stops and returns false as soon as f does.
   template <class F>
@@ -451,32 +589,14 @@ class AxisSampler {
     }
     return std::max(0.0, sum) * h_;
   }
-  // The mixture fast path's data, once per table: for each node slice along the sampled axis, ≥ 0
-  // throughout (its cells' minima, at the ends and critical points), its cells' prefix masses
-  // (n per slice, exact: closed form, or the cosine moments) and its mass E (both halves of an
-  // even axis). Only where every other axis is linear: a cubic one has negative weights.
-  void prepare_mixture() {
-    for (int d = 0; d + 1 < dims_; ++d)
-      if (axes_[d].axis.count > 2 && axes_[d].axis.interpolation != Interpolation::linear) return;
-    const std::size_t slices = dims_ > 1 ? stride_[0] * static_cast<std::size_t>(axes_[0].axis.count) / static_cast<std::size_t>(n_) : 1;
-    cum_.assign(slices * static_cast<std::size_t>(n_), 0.0);
-    mass_.assign(slices, 0.0);
-    positive_.assign(slices, 0);
-    for (std::size_t s = 0; s < slices; ++s) {
-      const T* v = data_ + s * static_cast<std::size_t>(n_);
-      double* cum = &cum_[s * static_cast<std::size_t>(n_)];
-      bool positive = true;
-      for (int k = 0; k + 1 < n_; ++k) {
-        double c[4];
-        cell_coef(v, k, c);
-        if (!detail::nonnegative_on_cell(c)) positive = false;
-        cum[k + 1] = cum[k] + (positive ? whole_cell_mass(k, c) : 0.0);
-      }
-      positive_[s] = positive ? 1 : 0;
-      mass_[s] = positive ? cum[n_ - 1] * (even_ ? 2.0 : 1.0) : 0.0;
-    }
-    mixture_ = true;
+  // ∫ over the whole cell k of p(t) cos x, unclamped (the cosine moments), in units of x.
+  double unclamped_cosine_mass(int k, const double* c) const {
+    const double* mo = &moments_[static_cast<std::size_t>(k) * 4];
+    return (c[0] * mo[0] + c[1] * mo[1] + c[2] * mo[2] + c[3] * mo[3]) * h_;
   }
+  const double* cdfs() const { return stored_.cdf ? stored_.cdf : cdf_.data(); }
+  const double* masses() const { return stored_.mass ? stored_.mass : mass_.data(); }
+  const float* bounds() const { return stored_.clamp_bound ? stored_.clamp_bound : bound_.data(); }
   // The t ∈ [0, 1] of cell k (polynomial c, ≥ 0 on the cell, mass `mass`) where the mass from 0
   // reaches m: Newton's method kept in its bracket, to rounding. The cosine measure's integral
   // is that of c times the degree-11 Taylor polynomial of cos about the cell's start (remainder
@@ -542,8 +662,13 @@ class AxisSampler {
   std::vector<int> outer_;
   std::vector<double> moments_;
   bool mixture_ = false;
-  std::vector<double> cum_, mass_;
-  std::vector<unsigned char> positive_;
+  std::size_t slices_ = 0;
+  AxisData stored_;                  // the caller's sampling data, when given
+  std::vector<double> cdf_, mass_;   // else computed here
+  std::vector<float> bound_;
+  std::vector<std::size_t> fix_begin_;  // prepare_fixes(): per slice, its entries in fix_cell_ and fix_rest_
+  std::vector<int> fix_cell_;
+  std::vector<double> fix_rest_;
 };
 
 }  // namespace sampler

@@ -26,14 +26,13 @@
 // rounding. So pdf() equals eval()'s lobe value divided by the normalisation that the same
 // interpolant integrates to, up to rounding; sample() draws exactly from pdf().
 //
-// Two paths, both exact for the same density (axis_sampling.hpp): where the other axes of a
-// table are linear and the node slices a lookup touches are ≥ 0 along the sampled axis (always
-// for linear interpolation of non-negative values; for Catmull–Rom along φ or θr where the
-// slice's cubic pieces do not dip below 0, checked once per slice), the density is a mixture of
-// the slices' densities: sample() draws a slice and inverts its precomputed CDF, pdf() is one
-// lookup over Σ w_c E_c. Elsewhere (cubic or geometric other axes, whose weights can be
-// negative; a slice with overshoot below 0) the blended row is built and cut per lookup as
-// above. Which path a lookup takes changes which u gives which direction, never the density.
+// Two paths, both exact for the same density (axis_sampling.hpp): the mixture path reads the
+// node slices' prefix integrals along the sampled axis (stored next to the tables, or computed when
+// the sampler is prepared) and sums the 4–64 slices a lookup touches with their weights (of either
+// sign): exact wherever the clamp at 0 does not act, which the stored clamp bounds tell per cell;
+// the few cells where it may act are integrated under the clamp per lookup. Where too many would
+// need that, the general path builds the blended row and cuts it per lookup as above. Which path a
+// lookup takes changes which u gives which direction, never the density.
 //
 // Supported sampled axes: uniform spacing, edge placement, wrap clamp (θr) or even over [0, π]
 // (φ). Axes before the sampled one may have any spacing, placement and wrap, and linear or cubic
@@ -85,6 +84,8 @@ struct LobeTables {
   TableRef<T> factor;  ///< the table np is multiplied by (np/energy_<lobe> of a shape table); optional
   TableRef<T> energy;  ///< the lobe's energy for lobe selection (may equal factor); optional
   TableRef<T> mp;      ///< M_p; last axis θr
+  AxisData np_data;    ///< np's stored sampling data along φ (optional: computed when absent)
+  AxisData mp_data;    ///< mp's stored sampling data along θr (optional)
 };
 
 /// The non-angular coordinates of a fibre: the table axes beta, sigma_a and channel read these.
@@ -107,9 +108,18 @@ template <class T>
 class HairSampler {
  public:
   static constexpr int max_lobes = 8;
-  /// Scratch rows for one thread; reuse one across calls to avoid allocations.
+  /// Scratch rows for one thread; reuse one across calls to avoid allocations. It also keeps what
+  /// depends only on the shading point (the fibre and θi): the lobe probabilities and each lobe's
+  /// θr density (its mixture or blended row), reused while sample() and pdf() are called with the
+  /// same fibre and θi on the same sampler, as a renderer does at one shading point.
   struct Workspace {
     AxisRow m, n;
+    const void* owner = nullptr;  ///< the sampler the point below belongs to
+    double key[4] = {0.0, 0.0, 0.0, 0.0};
+    double prob[max_lobes] = {};
+    bool mp_mixed[max_lobes] = {};
+    typename AxisSampler<T>::Mix mp_mix[max_lobes];
+    AxisRow mp_row[max_lobes];
   };
 
   HairSampler() = default;
@@ -121,6 +131,8 @@ class HairSampler {
       const LobeTables<T>& l = lobes[p];
       if (!l.np.data || !l.mp.data || l.mp.coords[l.mp.dims - 1] != Coordinate::theta_r) supported_ = false;
       if (!l.np.data || !l.mp.data) continue;
+      for (int d = 0; d + 1 < l.mp.dims; ++d)  // the θr density must depend on the shading point only
+        if (l.mp.coords[d] == Coordinate::theta_d || l.mp.coords[d] == Coordinate::theta_r || l.mp.coords[d] == Coordinate::phi) supported_ = false;
       q.np = TableView<T>(l.np.data, l.np.axes, l.np.dims);
       q.mp = TableView<T>(l.mp.data, l.mp.axes, l.mp.dims);
       if (l.factor.data) q.factor = TableView<T>(l.factor.data, l.factor.axes, l.factor.dims);
@@ -128,10 +140,10 @@ class HairSampler {
       q.has_phi = l.np.coords[l.np.dims - 1] == Coordinate::phi;
       for (int d = 0; d + 1 < l.np.dims; ++d)
         if (l.np.coords[d] == Coordinate::phi) supported_ = false;
-      q.mp_axis = AxisSampler<T>(l.mp.data, l.mp.axes, l.mp.dims, Measure::cosine);
+      q.mp_axis = AxisSampler<T>(l.mp.data, l.mp.axes, l.mp.dims, Measure::cosine, l.mp_data);
       if (!q.mp_axis.supported()) supported_ = false;
       if (q.has_phi) {
-        q.np_axis = AxisSampler<T>(l.np.data, l.np.axes, l.np.dims, Measure::plain);
+        q.np_axis = AxisSampler<T>(l.np.data, l.np.axes, l.np.dims, Measure::plain, l.np_data);
         if (!q.np_axis.supported()) supported_ = false;
       }
     }
@@ -202,44 +214,33 @@ class HairSampler {
   /// The pdf per unit solid angle of drawing (θr, φ) from lobe p alone:
   /// max(0, M̃_p)/∫max(0, M̃_p) cos θr dθr · max(0, Ñ_p)/∫max(0, Ñ_p) dφ.
   double pdf_lobe(int p, const FibreCoordinates& f, double theta_i, double theta_r, double phi, Workspace& ws) const {
-    const Prepared& q = lobe_[p];
-    double x[8];
-    const double theta_d = 0.5 * (theta_r - theta_i);
-    fill(q.t.mp, f, theta_i, theta_r, theta_d, phi, x);
-    typename AxisSampler<T>::Mix mx;
-    double pm;
-    if (q.mp_axis.mix(x, mx)) {
-      // Fast path (exact where mix() holds): one lookup over the normalisation Σ w_c E_c.
-      if (!(mx.total > 0.0)) return 0.0;
-      pm = q.mp_axis.mix_value(mx, theta_r) / mx.total;
-    } else {
-      q.mp_axis.blend(x, ws.m);
-      if (!(ws.m.total > 0.0)) return 0.0;
-      pm = q.mp_axis.value(ws.m, theta_r) / ws.m.total;
-    }
+    at_point(f, theta_i, ws);
+    const double pm = mp_pdf(p, theta_r, ws);
     if (!(pm > 0.0)) return 0.0;
+    const Prepared& q = lobe_[p];
     if (!q.has_phi) return pm / (2.0 * 3.14159265358979323846);
-    fill(q.t.np, f, theta_i, theta_r, theta_d, phi, x);
-    if (q.np_axis.mix(x, mx)) return mx.total > 0.0 ? pm * q.np_axis.mix_value(mx, phi) / mx.total : 0.0;
+    double x[8];
+    fill(q.t.np, f, theta_i, theta_r, 0.5 * (theta_r - theta_i), phi, x);
+    typename AxisSampler<T>::Mix mx;
+    if (q.np_axis.mix(x, mx)) return pm * q.np_axis.mix_value(mx, phi) / mx.total;
     q.np_axis.blend(x, ws.n);
     return pm * q.np_axis.pdf(ws.n, phi);
   }
 
   /// The pdf per unit solid angle of sample(): Σ_p P_p pdf_lobe(p).
   double pdf(const FibreCoordinates& f, double theta_i, double theta_r, double phi, Workspace& ws) const {
-    double prob[max_lobes];
-    lobe_probabilities(f, theta_i, prob, ws);
+    at_point(f, theta_i, ws);
     double s = 0.0;
     for (int p = 0; p < count_; ++p)
-      if (prob[p] > 0.0) s += prob[p] * pdf_lobe(p, f, theta_i, theta_r, phi, ws);
+      if (ws.prob[p] > 0.0) s += ws.prob[p] * pdf_lobe(p, f, theta_i, theta_r, phi, ws);
     return s;
   }
 
   /// Draws a direction from three uniform numbers in [0, 1): u0 chooses the lobe, u1 θr, u2 φ.
   HairSample sample(const FibreCoordinates& f, double theta_i, double u0, double u1, double u2, Workspace& ws) const {
     HairSample r;
-    double prob[max_lobes];
-    lobe_probabilities(f, theta_i, prob, ws);
+    at_point(f, theta_i, ws);
+    const double* prob = ws.prob;
     int p = -1;
     double acc = 0.0;
     for (int k = 0; k < count_; ++k) {
@@ -251,15 +252,8 @@ class HairSampler {
     if (p < 0) return r;
     const Prepared& q = lobe_[p];
     double x[8];
-    fill(q.t.mp, f, theta_i, 0.0, 0.0, 0.0, x);
     typename AxisSampler<T>::Mix mx;
-    double theta_r;
-    if (q.mp_axis.mix(x, mx)) {
-      theta_r = q.mp_axis.sample_mix(mx, u1);
-    } else {
-      q.mp_axis.blend(x, ws.m);
-      theta_r = q.mp_axis.sample(ws.m, u1);
-    }
+    const double theta_r = ws.mp_mixed[p] ? q.mp_axis.sample_mix(ws.mp_mix[p], u1) : q.mp_axis.sample(ws.mp_row[p], u1);
     if (!(theta_r == theta_r)) return r;
     double phi = -3.14159265358979323846 + 2.0 * 3.14159265358979323846 * u2;
     if (q.has_phi) {
@@ -298,18 +292,9 @@ class HairSampler {
     double x[8];
     const double theta_d = 0.5 * (theta_r - theta_i);
     typename AxisSampler<T>::Mix mx;
-    fill(q.t.mp, f, theta_i, theta_r, theta_d, phi, x);
-    double m, pm = 0.0;
-    if (q.mp_axis.mix(x, mx)) {
-      m = q.mp_axis.mix_value(mx, theta_r);
-      if (mx.total > 0.0) pm = m / mx.total;
-    } else {
-      m = std::max(0.0, q.mp(x));
-      if (with_pdf && m > 0.0) {
-        q.mp_axis.blend(x, ws.m);
-        if (ws.m.total > 0.0) pm = q.mp_axis.value(ws.m, theta_r) / ws.m.total;
-      }
-    }
+    // M̃_p and its normalisation from the shading point's θr density (at_point()).
+    const double m = ws.mp_mixed[p] ? q.mp_axis.mix_value(ws.mp_mix[p], theta_r) : q.mp_axis.value(ws.mp_row[p], theta_r);
+    const double pm = with_pdf ? mp_pdf(p, theta_r, ws) : 0.0;
     if (!(m > 0.0)) return;
     fill(q.t.np, f, theta_i, theta_r, theta_d, phi, x);
     double n, pn = 0.0;
@@ -332,6 +317,28 @@ class HairSampler {
       n *= std::max(0.0, q.factor(x));
     }
     value = m * n;
+  }
+
+  // Fills the workspace's shading-point part for (f, θi) unless it holds it already.
+  void at_point(const FibreCoordinates& f, double theta_i, Workspace& ws) const {
+    if (ws.owner == this && ws.key[0] == f.beta && ws.key[1] == f.sigma_a && ws.key[2] == f.channel && ws.key[3] == theta_i) return;
+    ws.owner = nullptr;
+    lobe_probabilities(f, theta_i, ws.prob, ws);
+    for (int p = 0; p < count_; ++p) {
+      const Prepared& q = lobe_[p];
+      double x[8];
+      fill(q.t.mp, f, theta_i, 0.0, 0.0, 0.0, x);
+      ws.mp_mixed[p] = q.mp_axis.mix(x, ws.mp_mix[p]);
+      if (!ws.mp_mixed[p]) q.mp_axis.blend(x, ws.mp_row[p]);
+    }
+    ws.owner = this;
+    ws.key[0] = f.beta, ws.key[1] = f.sigma_a, ws.key[2] = f.channel, ws.key[3] = theta_i;
+  }
+  // max(0, M̃_p(θr)) / ∫ max(0, M̃_p) cos θr dθr at the workspace's shading point.
+  double mp_pdf(int p, double theta_r, const Workspace& ws) const {
+    const Prepared& q = lobe_[p];
+    if (ws.mp_mixed[p]) return ws.mp_mix[p].total > 0.0 ? q.mp_axis.mix_value(ws.mp_mix[p], theta_r) / ws.mp_mix[p].total : 0.0;
+    return ws.mp_row[p].total > 0.0 ? q.mp_axis.value(ws.mp_row[p], theta_r) / ws.mp_row[p].total : 0.0;
   }
 
   struct Prepared {

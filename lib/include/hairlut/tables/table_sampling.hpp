@@ -1,11 +1,13 @@
 // The lobes of a loaded table set as the header-only hair sampler (sampling.hpp) reads them:
 // generic d'Eon tables (np/<lobe> with its factor np/energy_<lobe>, mp/<lobe>, the residual) or
 // the tables of one material (materials/<name>/np_<lobe>, energy_<lobe>, mp_<lobe>). What an
-// engine does with the sidecar, done from a TableSet for the tools and tests.
+// engine does with the sidecar, done from a TableSet for the tools and tests. And the sampling data
+// stored next to those tables (docs/table-format.md, "Sampling data"): made, found and checked.
 #pragma once
 
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,33 @@
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
+
+/// The measure along the sampled axis when t is a table the hair sampler samples (N_p over φ:
+/// plain; M_p over θr: cos θr; generic or per material, values present), else nullopt.
+std::optional<sampler::Measure> sampled_measure(const Table& t);
+/// Where t's sampling data live: "sampling/<group>/<name>_<what>", what = cdf, mass or clamp_bound.
+std::string sampling_path(const Table& t, const std::string& what);
+/// The sampling data of every sampled table of the set whose axes the sampler supports, as tables
+/// (AxisSampler::build_data of the stored values): <name>_cdf (float64, the table's axes),
+/// <name>_mass (float64) over the other axes and <name>_clamp_bound (float32, the table's axes).
+std::vector<Table> sampling_tables(const TableSet& set);
+/// Appends sampling_tables(set) to the set (the baker does, after the tables are complete).
+void append_sampling_tables(TableSet& set);
+/// The stored sampling data of table t (pointers into the set), or empty when the set has none
+/// of the right precision and shape (the sampler then computes them).
+sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t);
+
+/// Stored sampling data against what the sampler computes from the stored values.
+struct SamplingDataCheck {
+  std::string table;                   ///< the sampled table
+  bool present = false;                ///< sampling data stored for it
+  std::string problem;                 ///< why none could be read ("" when read)
+  double max_cdf_difference = 0.0;     ///< largest |stored − computed| prefix, over the slice's largest |prefix|
+  double max_mass_difference = 0.0;    ///< the same for the slices' masses
+  std::size_t bound_mismatches = 0;     ///< clamp bounds that differ
+  std::size_t unclamped = 0, cells = 0;  ///< cells of the other axes with every clamp bound 0, and all of them
+};
+std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set);
 
 /// The sampler of one table group, with the axis views it points into. Valid while the TableSet
 /// lives (the sampler points into its float32 values).
@@ -55,6 +84,8 @@ inline HairTables hair_tables(const TableSet& set, const std::string& group, int
     sampler::LobeTables<float> l;
     l.np = ref(&t);
     l.mp = ref(m);
+    l.np_data = stored_sampling_data(set, t);
+    l.mp_data = stored_sampling_data(set, *m);
     if (!t.factor().empty()) {
       const Table* f = set.find(t.factor());
       if (!f) throw DomainError(t.factor() + ": missing (the factor of " + t.path() + ")");

@@ -1,0 +1,186 @@
+// Sampling data next to the N_p and M_p tables of a set (docs/table-format.md, "Sampling data"):
+// computed with the header-only sampler's own AxisSampler::build_data, so that what a file stores
+// is what the sampler would compute from the stored values.
+#include "hairlut/tables/table_sampling.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hairlut {
+namespace {
+
+// The tables' values as the sampler reads them (float32 or float64), with their axis views.
+template <class T>
+sampler::AxisSampler<T> axis_sampler(const Table& t, const T* data, std::vector<sampler::Axis>& views, sampler::Measure m,
+                                     const sampler::AxisData& stored = sampler::AxisData()) {
+  views.clear();
+  for (const GridAxis& g : t.axes) views.push_back(g.view());
+  return sampler::AxisSampler<T>(data, views.data(), static_cast<int>(views.size()), m, stored);
+}
+
+std::size_t grid_values(const std::vector<GridAxis>& axes) {
+  std::size_t n = 1;
+  for (const GridAxis& a : axes) n *= static_cast<std::size_t>(a.count);
+  return n;
+}
+
+// build_data of table t, in the precision it is stored in.
+void build(const Table& t, sampler::Measure m, std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound) {
+  std::vector<sampler::Axis> views;
+  if (t.precision == Precision::float32) axis_sampler<float>(t, t.f32.data(), views, m).build_data(cdf, mass, bound);
+  else axis_sampler<double>(t, t.f64.data(), views, m).build_data(cdf, mass, bound);
+}
+
+bool supported(const Table& t, sampler::Measure) {
+  std::vector<sampler::Axis> views;
+  for (const GridAxis& g : t.axes) views.push_back(g.view());
+  return sampler::AxisSampler<float>::supports(views.data(), static_cast<int>(views.size()));
+}
+
+}  // namespace
+
+std::optional<sampler::Measure> sampled_measure(const Table& t) {
+  if (t.axes.size() < 2 || t.size() != grid_values(t.axes)) return std::nullopt;
+  const bool material = t.group.rfind("materials/", 0) == 0;
+  const std::string& last = t.axes.back().name;
+  if (t.quantity == "N_p" && last == "phi" && (t.group == "np" || (material && t.name.rfind("np_", 0) == 0))) return sampler::Measure::plain;
+  if (t.quantity == "M_p" && last == "theta_r" && (t.group == "mp" || (material && t.name.rfind("mp_", 0) == 0))) return sampler::Measure::cosine;
+  return std::nullopt;
+}
+
+std::string sampling_path(const Table& t, const std::string& what) { return "sampling/" + t.group + "/" + t.name + "_" + what; }
+
+std::vector<Table> sampling_tables(const TableSet& set) {
+  std::vector<Table> out;
+  for (const Table& t : set.tables) {
+    const auto m = sampled_measure(t);
+    if (!m || !supported(t, *m)) continue;
+    std::vector<double> cdf, mass;
+    std::vector<float> bound;
+    build(t, *m, cdf, mass, bound);
+    const bool cosine = *m == sampler::Measure::cosine;
+    const std::string axis = t.axes.back().name;
+    nlohmann::ordered_json attrs = {{"sampling_of", t.path()}, {"sampled_axis", axis}, {"measure", cosine ? "cos" : "plain"}};
+    if (t.attributes.contains("lobe")) attrs["lobe"] = t.attributes["lobe"];
+    std::vector<GridAxis> other(t.axes.begin(), t.axes.end() - 1);
+    auto make = [&](const std::string& what, const std::string& quantity, const std::string& long_name, std::vector<GridAxis> axes, Precision p) {
+      Table s;
+      s.group = "sampling/" + t.group;
+      s.name = t.name + "_" + what;
+      s.quantity = quantity;
+      s.units = "1";
+      s.long_name = long_name;
+      s.axes = std::move(axes);
+      s.attributes = attrs;
+      s.precision = p;
+      return s;
+    };
+    const std::string density = std::string("max(0, interpolated ") + t.path() + ")" + (cosine ? " cos theta_r" : "");
+    Table c = make("cdf", "sampling_cdf",
+                   "prefix integrals over the cells along " + axis + " of each node slice's own interpolant (unclamped" +
+                       (cosine ? ", times cos theta_r" : "") + ")" + (axis == "phi" ? ", over [0, pi]" : ""),
+                   t.axes, Precision::float64);
+    c.f64 = std::move(cdf);
+    Table s = make("mass", "sampling_mass", "integral of each node slice's interpolant over the whole " + axis + " domain" + (cosine ? ", times cos theta_r" : ""),
+                   other, Precision::float64);
+    s.f64 = std::move(mass);
+    Table k = make("clamp_bound", "sampling_clamp_bound",
+                   "per cell of the other axes (at its first node) and cell along " + axis + " (at its first node): a bound of what the clamp in " +
+                       density + " adds to the cell's integral (0: never clamped there)",
+                   t.axes, Precision::float32);
+    k.f32 = std::move(bound);
+    out.push_back(std::move(c));
+    out.push_back(std::move(s));
+    out.push_back(std::move(k));
+  }
+  // In the order in which the OpenEXR writer packs tables of one group, quantity and axes (up to
+  // four, without a channel axis) into the channels of one part, so that the file's parts read back
+  // in the set's order.
+  std::vector<std::vector<std::size_t>> packs;
+  auto has_channel = [](const Table& t) {
+    return std::any_of(t.axes.begin(), t.axes.end(), [](const GridAxis& a) { return a.name == "channel"; });
+  };
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Table& t = out[i];
+    bool placed = false;
+    if (!has_channel(t))
+      for (auto& p : packs) {
+        const Table& first = out[p.front()];
+        if (!has_channel(first) && p.size() < 4 && first.group == t.group && first.quantity == t.quantity && first.axes.size() == t.axes.size() &&
+            std::equal(first.axes.begin(), first.axes.end(), t.axes.begin(), [](const GridAxis& a, const GridAxis& b) { return a.to_json() == b.to_json(); })) {
+          p.push_back(i);
+          placed = true;
+          break;
+        }
+      }
+    if (!placed) packs.push_back({i});
+  }
+  std::vector<Table> ordered;
+  for (const auto& p : packs)
+    for (std::size_t i : p) ordered.push_back(std::move(out[i]));
+  return ordered;
+}
+
+void append_sampling_tables(TableSet& set) {
+  std::vector<Table> add = sampling_tables(set);
+  for (Table& t : add) set.tables.push_back(std::move(t));
+}
+
+sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t) {
+  sampler::AxisData d;
+  const Table* c = set.find(sampling_path(t, "cdf"));
+  const Table* m = set.find(sampling_path(t, "mass"));
+  const Table* k = set.find(sampling_path(t, "clamp_bound"));
+  if (!c || !m || !k) return d;
+  const std::size_t n = grid_values(t.axes), slices = n / static_cast<std::size_t>(t.axes.back().count);
+  if (c->precision != Precision::float64 || m->precision != Precision::float64 || k->precision != Precision::float32 || c->f64.size() != n ||
+      m->f64.size() != slices || k->f32.size() != n)
+    return d;
+  d.cdf = c->f64.data();
+  d.mass = m->f64.data();
+  d.clamp_bound = k->f32.data();
+  return d;
+}
+
+std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set) {
+  std::vector<SamplingDataCheck> out;
+  for (const Table& t : set.tables) {
+    const auto m = sampled_measure(t);
+    if (!m || !supported(t, *m)) continue;
+    SamplingDataCheck r;
+    r.table = t.path();
+    const sampler::AxisData d = stored_sampling_data(set, t);
+    if (!d.cdf) {
+      r.present = set.find(sampling_path(t, "cdf")) || set.find(sampling_path(t, "mass")) || set.find(sampling_path(t, "clamp_bound"));
+      r.problem = r.present ? "stored sampling data have the wrong precision or shape" : "no stored sampling data";
+      out.push_back(r);
+      continue;
+    }
+    r.present = true;
+    std::vector<double> cdf, mass;
+    std::vector<float> bound;
+    build(t, *m, cdf, mass, bound);
+    const std::size_t n = static_cast<std::size_t>(t.axes.back().count);
+    for (std::size_t s = 0; s < mass.size(); ++s) {
+      // Differences relative to the slice's own scale: the largest |prefix| along it.
+      double scale = 0.0;
+      for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::fabs(cdf[s * n + k]));
+      const double norm = scale > 0.0 ? scale : 1.0;
+      for (std::size_t k = 0; k < n; ++k) r.max_cdf_difference = std::max(r.max_cdf_difference, std::fabs(cdf[s * n + k] - d.cdf[s * n + k]) / norm);
+      r.max_mass_difference = std::max(r.max_mass_difference, std::fabs(mass[s] - d.mass[s]) / norm);
+      bool clean = true;
+      for (std::size_t k = 0; k + 1 < n; ++k) {
+        const float a = bound[s * n + k], b = d.clamp_bound[s * n + k];
+        if (!(a == b) && !(a != a && b != b)) ++r.bound_mismatches;
+        clean = clean && a == 0.0f;
+      }
+      if (clean) ++r.unclamped;
+    }
+    r.cells = 1;
+    for (std::size_t a = 0; a + 1 < t.axes.size(); ++a) r.cells *= static_cast<std::size_t>(sampler::axis_cells(t.axes[a].view()));
+    out.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace hairlut

@@ -1,0 +1,211 @@
+// The sampling data stored next to the N_p and M_p tables (table_sampling.hpp, docs/table-format.md
+// "Sampling data"): equal to what the sampler computes and to independent quadrature, clamp
+// bounds that hold, and chi-square fits and furnaces of the full tables' sampler reading them.
+#include "sampling_checks.hpp"
+
+using namespace sampling_checks;  // and the hairlut names it brings (sampling_checks.hpp)
+
+namespace {
+
+std::vector<sampler::Axis> views_of(const Table& t) {
+  std::vector<sampler::Axis> v;
+  for (const GridAxis& g : t.axes) v.push_back(g.view());
+  return v;
+}
+
+// Every sampled table of the set has stored data, equal to the sampler's own computation, and
+// its prefix integrals agree with composite Gauss–Legendre quadrature of the table's own
+// interpolant (TableView, unclamped) along the sampled axis at node slices drawn at random.
+void check_stored_against_quadrature(const TableSet& set, unsigned seed) {
+  int sampled = 0;
+  for (const SamplingDataCheck& c : check_sampling_data(set)) {
+    INFO(c.table << ": " << c.problem);
+    CHECK(c.present);
+    CHECK(c.problem.empty());
+    CHECK(c.max_cdf_difference == 0.0);
+    CHECK(c.max_mass_difference == 0.0);
+    CHECK(c.bound_mismatches == 0u);
+    ++sampled;
+  }
+  CHECK(sampled > 0);
+  std::mt19937_64 rng(seed);
+  for (const Table& t : set.tables) {
+    const auto measure = sampled_measure(t);
+    if (!measure) continue;
+    const sampler::AxisData d = stored_sampling_data(set, t);
+    REQUIRE(d.cdf);
+    const std::vector<sampler::Axis> axes = views_of(t);
+    const int dims = static_cast<int>(axes.size());
+    const sampler::TableView<float> view(t.f32.data(), axes.data(), dims);
+    const sampler::Axis& last = axes.back();
+    const int n = last.count;
+    const std::size_t slices = t.f32.size() / static_cast<std::size_t>(n);
+    const bool cosine = *measure == sampler::Measure::cosine, even = last.wrap == sampler::Wrap::even;
+    for (int trial = 0; trial < 12; ++trial) {
+      const std::size_t s = std::uniform_int_distribution<std::size_t>(0, slices - 1)(rng);
+      std::vector<double> x(static_cast<std::size_t>(dims));
+      std::size_t rest = s;
+      for (int k = dims - 2; k >= 0; --k) {
+        const std::size_t count = static_cast<std::size_t>(axes[static_cast<std::size_t>(k)].count);
+        x[static_cast<std::size_t>(k)] = sampler::node(axes[static_cast<std::size_t>(k)], static_cast<int>(rest % count));
+        rest /= count;
+      }
+      auto f = [&](double v) {
+        x.back() = v;
+        return view(x.data()) * (cosine ? std::cos(v) : 1.0);
+      };
+      double acc = 0.0, scale = 0.0;
+      for (int k = 0; k < n; ++k) scale = std::max(scale, std::fabs(d.cdf[s * static_cast<std::size_t>(n) + static_cast<std::size_t>(k)]));
+      for (int k = 0; k + 1 < n; ++k) {
+        acc += integrate(f, sampler::node(last, k), sampler::node(last, k + 1), 1, 12);
+        const double stored = d.cdf[s * static_cast<std::size_t>(n) + static_cast<std::size_t>(k + 1)];
+        INFO(t.path() << " slice " << s << " node " << k + 1 << ": stored " << stored << ", quadrature " << acc);
+        CHECK(std::fabs(stored - acc) <= 1e-11 * std::max(scale, 1e-300));
+      }
+      CHECK(std::fabs(d.mass[s] - acc * (even ? 2.0 : 1.0)) <= 1e-11 * std::max(scale, 1e-300));
+    }
+  }
+}
+
+// The clamp bounds hold: at random points of random cells of the other axes, the negative part of
+// the unclamped interpolant integrated over each sampled cell (64-point Gauss–Legendre) does not
+// exceed that cell's stored bound; where the bound is 0 the interpolant is ≥ 0 (to rounding).
+void check_clamp_bounds(const TableSet& set, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const Table& t : set.tables) {
+    if (!sampled_measure(t)) continue;
+    const sampler::AxisData d = stored_sampling_data(set, t);
+    REQUIRE(d.clamp_bound);
+    const std::vector<sampler::Axis> axes = views_of(t);
+    const int dims = static_cast<int>(axes.size());
+    const sampler::TableView<float> view(t.f32.data(), axes.data(), dims);
+    const sampler::Axis& last = axes.back();
+    const std::size_t n = static_cast<std::size_t>(last.count);
+    double peak = 0.0;
+    for (float v : t.f32) peak = std::max(peak, static_cast<double>(std::fabs(v)));
+    int clamped_cells = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+      std::vector<double> x(static_cast<std::size_t>(dims));
+      std::size_t first = 0, stride = 1;
+      for (int k = dims - 2; k >= 0; --k) {
+        const sampler::Axis& a = axes[static_cast<std::size_t>(k)];
+        const int cells = sampler::axis_cells(a);
+        const int c = std::uniform_int_distribution<int>(0, cells - 1)(rng);
+        x[static_cast<std::size_t>(k)] = a.count <= 1 ? a.lo : sampler::node(a, c) + u(rng) * (sampler::node(a, std::min(c + 1, a.count - 1)) - sampler::node(a, c));
+        first += static_cast<std::size_t>(c) * stride;
+        stride *= static_cast<std::size_t>(a.count);
+      }
+      for (std::size_t k = 0; k + 1 < n; ++k) {
+        const double bound = d.clamp_bound[first * n + k];
+        const double negative = integrate(
+            [&](double v) {
+              x.back() = v;
+              return std::max(0.0, -view(x.data()));
+            },
+            sampler::node(last, static_cast<int>(k)), sampler::node(last, static_cast<int>(k) + 1), 1, 64);
+        if (negative > 0.0) ++clamped_cells;
+        INFO(t.path() << " cell " << first << ", " << k << ": negative part " << negative << ", bound " << bound);
+        // + the rounding of the interpolation itself (a few ulps of the largest node value).
+        CHECK(negative <= bound * (1.0 + 1e-6) + 1e-13 * peak * (last.hi - last.lo) / static_cast<double>(n - 1));
+      }
+    }
+    INFO(t.path() << ": " << clamped_cells << " sampled cells where the interpolant went below 0");
+    SUCCEED();
+  }
+}
+
+// Chi-square fit, ∫ pdf = 1 and the furnace against quadrature of eval, for the mixture of all
+// lobes and for each lobe alone, through the full tables' sampler reading the stored data.
+void stored_sampler_fits(const TableSet& set, const std::string& group, const FibreCoordinates& f, double theta_i, int fits, unsigned seed) {
+  const HairTables h = hair_tables(set, group);
+  for (const sampler::LobeTables<float>& l : h.lobes) {
+    REQUIRE(l.mp_data.cdf);
+    if (l.np.dims > 0 && l.np.coords[l.np.dims - 1] == sampler::Coordinate::phi) REQUIRE(l.np_data.cdf);
+  }
+  const int lobes = static_cast<int>(h.lobes.size());
+  for (int p = -1; p < lobes; ++p) {
+    const HairSampler<float> s(p < 0 ? h.lobes.data() : &h.lobes[static_cast<std::size_t>(p)], p < 0 ? lobes : 1);
+    REQUIRE(s.supported());
+    double integral = 0.0;
+    const double pvalue = chi_square(s, f, theta_i, 40000, seed + static_cast<unsigned>(p + 1), &integral);
+    const double exact = quadrature_energy(s, f, theta_i);
+    const Estimate e = furnace(s, f, theta_i, 100000, seed + 100 + static_cast<unsigned>(p + 1));
+    INFO(group << " lobe " << (p < 0 ? std::string("all") : h.lobe_names[static_cast<std::size_t>(p)]) << " theta_i " << theta_i / kDeg
+               << " deg: p-value " << pvalue << ", integral of pdf " << integral << ", furnace " << e.mean << " +- " << e.error
+               << ", quadrature " << exact);
+    CHECK(std::fabs(integral - 1.0) <= 1e-3);
+    CHECK(pvalue > 0.01 / fits);
+    CHECK(std::fabs(e.mean - exact) <= 4.0 * e.error);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("Sampling data: the default tables' stored data equal the sampler's and independent quadrature", "[sampling]") {
+  check_stored_against_quadrature(default_tables(), 31);
+}
+TEST_CASE("Sampling data: the per-material tables' stored data equal the sampler's and independent quadrature", "[sampling]") {
+  check_stored_against_quadrature(material_tables(), 32);
+}
+TEST_CASE("Sampling data: clamp bounds hold, default and per-material tables", "[sampling]") {
+  check_clamp_bounds(default_tables(), 33);
+  check_clamp_bounds(material_tables(), 34);
+}
+TEST_CASE("Sampling data: the sampler reads stored data or computes them, with the same result", "[sampling]") {
+  // One lobe of the default tables with and without its stored data: equal pdf and draws.
+  const HairTables h = hair_tables(default_tables(), "");
+  sampler::LobeTables<float> bare = h.lobes[1];
+  bare.np_data = bare.mp_data = sampler::AxisData();
+  const HairSampler<float> stored(&h.lobes[1], 1), computed(&bare, 1);
+  HairSampler<float>::Workspace ws;
+  std::mt19937_64 rng(35);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    const FibreCoordinates f{(4.5 + 40.0 * u(rng)) * kDeg, 3.0 * u(rng), 0.0};
+    const double ti = (u(rng) - 0.5) * 170.0 * kDeg;
+    const double a = u(rng), b = u(rng), c = u(rng);
+    const sampler::HairSample r1 = stored.sample(f, ti, a, b, c, ws), r2 = computed.sample(f, ti, a, b, c, ws);
+    CHECK(r1.theta_r == r2.theta_r);
+    CHECK(r1.phi == r2.phi);
+    CHECK(r1.pdf == r2.pdf);
+  }
+}
+TEST_CASE("Sampling data: stored data, chi-square and furnace of every lobe, default tables, narrow roughness", "[sampling]") {
+  const Case& c = kGenericCases[0];
+  stored_sampler_fits(default_tables(), "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 18, 900);
+}
+TEST_CASE("Sampling data: stored data, chi-square and furnace of every lobe, default tables, wide roughness", "[sampling]") {
+  const Case& c = kGenericCases[1];
+  stored_sampler_fits(default_tables(), "", FibreCoordinates{c.beta, 1.0, 0.0}, c.theta_i, 18, 920);
+}
+TEST_CASE("Sampling data: stored data, chi-square and furnace of every lobe, default tables, grazing incidence", "[sampling]") {
+  const Case& c = kGenericCases[2];
+  stored_sampler_fits(default_tables(), "", FibreCoordinates{c.beta, 0.0, 0.0}, c.theta_i, 18, 940);
+}
+TEST_CASE("Sampling data: stored data, chi-square and furnace of every lobe, per-material tables", "[sampling]") {
+  for (const char* material : {"blonde", "white"})
+    for (const Case& c : kMaterialCases)
+      stored_sampler_fits(material_tables(), std::string("materials/") + material, FibreCoordinates{0.0, 0.0, 1.0}, c.theta_i, 24, 960);
+}
+TEST_CASE("Sampling data: an altered stored value is reported", "[sampling]") {
+  TableSet set = material_tables();
+  Table* cdf = nullptr;
+  Table* bound = nullptr;
+  for (Table& t : set.tables) {
+    if (t.quantity == "sampling_cdf" && !cdf) cdf = &t;
+    if (t.quantity == "sampling_clamp_bound" && !bound) bound = &t;
+  }
+  REQUIRE(cdf);
+  REQUIRE(bound);
+  cdf->f64[cdf->f64.size() / 2 + 1] *= 1.0 + 1e-9;
+  bound->f32[0] = bound->f32[0] + 1.0f;
+  std::size_t mismatched = 0;
+  double worst = 0.0;
+  for (const SamplingDataCheck& c : check_sampling_data(set)) {
+    mismatched += c.bound_mismatches;
+    worst = std::max(worst, c.max_cdf_difference);
+  }
+  CHECK(mismatched == 1u);
+  CHECK(worst > 1e-12);
+}
