@@ -21,6 +21,7 @@
 #include <string>
 
 #include "../common/cancel.hpp"
+#include "exr_loader.hpp"
 
 namespace {
 
@@ -162,12 +163,13 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   options.progress = [&](std::string_view stage, std::size_t done, std::size_t total) { bar.update(stage, done, total); };
   try {
     hairlut::remove_stale_temporaries(config);
+    const hairlut::ExrCodec exr = hairlut_tools::exr_codec_for(config);  // OpenEXR only for EXR outputs
     hairlut::BakeReport report;
     hairlut::SlabbedTables slabbed;
     slabbed.slab_bytes = plan.slab_bytes;
     const auto start = std::chrono::steady_clock::now();
     const hairlut::TableSet set = hairlut::bake(config, options, &report, plan.slabbed ? &slabbed : nullptr);
-    const auto files = hairlut::write_outputs(set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr);
+    const auto files = hairlut::write_outputs_with(exr, set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr);
     if (plan.slabbed) report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!quiet) {
       for (const auto& f : report.folded)

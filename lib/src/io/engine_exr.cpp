@@ -26,20 +26,6 @@ std::string axis_text(const GridAxis& a, char letter) {
 
 }  // namespace
 
-std::vector<EngineOutput> engine_outputs(const BakeConfig& c) {
-  std::vector<EngineOutput> out;
-  if (!c.engine) return out;
-  for (const EngineTexture& t : engine_preset_textures(*c.engine))
-    out.push_back({t, c.output.directory / (c.output.basename + "-" + t.file_suffix + ".exr")});
-  return out;
-}
-
-std::array<long, 2> engine_pixel(const EngineTexture& t, int X, int Y, int x, int y, int z) {
-  const long col = static_cast<long>(x) + static_cast<long>(X) * (z % t.tiles_per_row);
-  const long row = static_cast<long>(t.flip_y ? Y - 1 - y : y) + static_cast<long>(Y) * (z / t.tiles_per_row);
-  return {col, row};
-}
-
 void write_engine_texture(const TableSet& set, const EngineTexture& t, const std::filesystem::path& file) {
   const std::string name = file.string();
   auto fail = [&](const std::string& what) { throw IoError(name + ": " + what); };

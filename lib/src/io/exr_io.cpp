@@ -247,38 +247,6 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
 
 }  // namespace
 
-std::vector<std::pair<std::string, std::vector<std::string>>> exr_part_plan(const TableSet& set) {
-  std::vector<std::pair<std::string, std::vector<std::string>>> plan;
-  std::vector<std::vector<const Table*>> groups;
-  for (const Table& t : set.tables) {
-    const bool has_channel = std::any_of(t.axes.begin(), t.axes.end(), [](const GridAxis& a) { return a.name == "channel"; });
-    bool placed = false;
-    if (!has_channel)
-      for (auto& g : groups) {
-        const Table& first = *g.front();
-        const bool first_channel = std::any_of(first.axes.begin(), first.axes.end(), [](const GridAxis& a) { return a.name == "channel"; });
-        if (!first_channel && g.size() < 4 && first.group == t.group && first.quantity == t.quantity &&
-            first.axes.size() == t.axes.size() &&
-            std::equal(first.axes.begin(), first.axes.end(), t.axes.begin(), [](const GridAxis& a, const GridAxis& b) { return a.to_json() == b.to_json(); })) {
-          g.push_back(&t);
-          placed = true;
-          break;
-        }
-      }
-    if (!placed) groups.push_back({&t});
-  }
-  for (const auto& g : groups) {
-    std::string name = g.front()->group + "/";
-    std::vector<std::string> paths;
-    for (std::size_t i = 0; i < g.size(); ++i) {
-      name += (i ? "+" : "") + g[i]->name;
-      paths.push_back(g[i]->path());
-    }
-    plan.emplace_back(name, paths);
-  }
-  return plan;
-}
-
 void write_exr(const TableSet& set, const std::filesystem::path& file, const ExrWriteOptions& options) {
   const std::string fname = file.string();
   auto fail = [&](const std::string& what) { throw IoError(fname + ": " + what); };

@@ -27,24 +27,6 @@ namespace hairlut {
 
 using namespace detail::h5;
 
-std::string format_version_text() { return std::to_string(kFormatVersionMajor) + "." + std::to_string(kFormatVersionMinor); }
-
-void check_format_version(const std::string& text, const std::string& name) {
-  const auto dot = text.find('.');
-  auto digits = [](const std::string& d) {
-    return !d.empty() && d.size() <= 6 && std::all_of(d.begin(), d.end(), [](char c) { return c >= '0' && c <= '9'; });
-  };
-  if (dot == std::string::npos || !digits(text.substr(0, dot)) || !digits(text.substr(dot + 1)))
-    throw IoError(name + ": malformed format version \"" + text.substr(0, 40) + "\" (expected MAJOR.MINOR)");
-  const int major = std::stoi(text.substr(0, dot));
-  if (major > kFormatVersionMajor)
-    throw IoError(name + ": written in table format " + text + ", newer than this hairlut reads (format " + format_version_text() +
-                  ", major version " + std::to_string(kFormatVersionMajor) + "); use a newer hairlut");
-  if (major < kFormatVersionMajor)
-    throw IoError(name + ": written in table format " + text + ", older than this hairlut reads (major version " +
-                  std::to_string(kFormatVersionMajor) + "); bake the tables again");
-}
-
 namespace {
 
 // Leading-axis row ranges [row0, row0 + rows) of each slabbed table (empty for tables held whole).
@@ -86,10 +68,19 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     Handle g = open_or_create_group(f, file, group);
     for (const auto& [name, axis] : axes) write_scale(f, g.get(), axis, name, options.deflate);
   }
+  // The group of the tables being written and its opened dimension scales, kept while consecutive
+  // tables share the group (a per-material set lists each material's tables together).
+  std::string open_group;
+  Handle g;
+  std::map<std::string, Handle> open_scales;
   for (std::size_t i = 0; i < set.tables.size(); ++i) {
     const Table& t = set.tables[i];
     const bool slabbed = feed && !(*feed->ranges)[i].empty();
-    Handle g = open_or_create_group(f, file, t.group);
+    if (!g.valid() || t.group != open_group) {
+      open_scales.clear();
+      g = open_or_create_group(f, file, t.group);
+      open_group = t.group;
+    }
     std::vector<hsize_t> dims;
     for (const GridAxis& a : t.axes) dims.push_back(static_cast<hsize_t>(a.count));
     if (!slabbed && grid_size(t.axes) != t.size())
@@ -130,8 +121,10 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
       }
     }
     for (std::size_t k = 0; k < t.axes.size(); ++k) {
-      Handle scale(H5Dopen2(g.get(), names.of(t.group, t.axes[k]).c_str(), H5P_DEFAULT), H5Dclose);
-      f.check_status(H5DSattach_scale(ds.get(), scale.get(), static_cast<unsigned>(k)), "cannot attach axis " + t.axes[k].name);
+      const std::string name = names.of(t.group, t.axes[k]);
+      auto scale = open_scales.find(name);
+      if (scale == open_scales.end()) scale = open_scales.emplace(name, Handle(H5Dopen2(g.get(), name.c_str(), H5P_DEFAULT), H5Dclose)).first;
+      f.check_status(H5DSattach_scale(ds.get(), scale->second.get(), static_cast<unsigned>(k)), "cannot attach axis " + t.axes[k].name);
     }
     write_string_attr(f, ds.get(), "quantity", t.quantity);
     write_string_attr(f, ds.get(), "units", t.units);
@@ -150,7 +143,11 @@ std::vector<char> hdf5_image(const TableSet& set, const File& f, const Hdf5Write
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // on an error path, closing the file closes every object in it
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);  // 1.10 format: compact chunk indexes
-  f.check_status(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0), "cannot set up an in-memory HDF5 file");
+  // The image grows in one step of about its final size (values plus a few KiB of metadata per
+  // table) rather than in 1 MiB steps, each a reallocation, a copy and fresh pages to fault in.
+  std::size_t expected = std::size_t{1} << 16;
+  for (const Table& t : set.tables) expected += t.size() * (t.precision == Precision::float64 ? 8 : 4) + (std::size_t{8} << 10);
+  f.check_status(H5Pset_fapl_core(fapl.get(), std::max(expected, std::size_t{1} << 20), 0), "cannot set up an in-memory HDF5 file");
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   H5Pset_obj_track_times(fcpl.get(), 0);
   Handle file(quiet([&] { return H5Fcreate(f.name.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
@@ -199,29 +200,42 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
     const double sp = reduced_absorption(r_.sigmas[k], g);
     for (std::size_t i = 0; i < m; ++i) T[k][i] = std::exp(-sp * len[i]);
   }
+  // A(p) = f for p = 0, (1 − f)² f^{p−1} T^p after: the powers of lobe p from those of lobe p − 1
+  // (the same products in the same order as multiplying out each lobe's powers).
+  std::vector<double> fpow(m), tpow(K * m, 1.0);
   const auto P = static_cast<long>(grid_.period);
   const double step = kTwoPi / static_cast<double>(P);
   const long shift = std::lround(-2.0 * grid_.phi0 / step);
   std::vector<double> amp(K * m), j0(m), dz(m), e1(m), e2(m), g0(m), rr(m), win, c, buf, circle(static_cast<std::size_t>(P) * K);
+  std::vector<char> live(m);
   for (std::size_t p = 0; p < L; ++p) {
+    if (p == 0) std::copy(f.begin(), f.end(), fpow.begin());
+    else if (p == 1) std::transform(one_minus_f.begin(), one_minus_f.end(), fpow.begin(), [](double x) { return x * x; });
+    else std::transform(fpow.begin(), fpow.end(), f.begin(), fpow.begin(), std::multiplies<>());
+    if (p > 0)
+      for (std::size_t k = 0; k < K; ++k) std::transform(tpow.begin() + static_cast<long>(k * m), tpow.begin() + static_cast<long>((k + 1) * m), T[k].begin(),
+                                                         tpow.begin() + static_cast<long>(k * m), std::multiplies<>());
     if (!spread_[t * L + p]) continue;
     const int pi = static_cast<int>(p);
     const double beta = r_.betas[p];
     const long R = static_cast<long>(std::ceil(std::sqrt(2.0 * std::log(2.0 / r_.tolerance)) * beta / step));
     const std::size_t W = static_cast<std::size_t>(2 * R + 1);
+    // Windows of up to kShortWindow points run over kShortWindow slots, the extra ones zero
+    // (adding an exact 0 leaves every sum as it was): a fixed-length loop without remainder.
+    constexpr std::size_t kShortWindow = 8;
+    const std::size_t run = W <= kShortWindow ? kShortWindow : W;
     const double inv2var = 1.0 / (2.0 * beta * beta), norm = 1.0 / (std::sqrt(kTwoPi) * beta);
     const bool recurrence = step / beta <= 20.0;  // r^j c_j stays far from overflow
     c.resize(W);
     for (long j = -R; j <= R; ++j) c[static_cast<std::size_t>(j + R)] = std::exp(-static_cast<double>(j * j) * step * step * inv2var);
     for (std::size_t i = 0; i < m; ++i) {
-      double fp = pi == 0 ? f[i] : one_minus_f[i] * one_minus_f[i];
-      for (int q = 1; q < pi; ++q) fp *= f[i];
-      const double base = n.weight[i] * fp * norm;
+      const double base = n.weight[i] * fpow[i] * norm;
+      bool any = false;
       for (std::size_t k = 0; k < K; ++k) {
-        double tp = 1.0;
-        for (int q = 0; q < pi; ++q) tp *= T[k][i];
-        amp[i * K + k] = base * tp;
+        amp[i * K + k] = base * tpow[k * m + i];
+        any |= amp[i * K + k] != 0.0;
       }
+      live[i] = any;
       const double centre = exit_azimuth(pi, n.gamma[i], gt[i]);
       const double u = (centre - grid_.phi0) / step;
       const double jr = (u + 0x1.8p52) - 0x1.8p52;  // nearest integer (|u| < 2^51)
@@ -232,14 +246,12 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
       e2[i] = -2.0 * d0 * step * inv2var;
     }
     for (std::size_t i = 0; i < m; ++i) g0[i] = std::exp(e1[i]), rr[i] = std::exp(e2[i]);
-    const std::size_t stride = static_cast<std::size_t>(P) + W - 1;
+    const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
     buf.assign(stride * K, 0.0);
-    win.resize(W);
+    win.assign(run, 0.0);
     for (std::size_t i = 0; i < m; ++i) {
       const double* ai = amp.data() + i * K;
-      bool any = false;
-      for (std::size_t k = 0; k < K; ++k) any |= ai[k] != 0.0;
-      if (!any || g0[i] == 0.0) continue;
+      if (!live[i] || g0[i] == 0.0) continue;
       if (recurrence) {
         double up = g0[i], down = g0[i];
         const double r = rr[i], rinv = 1.0 / rr[i];
@@ -262,8 +274,13 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
       for (std::size_t k = 0; k < K; ++k) {
         double* b = buf.data() + k * stride + static_cast<std::size_t>(r0);
         const double ak = ai[k];
+        if (run == kShortWindow) {
 #pragma omp simd
-        for (std::size_t j = 0; j < W; ++j) b[j] += ak * win[j];
+          for (std::size_t j = 0; j < kShortWindow; ++j) b[j] += ak * win[j];
+        } else {
+#pragma omp simd
+          for (std::size_t j = 0; j < run; ++j) b[j] += ak * win[j];
+        }
       }
     }
     // Fold the padding onto the circle: buffer slot q holds circle point (q − R) mod P.

@@ -14,6 +14,7 @@
 
 #include "hairlut/bake/bake.hpp"
 #include "hairlut/bake/config.hpp"
+#include "hairlut/io/exr_codec.hpp"
 #include "hairlut/io/exr_io.hpp"
 #include "hairlut/io/hdf5_io.hpp"
 #include "hairlut/tables/tables.hpp"
@@ -42,6 +43,11 @@ nlohmann::ordered_json sidecar_json(const TableSet& set, const BakeConfig& confi
 std::vector<std::filesystem::path> write_outputs(const TableSet& set, const BakeConfig& config, const BakeReport& report,
                                                  const std::atomic<bool>* cancel = nullptr, const SlabbedTables* slabbed = nullptr);
 
+/// write_outputs with the OpenEXR writers of `codec` (exr_codec.hpp); an entry the config needs
+/// and the codec lacks is an IoError before any file is written.
+std::vector<std::filesystem::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& config,
+                                                      const BakeReport& report, const std::atomic<bool>* cancel = nullptr,
+                                                      const SlabbedTables* slabbed = nullptr);
 /// Removes temporary files a killed bake of this config may have left in the output directory.
 void remove_stale_temporaries(const BakeConfig& config);
 
@@ -54,5 +60,8 @@ TableSet load_tables(const std::filesystem::path& file);
 
 /// The file alone, without the directory lock and the sidecar check. Throws IoError.
 TableSet load_table_file(const std::filesystem::path& file);
+/// load_tables and load_table_file with the OpenEXR reader of `codec` (exr_codec.hpp).
+TableSet load_tables_with(const ExrCodec& codec, const std::filesystem::path& file);
+TableSet load_table_file_with(const ExrCodec& codec, const std::filesystem::path& file);
 
 }  // namespace hairlut
