@@ -21,7 +21,8 @@
 //       axes): linear (two nodes); cubic (Catmull–Rom through four nodes: exact at the nodes,
 //       continuous slope, exact for quadratics; beyond a clamped end the missing node is the
 //       quadratic extrapolation 3v₀ − 3v₁ + v₂, across an even or reflect end it is the mirror
-//       node, across a periodic end the wrapped one); or geometric (two nodes combined as
+//       node (but not on a cos-spaced axis: cos x is even about 0 and π, so there the end is a
+//       clamped one), across a periodic end the wrapped one); or geometric (two nodes combined as
 //       v₀^(1−w) v₁^w, i.e. linear in log v, for quantities that fall exponentially along the
 //       axis such as N_p along σa; linear where either value is ≤ 0). A table has at most one
 //       geometric axis; it is combined last, after the tensor product over the other axes.
@@ -200,9 +201,11 @@ inline int wrapped_index(const Axis& a, int i) {
   // Even azimuths are symmetric about 0 and π, reflect axes about both ends of their range:
   // mirror about the end node (edges) or the end of the range (centers).
   const double pi = 3.14159265358979323846;
-  // A mirror lower end (lo_end) is mirrored the same way.
-  const bool mirror = a.wrap == Wrap::reflect || (a.wrap == Wrap::even && (i < 0 ? a.lo == 0.0 : a.hi == pi)) ||
-                      (i < 0 && a.lo_end == End::mirror);
+  // A mirror lower end (lo_end) is mirrored the same way. A cos-spaced even axis is not: its
+  // mapped coordinate t = cos x is itself even about 0 and π, so an even function is a smooth
+  // function of t there, and t has no node beyond its end (the clamped extrapolation applies).
+  const bool even_end = a.wrap == Wrap::even && a.spacing != Spacing::cos && (i < 0 ? a.lo == 0.0 : a.hi == pi);
+  const bool mirror = a.wrap == Wrap::reflect || even_end || (i < 0 && a.lo_end == End::mirror);
   if (!mirror) return -1;
   const bool centers = a.placement == Placement::centers;
   if (i < 0) i = centers ? -1 - i : -i;
