@@ -143,11 +143,7 @@ std::vector<char> hdf5_image(const TableSet& set, const File& f, const Hdf5Write
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // on an error path, closing the file closes every object in it
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);  // 1.10 format: compact chunk indexes
-  // The image grows in one step of about its final size (values plus a few KiB of metadata per
-  // table) rather than in 1 MiB steps, each a reallocation, a copy and fresh pages to fault in.
-  std::size_t expected = std::size_t{1} << 16;
-  for (const Table& t : set.tables) expected += t.size() * (t.precision == Precision::float64 ? 8 : 4) + (std::size_t{8} << 10);
-  f.check_status(H5Pset_fapl_core(fapl.get(), std::max(expected, std::size_t{1} << 20), 0), "cannot set up an in-memory HDF5 file");
+  f.check_status(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0), "cannot set up an in-memory HDF5 file");
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   H5Pset_obj_track_times(fcpl.get(), 0);
   Handle file(quiet([&] { return H5Fcreate(f.name.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
