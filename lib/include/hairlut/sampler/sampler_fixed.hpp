@@ -9,10 +9,12 @@
 //     function of the range ends;
 //   - the tensor product is a fixed loop nest chosen when the view is built (2 or 4 taps per axis),
 //     reduced along the last (contiguous) axis first; no per-lookup loop over up to 8 axes;
-//   - a table whose axes are all linear over mapped nodes (the common case) takes a shorter path:
-//     per axis the cell's first node and the step to the second, then the 2^D values combined as
-//     nested lerps a + w (b − a), last axis first (the same value as the weighted sum up to
-//     rounding);
+//   - a table whose axes are all linear over mapped nodes (the common case) takes a shorter path,
+//     inlined into the caller: per axis (unrolled) one fold, the mapping, one clamp and one rarely
+//     taken snapping branch give the cell's first node and the step to the second; then the 2^D
+//     values combined as lerps a + w (b − a), as pairs along the last axis that SSE2 combines in
+//     one register (a scalar path does the same operations in the same order; the same value as
+//     the weighted sum up to rounding);
 //   - R is the arithmetic type: double (FixedView<T, D>) or float (FixedView<T, D, float>, which
 //     maps, weights and sums in float).
 // With R = double the result equals TableView's up to the order of the sums: a few ulps of
