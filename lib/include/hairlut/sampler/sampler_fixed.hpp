@@ -9,10 +9,12 @@
 //     function of the range ends;
 //   - the tensor product is a fixed loop nest chosen when the view is built (2 or 4 taps per axis),
 //     reduced along the last (contiguous) axis first; no per-lookup loop over up to 8 axes;
-//   - a table whose axes are all linear over mapped nodes (the common case) takes a shorter path:
-//     per axis the cell's first node and the step to the second, then the 2^D values combined as
-//     nested lerps a + w (b − a), last axis first (the same value as the weighted sum up to
-//     rounding);
+//   - a table whose axes are all linear over mapped nodes (the common case) takes a shorter path,
+//     inlined into the caller: per axis (unrolled) one fold, the mapping, one clamp and one rarely
+//     taken snapping branch give the cell's first node and the step to the second; then the 2^D
+//     values combined as lerps a + w (b − a), as pairs along the last axis that SSE2 combines in
+//     one register (a scalar path does the same operations in the same order; the same value as
+//     the weighted sum up to rounding);
 //   - R is the arithmetic type: double (FixedView<T, D>) or float (FixedView<T, D, float>, which
 //     maps, weights and sums in float).
 // With R = double the result equals TableView's up to the order of the sums: a few ulps of
@@ -99,17 +101,18 @@ class FixedAxis {
   /// node), and the weight w of the second. For direct() axes; x not NaN.
   HAIRLUT_SAMPLER_INLINE void cell(R x, std::size_t& off, std::ptrdiff_t& step, R& w) const {
     int i0;
-    locate(x, i0, w);
+    const bool wrapped = locate(x, i0, w);
     off = static_cast<std::size_t>(i0) * stride_;
-    step = fold_ == Fold::periodic && i0 == n_ - 1 ? -static_cast<std::ptrdiff_t>(i0) * static_cast<std::ptrdiff_t>(stride_) : step_;
+    step = wrapped ? -static_cast<std::ptrdiff_t>(i0) * static_cast<std::ptrdiff_t>(stride_) : step_;
   }
   bool geometric() const { return prepared_.axis.interpolation == Interpolation::geometric; }
   int count() const { return n_; }
   const Axis& axis() const { return prepared_.axis; }
 
   /// The continuous node index s and the cell [i0, i0 + 1] that holds it, with the wrap rule
-  /// (PreparedAxis::locate, in R). Not for explicit axes (locate_explicit) nor NaN.
-  HAIRLUT_SAMPLER_INLINE void locate(R x, int& i0, R& w) const {
+  /// (PreparedAxis::locate, in R). Not for explicit axes (locate_explicit) nor NaN. Returns
+  /// whether the cell crosses a periodic end (i0 = count − 1, its second node 0).
+  HAIRLUT_SAMPLER_INLINE bool locate(R x, int& i0, R& w) const {
     if (fold_ != Fold::none) {
       if (fold_ == Fold::even) {
         // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
@@ -121,10 +124,10 @@ class FixedAxis {
         if (!(d >= R(0) && d <= hi_ - lo_)) x = lo_ + std::fabs(std::remainder(d, span_));
       } else if (fold_ == Fold::periodic) {
         locate_periodic(x, i0, w);
-        return;
+        return i0 == n_ - 1;
       } else {  // a single node
         i0 = 0, w = R(0);
-        return;
+        return false;
       }
     }
     // A uniform axis needs no clamp of x: s is clamped below, and s(lo) = 0, s(hi) = top up to
@@ -160,6 +163,7 @@ class FixedAxis {
     }
     i0 = i;
     w = f;
+    return false;
   }
 
   /// The taps at x (NaN excluded by the caller).
