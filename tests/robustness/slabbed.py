@@ -49,7 +49,7 @@ def config(directory, formats=("hdf5",), **np_extra):
         "quadrature": {"method": "fourier", "tolerance": 1e-6},
         "tables": {"np": np_table,
                    "mp": {"axes": {"theta_i": {"count": 32, "range_deg": [-85, 85]}, "theta_r": {"count": 32, "range_deg": [-85, 85]}, "beta": {"count": 8, "range_deg": [2, 20]}}}},
-        "output": {"directory": directory, "basename": "s", "formats": list(formats), "hdf5": {"compression": 1}},
+        "output": {"directory": directory, "basename": "s", "formats": list(formats), "hdf5": {"compression": 1}, "sampling_data": False},
     }
 
 

@@ -32,6 +32,9 @@ json quadrature_json(const NpQuadratureConfig& q) {
 // precede: refuse what needs whole tables.
 void check_slab_by_slab(const BakeConfig& c) {
   if (c.marschner) throw DomainError("model marschner2003: tables larger than the memory budget cannot be baked slab by slab (raise --memory-budget)");
+  if (c.output.sampling_data)
+    throw DomainError("output.sampling_data: the sampling data are computed from whole tables; tables larger than the memory budget "
+                      "cannot carry them (set output.sampling_data false, or raise --memory-budget)");
   if (c.np_target_error)
     throw DomainError("tables.np.target_error: the achieved error is measured on whole tables; tables larger than the memory budget "
                       "cannot use it (raise --memory-budget or give the axes' counts)");
@@ -69,7 +72,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   if (slabbed) check_slab_by_slab(c);
   if (c.marschner) {
     TableSet m = bake_marschner(c, opt, report_out);
-    append_sampling_tables(m);  // the importance sampler's data next to every N_p and M_p table
+    if (c.output.sampling_data) append_sampling_tables(m);  // the importance sampler's data next to every N_p and M_p table
     return m;
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -89,7 +92,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   if (c.mp_axes) detail::bake_mp_tables(run, per_material, set, report);
   detail::append_melanin_tables(c, precision, set, report);
   bake_dual_scattering_tables(c, opt, set, report);  // mean energy, dual scattering, engine presets
-  append_sampling_tables(set);                       // the importance sampler's data next to every N_p and M_p table
+  if (c.output.sampling_data) append_sampling_tables(set);  // the importance sampler's data next to every N_p and M_p table
 
   if (run.unconverged) report.notes.push_back(std::to_string(run.unconverged) + " adaptive N_p entries did not reach the tolerance");
   if (!report.resolution.is_null() && generic_np) {

@@ -111,6 +111,10 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   const json exr = out.value("exr", json::object());
   c.output.exr_half = exr.value("precision", std::string("float")) == "half";
   c.output.exr_compression = exr.value("compression", std::string("zip"));
+  if (out.contains("sampling_data")) {
+    if (!out.at("sampling_data").is_boolean()) fail("output.sampling_data", "must be true or false");
+    c.output.sampling_data = out.at("sampling_data").get<bool>();
+  }
 
   // Normalized form: every default filled in, angles in radians, keys sorted (nlohmann::json).
   json n;
@@ -163,6 +167,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
                  {"formats", formats},
                  {"hdf5", {{"precision", c.output.hdf5_double ? "float64" : "float32"}, {"compression", c.output.hdf5_deflate}}},
                  {"exr", {{"precision", c.output.exr_half ? "half" : "float"}, {"compression", c.output.exr_compression}}}};
+  if (!c.output.sampling_data) n["output"]["sampling_data"] = false;  // absent when true: earlier configs keep their hash
   // The validation thresholds travel with the tables (the stored config), so that a file is judged
   // by the thresholds it was baked with.
   if (c.validate_thresholds.is_object() && !c.validate_thresholds.empty()) n["validate"] = {{"thresholds", c.validate_thresholds}};

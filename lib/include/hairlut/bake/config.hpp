@@ -86,6 +86,7 @@ struct OutputConfig {
   int hdf5_deflate = 6;
   bool exr_half = false;            ///< half instead of float
   std::string exr_compression = "zip";
+  bool sampling_data = true;        ///< the importance sampler's data next to every N_p and M_p table
 };
 
 /// A validated config, with defaults applied and angles in radians.
