@@ -102,3 +102,33 @@ TEST_CASE("mirror lo_end: away from the lower end nothing changes, refused off s
   CHECK_FALSE(j.contains("lo_end"));
   CHECK(hairlut::GridAxis::from_json(j, "sigma_a").lo_end == End::extrapolate);
 }
+
+TEST_CASE("even end of a cos-spaced axis: extrapolated, exact for quadratics of cos x", "[sampler][mirror]") {
+  // θd over [0, 89°] with nodes evenly spaced in t = cos θd and wrap even (as N_p's energy axes):
+  // f = a + b cos x + c cos² x is a quadratic of t, which Catmull–Rom with the quadratic
+  // extrapolation beyond t(0) = 1 reproduces exactly; mirroring the index (v₋₁ = v₁) would not.
+  const double pi = 3.14159265358979323846;
+  auto f = [](double x) { return 0.3 + 0.5 * std::cos(x) - 0.25 * std::cos(x) * std::cos(x); };
+  for (Placement pl : {Placement::edges, Placement::centers}) {
+    Axis a;
+    a.spacing = Spacing::cos;
+    a.placement = pl;
+    a.wrap = Wrap::even;
+    a.lo = 0.0, a.hi = 89.0 * pi / 180.0, a.count = 12;
+    a.interpolation = Interpolation::cubic;
+    std::vector<double> v(static_cast<std::size_t>(a.count));
+    for (int i = 0; i < a.count; ++i) v[static_cast<std::size_t>(i)] = f(node(a, i));
+    const TableView<double> view(v.data(), &a, 1);
+    const FixedView<double, 1> fixed(v.data(), &a);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int k = 0; k < 500; ++k) {
+      const double x = u(rng) * node(a, 2);  // the first cells, next to the even end at 0
+      if (x < node(a, 0)) continue;          // centres: below node 0 the value is held
+      CHECK(view(&x) == Approx(f(x)).epsilon(1e-12));
+      CHECK(fixed(&x) == Approx(f(x)).epsilon(1e-12));
+      const double neg = -x;  // the even wrap folds a signed angle
+      CHECK(view(&neg) == Approx(f(x)).epsilon(1e-12));
+    }
+  }
+}
