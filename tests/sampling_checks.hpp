@@ -19,8 +19,6 @@
 #include <vector>
 #include "catch.hpp"
 
-#include "catch.hpp"
-
 namespace sampling_checks {
 using namespace hairlut;
 using sampler::AxisRow;
@@ -32,6 +30,19 @@ using sampler::HairSampler;
 namespace sampling_checks {
 
 constexpr double kDeg = kPi / 180.0;
+
+// The axes of the random 3D test tables of the axis-sampling tests: a (log, 0.1–1) and b (uniform,
+// 0–2) with their own interpolations, then the sampled axis — θr-like (clamped, −π/2 … π/2, for
+// wrap 0) or φ-like (even, 0 … π) — with `interp`.
+inline void random_table_axes(sampler::Axis axes[3], int na, int nb, int nx, int wrap, sampler::Interpolation a_interp,
+                              sampler::Interpolation b_interp, sampler::Interpolation interp) {
+  axes[0] = {sampler::Spacing::log, sampler::Placement::edges, sampler::Wrap::clamp, 0.1, 1.0, na, nullptr, a_interp};
+  axes[1] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::clamp, 0.0, 2.0, nb, nullptr, b_interp};
+  if (wrap == 0)
+    axes[2] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::clamp, -0.5 * kPi, 0.5 * kPi, nx, nullptr, interp};
+  else
+    axes[2] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::even, 0.0, kPi, nx, nullptr, interp};
+}
 
 // Gauss–Legendre nodes and weights of order m on [0, 1] (Newton on the Legendre recurrence).
 inline void gauss_legendre01(int m, std::vector<double>& x, std::vector<double>& w) {

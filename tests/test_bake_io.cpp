@@ -174,6 +174,42 @@ TEST_CASE("A target error picks the N_p resolution and the baked table reaches i
   CHECK(finer.resolution["achieved_error"].get<double>() <= 0.01);
 }
 
+TEST_CASE("A target error weighs beta bands against one table and keeps the fewest entries", "[bake]") {
+  json j = small_config();  // β 8°–40°: three bands of at most an octave compete
+  j["tables"].erase("mp");
+  j["tables"].erase("melanin");
+  j["tables"]["np"]["target_error"] = 0.02;
+  BakeReport report;
+  const TableSet set = bake(config_in(temp_dir("target_bands"), j), {}, &report);
+  const json& r = report.resolution;
+  INFO(r.dump());
+  REQUIRE(r.contains("entries_beta_bands"));
+  REQUIRE(r.contains("entries_shape_cubic"));
+  std::size_t fewest = std::min(r["entries_beta_bands"].get<std::size_t>(), r["entries_shape_cubic"].get<std::size_t>());
+  if (r.contains("entries_as_configured")) fewest = std::min(fewest, r["entries_as_configured"].get<std::size_t>());
+  CHECK(r["entries_per_lobe"].get<std::size_t>() == fewest);
+  CHECK(r["achieved_error"].get<double>() <= 0.02);
+  const bool bands = r["representation"].get<std::string>().find("beta bands") != std::string::npos;
+  CHECK(bands == (r["entries_per_lobe"] == r["entries_beta_bands"]));
+  if (bands) {
+    // The bands tile β without gaps, each baked as its own table, and their entries add up.
+    REQUIRE(set.metadata.contains("np_beta_bands"));
+    const std::size_t n = set.metadata["np_beta_bands"].size();
+    REQUIRE(n == r["bands"].size());
+    std::size_t entries = 0;
+    double lo = 8.0 * kPi / 180.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const Table* t = set.find(std::string("np/TT") + (k ? "_band" + std::to_string(k) : std::string()));
+      REQUIRE(t);
+      CHECK(t->axes[0].lo == Approx(lo).epsilon(1e-12));
+      lo = t->axes[0].hi;
+      entries += t->size();
+    }
+    CHECK(lo == Approx(40.0 * kPi / 180.0).epsilon(1e-12));
+    CHECK(entries == r["entries_per_lobe"].get<std::size_t>());
+  }
+}
+
 TEST_CASE("HDF5 and OpenEXR round trips return exactly what was baked", "[io]") {
   const fs::path dir = temp_dir("roundtrip");
   json j = small_config();

@@ -108,7 +108,7 @@ TEST_CASE("Baked Marschner N_p, energies and M_p equal direct evaluation at the 
   WARN(checked << " N_p nodes checked against direct evaluation");
 }
 
-TEST_CASE("Marschner tables round-trip exactly through HDF5 and OpenEXR, and phi_h folds by reflection", "[marschner][io]") {
+TEST_CASE("Marschner tables round-trip exactly through HDF5 and at float precision through OpenEXR, and phi_h folds by reflection", "[marschner][io]") {
   const fs::path dir = temp_dir("io");
   const BakeConfig c = parse_config(marschner_config(), "m.json", dir);
   const TableSet set = bake(c);
@@ -122,7 +122,11 @@ TEST_CASE("Marschner tables round-trip exactly through HDF5 and OpenEXR, and phi
       const Table* b = back.find(t.path());
       REQUIRE(b);
       REQUIRE(b->size() == t.size());
-      for (std::size_t i = 0; i < t.size(); ++i) REQUIRE(b->get(i) == t.get(i));
+      // OpenEXR stores float: the float32 tables come back exactly, the float64 sampling data
+      // rounded to float (docs/table-format.md: take them from the HDF5 file for exact sampling).
+      const bool rounded = f == paths.exr && !t.f64.empty();
+      for (std::size_t i = 0; i < t.size(); ++i)
+        REQUIRE(b->get(i) == (rounded ? static_cast<double>(static_cast<float>(t.get(i))) : t.get(i)));
     }
   }
   // η*(φh) is even with period π, so the table at φh and at −φh, π − φh, φh + π agree; at a

@@ -20,12 +20,7 @@ TEST_CASE("Axis sampling: density, mass and inverse CDF are those of the clamped
       for (double& v : data) v = u(rng) < 0.3 ? 5.0 * u(rng) : (u(rng) < 0.5 ? 0.0 : 0.05 * u(rng));
       const sampler::Interpolation interp = cubic ? sampler::Interpolation::cubic : sampler::Interpolation::linear;
       sampler::Axis axes[3];
-      axes[0] = {sampler::Spacing::log, sampler::Placement::edges, sampler::Wrap::clamp, 0.1, 1.0, na, nullptr, sampler::Interpolation::cubic};
-      axes[1] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::clamp, 0.0, 2.0, nb, nullptr, sampler::Interpolation::linear};
-      if (wrap == 0)
-        axes[2] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::clamp, -0.5 * kPi, 0.5 * kPi, nx, nullptr, interp};
-      else
-        axes[2] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::even, 0.0, kPi, nx, nullptr, interp};
+      random_table_axes(axes, na, nb, nx, wrap, sampler::Interpolation::cubic, sampler::Interpolation::linear, interp);
       const sampler::TableView<double> view(data.data(), axes, 3);
       const sampler::Measure measure = wrap == 0 ? sampler::Measure::cosine : sampler::Measure::plain;
       const AxisSampler<double> axis(data.data(), axes, 3, measure);

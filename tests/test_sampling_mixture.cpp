@@ -29,12 +29,7 @@ TEST_CASE("Axis sampling: the mixture fast path has the general path's density a
       const sampler::Interpolation interp = cubic ? sampler::Interpolation::cubic : sampler::Interpolation::linear;
       sampler::Axis axes[3];
       const sampler::Interpolation outer = other ? sampler::Interpolation::cubic : sampler::Interpolation::linear;
-      axes[0] = {sampler::Spacing::log, sampler::Placement::edges, sampler::Wrap::clamp, 0.1, 1.0, na, nullptr, outer};
-      axes[1] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::clamp, 0.0, 2.0, nb, nullptr, outer};
-      if (wrap == 0)
-        axes[2] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::clamp, -0.5 * kPi, 0.5 * kPi, nx, nullptr, interp};
-      else
-        axes[2] = {sampler::Spacing::uniform, sampler::Placement::edges, sampler::Wrap::even, 0.0, kPi, nx, nullptr, interp};
+      random_table_axes(axes, na, nb, nx, wrap, outer, outer, interp);
       const sampler::TableView<double> view(data.data(), axes, 3);
       const sampler::Measure measure = wrap == 0 ? sampler::Measure::cosine : sampler::Measure::plain;
       const AxisSampler<double> axis(data.data(), axes, 3, measure);

@@ -76,37 +76,51 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     return m;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  BakeReport report;
-  TableSet set;
-  const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
-  const bool per_material = c.scene && c.scene->mode == SceneConfig::Mode::per_material;
-  const bool generic_np = c.np_axes && !per_material;
-  detail::BakeRun run{&c, opt, precision, slabbed, c.lobe_count, GaussLegendreRule(c.quadrature.energy_order)};
+  // target_error plans from per-axis error probes; the bake is then measured at random points. A
+  // plan that misses the target is planned again for a proportionally smaller target (at most
+  // three times), so the reported error is the one a renderer sees, not the prediction.
+  double planning_target = c.np_target_error.value_or(0.0);
+  for (int attempt = 1;; ++attempt) {
+    BakeReport report;
+    TableSet set;
+    const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
+    const bool per_material = c.scene && c.scene->mode == SceneConfig::Mode::per_material;
+    const bool generic_np = c.np_axes && !per_material;
+    detail::BakeRun run{&c, opt, precision, slabbed, c.lobe_count, GaussLegendreRule(c.quadrature.energy_order)};
 
-  const detail::NpPlan np = detail::plan_np_tables(c, per_material, report);  // N_p axes; target_error chooses them
-  detail::fold_weak_lobes(run, np, generic_np, report);                       // weak lobes join the residual
-  report.explicit_lobes = run.lobes;
-  describe(c, run, report, precision, set);
-  if (generic_np) detail::bake_generic_np(run, np, set, report);     // N_p over (β, σa, θd, φ), energies, residual
-  if (per_material) detail::bake_material_np(run, np, set, report);  // N_p over (channel, θd, φ) per material
-  if (c.mp_axes) detail::bake_mp_tables(run, per_material, set, report);
-  detail::append_melanin_tables(c, precision, set, report);
-  bake_dual_scattering_tables(c, opt, set, report);  // mean energy, dual scattering, engine presets
-  if (c.output.sampling_data) append_sampling_tables(set);  // the importance sampler's data next to every N_p and M_p table
+    const detail::NpPlan np = detail::plan_np_tables(c, per_material, report, planning_target);  // N_p axes; target_error chooses them
+    detail::fold_weak_lobes(run, np, generic_np, report);  // weak lobes join the residual
+    report.explicit_lobes = run.lobes;
+    describe(c, run, report, precision, set);
+    if (generic_np) detail::bake_generic_np(run, np, set, report);     // N_p over (β, σa, θd, φ), energies, residual
+    if (per_material) detail::bake_material_np(run, np, set, report);  // N_p over (channel, θd, φ) per material
+    if (c.mp_axes) detail::bake_mp_tables(run, per_material, set, report);
+    detail::append_melanin_tables(c, precision, set, report);
+    bake_dual_scattering_tables(c, opt, set, report);  // mean energy, dual scattering, engine presets
+    if (c.output.sampling_data) append_sampling_tables(set);  // the importance sampler's data next to every N_p and M_p table
 
-  if (run.unconverged) report.notes.push_back(std::to_string(run.unconverged) + " adaptive N_p entries did not reach the tolerance");
-  if (!report.resolution.is_null() && generic_np) {
-    const AchievedError achieved = measure_np_error(set, c.eta, c.path, 4096, opt.threads);
-    report.resolution["achieved_error"] = achieved.worst;
-    report.resolution["achieved_p99"] = achieved.p99;
-    report.notes.push_back("target_error: achieved sampled error " + std::to_string(achieved.worst) + " (worst, " + achieved.worst_table + "), p99 " +
-                           std::to_string(achieved.p99) + " at random points, relative to " + achieved.denominator);
-    set.metadata["resolution"] = report.resolution;
+    if (run.unconverged) report.notes.push_back(std::to_string(run.unconverged) + " adaptive N_p entries did not reach the tolerance");
+    if (!report.resolution.is_null() && generic_np) {
+      const AchievedError achieved = measure_np_error(set, c.eta, c.path, 4096, opt.threads);
+      report.resolution["achieved_error"] = achieved.worst;
+      report.resolution["achieved_p99"] = achieved.p99;
+      report.resolution["attempts"] = attempt;
+      if (achieved.worst > *c.np_target_error && attempt < 4) {
+        planning_target *= std::min(0.8, 0.9 * *c.np_target_error / achieved.worst);
+        continue;
+      }
+      if (achieved.worst > *c.np_target_error)
+        report.notes.push_back("target_error " + std::to_string(*c.np_target_error) + " not reached after " + std::to_string(attempt) +
+                               " plans: lower the target or narrow the ranges");
+      report.notes.push_back("target_error: achieved sampled error " + std::to_string(achieved.worst) + " (worst, " + achieved.worst_table + "), p99 " +
+                             std::to_string(achieved.p99) + " at random points, relative to " + achieved.denominator);
+      set.metadata["resolution"] = report.resolution;
+    }
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    set.metadata["notes"] = report.notes;
+    if (report_out) *report_out = report;
+    return set;
   }
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  set.metadata["notes"] = report.notes;
-  if (report_out) *report_out = report;
-  return set;
 }
 
 }  // namespace hairlut

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -260,7 +261,7 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
 
 namespace detail {
 
-NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report) {
+NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report, double planning_target) {
   NpPlan chosen;
   std::vector<GridAxis>& np_axes = chosen.axes;
   bool& normalize_energy = chosen.normalize_energy;
@@ -268,15 +269,20 @@ NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report
   if (c.np_axes) np_axes = restricted_np_axes(c, &report.notes);
   normalize_energy = c.np_normalize_energy;
   energy_axes = c.np_energy_axes;
+  chosen.bands = c.np_beta_bands;
   if (c.np_axes && c.np_target_error && !per_material) {
-    // Two representations compete: the axes as configured, and the shape N_p / E_p with cubic
-    // interpolation on every axis, σa uniform, and dense energy tables; the smaller table wins.
+    const double target = planning_target > 0.0 ? planning_target : *c.np_target_error;
+    // Three representations compete and the fewest entries per lobe win: the axes as configured;
+    // the shape N_p / E_p with cubic interpolation on every axis, σa uniform, and dense energy
+    // tables; and that shape table split into β bands of at most an octave each (beta_bands.hpp),
+    // each band with counts of its own (N_p's θd and φ detail scales as 1/β, so one tensor table
+    // pays the smallest β's density at every β node).
     std::optional<ResolutionPlan> configured, shape;
-    std::string refused;
+    std::vector<ResolutionPlan> banded;
+    std::size_t banded_entries = 0;
     try {
-      configured = plan_np_resolution(np_axes, c.eta, c.path, c.lobe_count, *c.np_target_error, std::size_t{1} << 31, normalize_energy);
-    } catch (const DomainError& e) {
-      refused = e.what();
+      configured = plan_np_resolution(np_axes, c.eta, c.path, c.lobe_count, target, std::size_t{1} << 31, normalize_energy);
+    } catch (const DomainError&) {
     }
     std::vector<GridAxis> cubic = np_axes;
     for (GridAxis& a : cubic) {
@@ -285,14 +291,37 @@ NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report
       a.interpolation = Interpolation::cubic;
     }
     try {
-      shape = plan_np_resolution(cubic, c.eta, c.path, c.lobe_count, *c.np_target_error, std::size_t{1} << 31, true);
-    } catch (const DomainError& e) {
+      shape = plan_np_resolution(cubic, c.eta, c.path, c.lobe_count, target, std::size_t{1} << 31, true);
+    } catch (const DomainError&) {
       if (!configured) throw;
-      refused = e.what();
     }
-    const bool use_shape = shape && (!configured || shape->entries < configured->entries);
-    const ResolutionPlan& plan = use_shape ? *shape : *configured;
-    if (use_shape && !normalize_energy) {
+    const GridAxis& beta = cubic[0];
+    const int band_count = beta.spacing != Spacing::explicit_values && beta.lo > 0.0 && beta.hi > 2.5 * beta.lo && c.np_beta_bands.empty()
+                               ? static_cast<int>(std::ceil(std::log(beta.hi / beta.lo) / std::log(2.0) - 1e-9))
+                               : 0;
+    if (band_count > 1) {
+      try {
+        for (int k = 0; k < band_count; ++k) {
+          std::vector<GridAxis> axes = cubic;
+          for (GridAxis& a : axes)
+            if (a.spacing != Spacing::explicit_values && a.count > 1) a.count = 2;  // the planner raises each count as needed
+          axes[0].placement = Placement::edges;
+          axes[0].lo = k == 0 ? beta.lo : beta.lo * std::pow(beta.hi / beta.lo, static_cast<double>(k) / band_count);
+          axes[0].hi = k + 1 == band_count ? beta.hi : beta.lo * std::pow(beta.hi / beta.lo, static_cast<double>(k + 1) / band_count);
+          banded.push_back(plan_np_resolution(axes, c.eta, c.path, c.lobe_count, target, std::size_t{1} << 31, true));
+          banded_entries += banded.back().entries;
+        }
+      } catch (const DomainError&) {
+        banded.clear();
+      }
+    }
+    const std::size_t none = std::numeric_limits<std::size_t>::max();
+    const std::size_t e_configured = configured ? configured->entries : none, e_shape = shape ? shape->entries : none,
+                      e_banded = banded.empty() ? none : banded_entries;
+    const bool use_bands = e_banded < e_shape && e_banded < e_configured;
+    const bool use_shape = !use_bands && e_shape < e_configured;
+    const ResolutionPlan& plan = use_bands ? banded.front() : use_shape ? *shape : *configured;
+    if ((use_shape || use_bands) && !normalize_energy) {
       normalize_energy = true;
       if (!energy_axes) {
         GridAxis es = axis_named(np_axes, "sigma_a"), et = axis_named(np_axes, "theta_d");
@@ -303,17 +332,41 @@ NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report
       }
     }
     np_axes = plan.axes;
-    report.resolution = {{"target_error", *c.np_target_error}, {"predicted_error", plan.predicted_error}, {"entries_per_lobe", plan.entries},
-                         {"representation", use_shape ? "shape N_p / E_p, cubic" : "as configured"}};
+    const std::size_t entries = use_bands ? banded_entries : plan.entries;
+    double predicted = plan.predicted_error;
+    for (const ResolutionPlan& b : banded)
+      if (use_bands) predicted = std::max(predicted, b.predicted_error);
+    report.resolution = {{"target_error", *c.np_target_error},
+                         {"predicted_error", predicted},
+                         {"entries_per_lobe", entries},
+                         {"representation", use_bands    ? "shape N_p / E_p, cubic, " + std::to_string(band_count) + " beta bands"
+                                            : use_shape ? std::string("shape N_p / E_p, cubic")
+                                                        : std::string("as configured")},
+                         {"planned_for", target}};
     if (configured) report.resolution["entries_as_configured"] = configured->entries;
     if (shape) report.resolution["entries_shape_cubic"] = shape->entries;
+    if (!banded.empty()) report.resolution["entries_beta_bands"] = banded_entries;
     for (const GridAxis& a : np_axes) {
       report.resolution["counts"][a.name] = a.count;
       report.resolution["predicted_axis_error"][a.name] = plan.axis_error.at(a.name);
     }
-    report.notes.push_back("target_error " + std::to_string(*c.np_target_error) + ": counts beta " + std::to_string(np_axes[0].count) +
-                           ", sigma_a " + std::to_string(np_axes[1].count) + ", theta_d " + std::to_string(np_axes[2].count) + ", phi " +
-                           std::to_string(np_axes[3].count) + " (" + std::to_string(plan.entries) + " entries per lobe)");
+    std::string counts;
+    if (use_bands) {
+      report.resolution["bands"] = json::array();
+      for (const ResolutionPlan& b : banded) {
+        chosen.bands.push_back(BetaBand{b.axes});
+        json band = {{"range_deg", {b.axes[0].lo * 180.0 / kPi, b.axes[0].hi * 180.0 / kPi}}, {"entries_per_lobe", b.entries}};
+        for (const GridAxis& a : b.axes) band["counts"][a.name] = a.count;
+        report.resolution["bands"].push_back(band);
+        counts += (counts.empty() ? "" : "; ") + std::to_string(b.axes[0].count) + " x " + std::to_string(b.axes[1].count) + " x " +
+                  std::to_string(b.axes[2].count) + " x " + std::to_string(b.axes[3].count);
+      }
+    } else {
+      counts = "beta " + std::to_string(np_axes[0].count) + ", sigma_a " + std::to_string(np_axes[1].count) + ", theta_d " +
+               std::to_string(np_axes[2].count) + ", phi " + std::to_string(np_axes[3].count);
+    }
+    report.notes.push_back("target_error " + std::to_string(*c.np_target_error) + ": " + report.resolution["representation"].get<std::string>() +
+                           ", counts " + counts + " (" + std::to_string(entries) + " entries per lobe)");
   }
   return chosen;
 }
@@ -417,7 +470,7 @@ void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
   });
   report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt + static_cast<std::size_t>(lobe_set.size()) * energy_sigmas.size() * ent;
   // β bands 1 … n − 1 (beta_bands.cpp); the tables above are band 0.
-  if (!c.np_beta_bands.empty()) append_beta_band_tables(c, s.lobes, normalize_energy, precision, opt, set, report);
+  if (!plan.bands.empty()) append_beta_band_tables(c, plan.bands, s.lobes, normalize_energy, precision, opt, set, report);
 }
 
 }  // namespace detail

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hairlut/bake/bake.hpp"
+#include "hairlut/tables/beta_bands.hpp"
 #include "hairlut/util/quadrature.hpp"
 
 namespace hairlut::detail {
@@ -28,12 +29,15 @@ struct BakeRun {
 // The N_p axes a bake uses: the config's (restricted to a scene's materials), or those target_error
 // chose, with the representation (N_p or its shape N_p / E_p) and the energy tables' own axes.
 struct NpPlan {
-  std::vector<GridAxis> axes;
+  std::vector<GridAxis> axes;  ///< band 0's axes when there are β bands
   bool normalize_energy = false;
   std::optional<std::vector<GridAxis>> energy_axes;
+  std::vector<BetaBand> bands;  ///< β bands (the config's, or target_error's choice); empty: none
 };
 
-NpPlan plan_np_tables(const BakeConfig& config, bool per_material, BakeReport& report);
+// target_error plans for `planning_target` (the config's target, or a smaller one when a first bake
+// missed the target at random points).
+NpPlan plan_np_tables(const BakeConfig& config, bool per_material, BakeReport& report, double planning_target = 0.0);
 // Explicit lobes whose largest energy over everything baked stays below tables.np.fold_below join
 // the residual (run.lobes decreases; report.folded lists them).
 void fold_weak_lobes(BakeRun& run, const NpPlan& plan, bool generic_np, BakeReport& report);

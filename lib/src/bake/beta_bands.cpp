@@ -71,9 +71,8 @@ nlohmann::json beta_bands_json(const std::vector<BetaBand>& bands) {
   return a;
 }
 
-void append_beta_band_tables(const BakeConfig& c, int lobes, bool normalize_energy, Precision precision, const BakeOptions& opt,
-                             TableSet& set, BakeReport& report) {
-  const auto& bands = c.np_beta_bands;
+void append_beta_band_tables(const BakeConfig& c, const std::vector<BetaBand>& bands, int lobes, bool normalize_energy, Precision precision,
+                             const BakeOptions& opt, TableSet& set, BakeReport& report) {
   const int n = static_cast<int>(bands.size());
   auto band_json = [&](int k) {
     return nlohmann::ordered_json{{"index", k}, {"count", n}, {"range", {bands[static_cast<std::size_t>(k)].lo(), bands[static_cast<std::size_t>(k)].hi()}}};

@@ -163,8 +163,9 @@ ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta,
   plan.entries = 1;
   plan.predicted_error = 0.0;
   // Each axis gets an equal share of the target (second-order interpolation on every axis makes
-  // the Lagrange shares equal). Its count doubles from 16 until the measured error is within the
-  // share, then is interpolated in log–log between the last two counts (error ∝ n^−s locally).
+  // the Lagrange shares equal). Its count doubles from 8 until the measured error is within the
+  // share, then is interpolated in log–log between the last two counts (error ∝ n^−s locally);
+  // an axis within its share at 8 nodes halves its count while it stays within.
   const double share = target / 4.0;
   for (std::size_t k = 0; k < 4; ++k) {
     GridAxis& a = plan.axes[k];
@@ -177,6 +178,12 @@ ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta,
         lo = n, e_lo = e;
         n *= 2;
         e = axis_error(k, n);
+      }
+      // Already within the share at 8 nodes (a narrow range, e.g. one β band): halve while it stays so.
+      while (n == lo && n > 2 && e <= share) {
+        const double half = axis_error(k, n / 2);
+        if (half > share) break;
+        n /= 2, lo = n, e = e_lo = half;
       }
       int need = n;
       if (n > lo && e < share && e_lo > share && e > 0.0) {

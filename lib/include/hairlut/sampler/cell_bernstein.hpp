@@ -57,16 +57,7 @@ inline Taps cell_taps(const PreparedAxis& p, int i0, double t) {
   catmull_rom_weights(t, w);
   int idx[4] = {i0 - 1, i0, i0 + 1, i0 + 2};
   for (int k = 0; k < 4; ++k) idx[k] = wrapped_index(a, idx[k]);
-  if (idx[0] < 0) {
-    idx[0] = idx[1];
-    const double g = w[0];
-    w[0] = 0.0, w[1] += 3.0 * g, w[2] -= 3.0 * g, w[3] += g;
-  }
-  if (idx[3] < 0) {
-    idx[3] = idx[2];
-    const double g = w[3];
-    w[3] = 0.0, w[2] += 3.0 * g, w[1] -= 3.0 * g, w[0] += g;
-  }
+  fold_clamped_ends(idx, w);
   for (int k = 0; k < 4; ++k) r.i[k] = idx[k], r.w[k] = w[k];
   return r;
 }

@@ -222,6 +222,22 @@ inline void catmull_rom_weights(double t, double* w) {
   w[3] = 0.5 * (t3 - t2);
 }
 
+/// Catmull–Rom taps idx[0..3] with weights w[0..3], where a tap past a clamped end (not a mirror
+/// lo_end) is marked idx < 0: it becomes the quadratic extrapolation v₋₁ = 3v₀ − 3v₁ + v₂ (and its
+/// mirror at the far end), folded into the other three weights.
+inline void fold_clamped_ends(int idx[4], double w[4]) {
+  if (idx[0] < 0) {
+    idx[0] = idx[1];
+    const double g = w[0];
+    w[0] = 0.0, w[1] += 3.0 * g, w[2] -= 3.0 * g, w[3] += g;
+  }
+  if (idx[3] < 0) {
+    idx[3] = idx[2];
+    const double g = w[3];
+    w[3] = 0.0, w[2] += 3.0 * g, w[1] -= 3.0 * g, w[0] += g;
+  }
+}
+
 /// The taps of axis a at x, with its interpolation and wrap rules.
 inline Taps taps(const PreparedAxis& p, double x) {
   Taps r;
@@ -242,18 +258,7 @@ inline Taps taps(const PreparedAxis& p, double x) {
   int idx[4] = {l.i0 - 1, l.i0, l.i1, l.i1 + 1};
   if (a.wrap == Wrap::periodic) idx[2] = l.i0 + 1;  // l.i1 may already be wrapped
   for (int k = 0; k < 4; ++k) idx[k] = wrapped_index(a, idx[k]);
-  // Beyond a clamped end (not a mirror lo_end): the quadratic extrapolation v₋₁ = 3v₀ − 3v₁ + v₂
-  // (and its mirror).
-  if (idx[0] < 0) {
-    idx[0] = idx[1];
-    const double g = w[0];
-    w[0] = 0.0, w[1] += 3.0 * g, w[2] -= 3.0 * g, w[3] += g;
-  }
-  if (idx[3] < 0) {
-    idx[3] = idx[2];
-    const double g = w[3];
-    w[3] = 0.0, w[2] += 3.0 * g, w[1] -= 3.0 * g, w[0] += g;
-  }
+  fold_clamped_ends(idx, w);
   for (int k = 0; k < 4; ++k) r.i[k] = idx[k], r.w[k] = w[k];
   return r;
 }

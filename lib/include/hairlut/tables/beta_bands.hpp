@@ -57,7 +57,7 @@ nlohmann::json beta_bands_json(const std::vector<BetaBand>& bands);
 /// After the generic N_p tables of band 0 (np/<lobe>, p < lobes) are in `set`: tags them with
 /// their band, bakes bands 1 … n − 1 as np/<lobe>_band<k> (same quadrature, same energy
 /// normalization: factor np/energy_<lobe>) and records `np_beta_bands` in the set's metadata.
-void append_beta_band_tables(const BakeConfig& c, int lobes, bool normalize_energy, Precision precision, const BakeOptions& opt,
-                             TableSet& set, BakeReport& report);
+void append_beta_band_tables(const BakeConfig& c, const std::vector<BetaBand>& bands, int lobes, bool normalize_energy, Precision precision,
+                             const BakeOptions& opt, TableSet& set, BakeReport& report);
 
 }  // namespace hairlut
