@@ -195,3 +195,174 @@ TEST_CASE("Fixed views equal TableView on the default tables' shapes, and at inf
   }
   CHECK(worst <= 1.0);
 }
+
+// The cubic-last-axis kernel (four values of the last axis per register, its weights applied at
+// the end) against the scalar tensor product over the same taps (detail::fixed_product, one value
+// at a time) and against TableView: equal up to rounding, i.e. within a few ulps of Σ|w · v|, at
+// random points that favour the end cells, where the taps repeat (clamped ends), mirror (even θd
+// at 0, even φ at 0 and π, a mirrored √σa end) or wrap (periodic φ).
+namespace {
+
+// Axes of the kinds the tables use, cubic or linear; the last one always cubic.
+Axis kernel_axis(std::mt19937_64& rng, bool last) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Axis a;
+  a.count = 4 + static_cast<int>(u(rng) * 9);
+  a.interpolation = last || u(rng) < 0.6 ? Interpolation::cubic : Interpolation::linear;
+  switch (static_cast<int>(u(rng) * 6)) {
+    case 0: a.lo = -1.0, a.hi = 2.0; break;                                              // clamped both ends
+    case 1: a.spacing = Spacing::log, a.lo = 0.03, a.hi = 0.8; break;                   // β
+    case 2: a.spacing = Spacing::sqrt, a.lo = 0.0, a.hi = 10.0, a.lo_end = End::mirror; break;  // √σa from 0
+    case 3: a.wrap = Wrap::even, a.lo = 0.0, a.hi = 89.0 * kPi / 180.0; break;          // θd: mirror at 0
+    case 4: a.wrap = Wrap::even, a.lo = 0.0, a.hi = kPi; break;                          // φ: mirror at 0 and π
+    default: a.wrap = Wrap::periodic, a.lo = -kPi, a.hi = kPi; break;                    // periodic φ
+  }
+  if (u(rng) < 0.2) a.placement = Placement::centers;
+  return a;
+}
+
+// A coordinate in the first or last cell, at a node, or anywhere (beyond the ends for clamped axes).
+double kernel_coordinate(const Axis& a, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double r = u(rng);
+  if (r < 0.1) return node(a, static_cast<int>(u(rng) * a.count));
+  if (r < 0.35) return node(a, 0) + u(rng) * (node(a, 1) - node(a, 0));
+  if (r < 0.6) return node(a, a.count - 2) + u(rng) * (node(a, a.count - 1) - node(a, a.count - 2));
+  if (a.wrap == Wrap::periodic) return -3.0 * kPi + 6.0 * kPi * u(rng);
+  if (a.spacing == Spacing::log) return a.lo * std::pow(a.hi / a.lo, -0.1 + 1.2 * u(rng));
+  if (a.spacing == Spacing::sqrt) return a.hi * 1.1 * u(rng);
+  return a.lo - 0.3 + (a.hi - a.lo + 0.6) * u(rng);
+}
+
+template <class R, int D, int Mask>
+void compare_cubic_kernel(std::mt19937_64& rng, double& worst, double& worst_view, double& worst_gather) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Axis axes[D];
+  for (int d = 0; d < D; ++d) {
+    axes[d] = kernel_axis(rng, d == D - 1);
+    axes[d].interpolation = (Mask >> (D - 1 - d)) & 1 ? Interpolation::cubic : Interpolation::linear;
+  }
+  std::size_t n = 1;
+  for (const Axis& a : axes) n *= static_cast<std::size_t>(a.count);
+  std::vector<float> v(n), av(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<float>(u(rng) * 2.0 - 0.5), av[i] = std::fabs(v[i]);
+  const FixedView<float, D, R> view(v.data(), axes);
+  const TableView<float> generic(v.data(), axes, D);
+  const double eps = std::numeric_limits<R>::epsilon();
+  for (int k = 0; k < 200; ++k) {
+    R x[D];
+    double xd[D];
+    FixedTaps<R> tp[D], at[D];
+    for (int d = 0; d < D; ++d) {
+      x[d] = static_cast<R>(kernel_coordinate(axes[d], rng)), xd[d] = x[d];
+      tp[d] = view.axis(d).taps(x[d]);
+      at[d] = tp[d];
+      for (int j = 0; j < ((Mask >> (D - 1 - d)) & 1 ? 4 : 2); ++j) at[d].w[j] = std::fabs(at[d].w[j]);
+    }
+    const auto seq = std::make_index_sequence<D>{};
+    const R scalar = detail::fixed_product_mask<float, R, D, Mask>(v.data(), tp, seq);
+    const R lanes = detail::fixed_kernel<float, R, D, Mask>(v.data(), tp);
+    const double scale = static_cast<double>(detail::fixed_product_mask<float, R, D, Mask>(av.data(), at, seq));  // Σ|w · v|
+    worst = std::max(worst, std::abs(static_cast<double>(lanes) - static_cast<double>(scalar)) / (8.0 * eps * scale + 1e-300));
+    // The view (the same kernel) against TableView's own taps and sums; in float the coordinates
+    // are mapped in float (sampler_fixed.hpp: ~1e-6 of the values' scale).
+    const double tol = std::is_same_v<R, double> ? 16.0 * eps * scale : 2e-5;
+    worst_view = std::max(worst_view, std::abs(static_cast<double>(view(x)) - generic(xd)) / (tol + 1e-300));
+    // Gathering the last axis's four values gives the bits of loading them at once.
+    const FixedTaps<R>& l = tp[D - 1];
+    if (l.off[1] == l.off[0] + 1 && l.off[2] == l.off[0] + 2 && l.off[3] == l.off[0] + 3) {
+      detail::Vec4<R> wv[4 * D];
+      for (int d = 0; d + 1 < D; ++d)
+        for (int j = 0; j < ((Mask >> (D - 1 - d)) & 1 ? 4 : 2); ++j) wv[4 * d + j] = detail::Vec4<R>::all(tp[d].w[j]);
+      const R a = (detail::vec_product_mask<float, R, D, Mask, true>(v.data(), tp, wv, seq) * detail::Vec4<R>::load(l.w)).sum();
+      const R b = (detail::vec_product_mask<float, R, D, Mask, false>(v.data(), tp, wv, seq) * detail::Vec4<R>::load(l.w)).sum();
+      worst_gather = std::max(worst_gather, a == b ? 0.0 : 1.0);
+    }
+  }
+}
+
+template <class R, int D, int Mask = 1>
+void compare_cubic_kernels(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  double worst = 0.0, worst_view = 0.0, worst_gather = 0.0;
+  for (int t = 0; t < 60; ++t) compare_cubic_kernel<R, D, Mask>(rng, worst, worst_view, worst_gather);
+  CHECK(worst <= 1.0);
+  CHECK(worst_view <= 1.0);
+  CHECK(worst_gather == 0.0);
+  if constexpr (Mask + 2 < (1 << D)) compare_cubic_kernels<R, D, Mask + 2>(seed + 1);
+}
+
+}  // namespace
+
+TEST_CASE("The cubic-last-axis kernel equals the scalar tensor product up to rounding, end cells included", "[sampler]") {
+  compare_cubic_kernels<double, 1>(31);
+  compare_cubic_kernels<double, 2>(32);
+  compare_cubic_kernels<double, 3>(33);
+  compare_cubic_kernels<double, 4>(34);
+  compare_cubic_kernels<float, 1>(35);
+  compare_cubic_kernels<float, 2>(36);
+  compare_cubic_kernels<float, 3>(37);
+  compare_cubic_kernels<float, 4>(38);
+}
+
+// The register lanes (detail::Vec4 with SSE2) and the array lanes do the same IEEE operations:
+// the same bits, NaN and the clamp's second-operand rule included.
+template <class R>
+void compare_lanes(std::uint64_t seed) {
+  using S = detail::Vec4<R, true>;
+  using A = detail::Vec4<R, false>;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  auto bits = [](const auto& x) {
+    R a[4];
+    if constexpr (std::is_same_v<std::decay_t<decltype(x)>, A>) {
+      for (int k = 0; k < 4; ++k) a[k] = x.v[k];
+    } else {
+      R t[3];
+      x.store3(t);
+      a[0] = t[0], a[1] = t[1], a[2] = t[2], a[3] = x.template lane<3>().lane0();
+    }
+    return std::vector<R>(a, a + 4);
+  };
+  int differ = 0;
+  for (int k = 0; k < 2000; ++k) {
+    float f[4];
+    R r[4], q[4];
+    for (int j = 0; j < 4; ++j) f[j] = static_cast<float>(u(rng)), r[j] = static_cast<R>(u(rng)), q[j] = static_cast<R>(u(rng));
+    if (k % 7 == 0) r[k % 4] = std::numeric_limits<R>::quiet_NaN();
+    const S s = S::load_from(f) * S::load(r) + S::load(q), ss = S::load(r) - S::load(q);
+    const A a = A::load_from(f) * A::load(r) + A::load(q), aa = A::load(r) - A::load(q);
+    const auto same = [](const std::vector<R>& x, const std::vector<R>& y) {
+      for (int j = 0; j < 4; ++j)
+        if (!(x[j] == y[j] || (x[j] != x[j] && y[j] != y[j]))) return false;
+      return true;
+    };
+    differ += same(bits(s), bits(a)) ? 0 : 1;
+    differ += same(bits(S::min(s, ss)), bits(A::min(a, aa))) ? 0 : 1;
+    differ += same(bits(S::max(ss, s)), bits(A::max(aa, a))) ? 0 : 1;
+    differ += same(bits(s.abs()), bits(a.abs())) ? 0 : 1;
+    differ += same(bits(s.template lane<1>()), bits(a.template lane<1>())) ? 0 : 1;
+    differ += S::greater(s, ss) == A::greater(a, aa) ? 0 : 1;
+    const R ssum = s.sum(), asum = a.sum();
+    differ += ssum == asum || (ssum != ssum && asum != asum) ? 0 : 1;
+    differ += same(bits(S::sums(s, ss, s)), bits(A::sums(a, aa, a))) ? 0 : 1;
+    R pos[4];
+    for (int j = 0; j < 4; ++j) pos[j] = std::fabs(q[j]) * R(40);
+    int is[4], ia[4];
+    const S fs = S::load(pos).split(is);
+    const A fa = A::load(pos).split(ia);
+    differ += same(bits(fs), bits(fa)) && is[0] == ia[0] && is[1] == ia[1] && is[2] == ia[2] && is[3] == ia[3] ? 0 : 1;
+    const std::size_t off[4] = {3, 0, 2, 2};
+    differ += same(bits(S::gather(f, off)), bits(A::gather(f, off))) ? 0 : 1;
+  }
+  CHECK(differ == 0);
+}
+
+TEST_CASE("Register lanes and array lanes give the same bits", "[sampler]") {
+#if HAIRLUT_SAMPLER_SSE2
+  compare_lanes<float>(41);
+  compare_lanes<double>(42);
+#else
+  SUCCEED("no SSE2 on this target: the array lanes are the only ones");
+#endif
+}

@@ -32,77 +32,6 @@ template <class R>
 R nonnegative(R v) {
   return v < R(0) ? R(0) : v;  // NaN stays NaN
 }
-// Four values of R in one or two SSE2 registers (float: one __m128; double: two __m128d), or an
-// array where SSE2 is not available: the same operations in the same order either way.
-template <class R, bool Simd = HAIRLUT_SAMPLER_SSE2 != 0>
-struct Vec4 {
-  R v[4];
-  static HAIRLUT_SAMPLER_INLINE Vec4 load(const R* p) { return {{p[0], p[1], p[2], p[3]}}; }
-  static HAIRLUT_SAMPLER_INLINE Vec4 all(R x) { return {{x, x, x, x}}; }
-  friend HAIRLUT_SAMPLER_INLINE Vec4 operator+(const Vec4& a, const Vec4& b) { return {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2], a.v[3] + b.v[3]}}; }
-  friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {{a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]}}; }
-  /// max(v, 0) per lane; NaN stays NaN.
-  HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const {
-    Vec4 r;
-    for (int k = 0; k < 4; ++k) r.v[k] = v[k] < R(0) ? R(0) : v[k];
-    return r;
-  }
-  HAIRLUT_SAMPLER_INLINE R lane0() const { return v[0]; }
-  /// (Σ a, Σ b, Σ c, 0), each sum as (x₀ + x₂) + (x₁ + x₃).
-  static HAIRLUT_SAMPLER_INLINE Vec4 sums(const Vec4& a, const Vec4& b, const Vec4& c) {
-    return {{(a.v[0] + a.v[2]) + (a.v[1] + a.v[3]), (b.v[0] + b.v[2]) + (b.v[1] + b.v[3]), (c.v[0] + c.v[2]) + (c.v[1] + c.v[3]), R(0)}};
-  }
-  HAIRLUT_SAMPLER_INLINE void store3(R* out) const { out[0] = v[0], out[1] = v[1], out[2] = v[2]; }
-};
-#if HAIRLUT_SAMPLER_SSE2
-template <>
-struct Vec4<float, true> {
-  __m128 v;
-  static HAIRLUT_SAMPLER_INLINE Vec4 load(const float* p) { return {_mm_loadu_ps(p)}; }
-  static HAIRLUT_SAMPLER_INLINE Vec4 all(float x) { return {_mm_set1_ps(x)}; }
-  friend HAIRLUT_SAMPLER_INLINE Vec4 operator+(const Vec4& a, const Vec4& b) { return {_mm_add_ps(a.v, b.v)}; }
-  friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {_mm_mul_ps(a.v, b.v)}; }
-  // maxps returns its second operand where either is NaN.
-  HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const { return {_mm_max_ps(_mm_setzero_ps(), v)}; }
-  HAIRLUT_SAMPLER_INLINE float lane0() const { return _mm_cvtss_f32(v); }
-  static HAIRLUT_SAMPLER_INLINE Vec4 sums(const Vec4& a, const Vec4& b, const Vec4& c) {
-    // The transpose of (a, b, c, 0): x_k = (a_k, b_k, c_k, 0).
-    const __m128 z = _mm_setzero_ps();
-    const __m128 ab01 = _mm_unpacklo_ps(a.v, b.v), ab23 = _mm_unpackhi_ps(a.v, b.v);
-    const __m128 c01 = _mm_unpacklo_ps(c.v, z), c23 = _mm_unpackhi_ps(c.v, z);
-    const __m128 x0 = _mm_movelh_ps(ab01, c01), x1 = _mm_movehl_ps(c01, ab01);
-    const __m128 x2 = _mm_movelh_ps(ab23, c23), x3 = _mm_movehl_ps(c23, ab23);
-    return {_mm_add_ps(_mm_add_ps(x0, x2), _mm_add_ps(x1, x3))};
-  }
-  HAIRLUT_SAMPLER_INLINE void store3(float* out) const {
-    alignas(16) float t[4];
-    _mm_store_ps(t, v);
-    out[0] = t[0], out[1] = t[1], out[2] = t[2];
-  }
-};
-template <>
-struct Vec4<double, true> {
-  __m128d lo, hi;
-  static HAIRLUT_SAMPLER_INLINE Vec4 load(const double* p) { return {_mm_loadu_pd(p), _mm_loadu_pd(p + 2)}; }
-  static HAIRLUT_SAMPLER_INLINE Vec4 all(double x) { return {_mm_set1_pd(x), _mm_set1_pd(x)}; }
-  friend HAIRLUT_SAMPLER_INLINE Vec4 operator+(const Vec4& a, const Vec4& b) { return {_mm_add_pd(a.lo, b.lo), _mm_add_pd(a.hi, b.hi)}; }
-  friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {_mm_mul_pd(a.lo, b.lo), _mm_mul_pd(a.hi, b.hi)}; }
-  HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const { return {_mm_max_pd(_mm_setzero_pd(), lo), _mm_max_pd(_mm_setzero_pd(), hi)}; }
-  HAIRLUT_SAMPLER_INLINE double lane0() const { return _mm_cvtsd_f64(lo); }
-  static HAIRLUT_SAMPLER_INLINE Vec4 sums(const Vec4& a, const Vec4& b, const Vec4& c) {
-    // (x₀ + x₂, x₁ + x₃) per input, then the two halves.
-    const __m128d sa = _mm_add_pd(a.lo, a.hi), sb = _mm_add_pd(b.lo, b.hi), sc = _mm_add_pd(c.lo, c.hi);
-    const __m128d ab = _mm_add_pd(_mm_unpacklo_pd(sa, sb), _mm_unpackhi_pd(sa, sb));
-    const __m128d cz = _mm_add_pd(_mm_unpacklo_pd(sc, _mm_setzero_pd()), _mm_unpackhi_pd(sc, _mm_setzero_pd()));
-    return {ab, cz};
-  }
-  HAIRLUT_SAMPLER_INLINE void store3(double* out) const {
-    _mm_storeu_pd(out, lo);
-    out[2] = _mm_cvtsd_f64(hi);
-  }
-};
-#endif
-
 template <class R>
 R fold_phi(R phi, const Axis& a) {
   if (a.wrap == Wrap::periodic) return phi;
@@ -310,7 +239,8 @@ class FibreScattering {
       lobes_ = L_ = 0;
       return;
     }
-    eval_ = pick<1>(lobes_, residual_);
+    eval_ = pick<1>(lobes_, residual_, true);
+    eval_per_axis_ = pick<1>(lobes_, residual_, false);
     // Blocks per node (see the class comment); the padding holds zeros.
     const int lp = pad(lobes_), h = residual_ ? 4 : 0;
     const auto bn = static_cast<std::size_t>(3 * lp), be = static_cast<std::size_t>(3 * lp + h), bm = static_cast<std::size_t>(lp + h);
@@ -358,6 +288,20 @@ class FibreScattering {
           const R x[3] = {static_cast<R>(f.beta_m), static_cast<R>(node(mp_axes_[0], a)), static_cast<R>(node(mp_axes_[1], b))};
           mp_[static_cast<std::size_t>(a * nr + b) * bm + static_cast<std::size_t>(p < lobes_ ? p : lp)] = (p < lobes_ ? t.mp[p] : t.mp_residual).table()(x);
         }
+    // The four axes located together (θd and φ of N_p, θi and θr of M_p): uniform, cubic, at
+    // least 4 nodes, θi and θr clamped (the default tables' axes).
+    const FixedAxis<R>* lanes[4] = {&np_theta_, &np_phi_, &mp_theta_i_, &mp_theta_r_};
+    R c[6][4];
+    lanes_ = true;
+    for (int k = 0; k < 4; ++k) {
+      const FixedAxis<R>& a = *lanes[k];
+      lanes_ = lanes_ && a.uniform_affine() && a.cubic() && a.count() >= 4 && (k < 2 || !a.even());
+      c[0][k] = a.t0(), c[1][k] = a.scale(), c[2][k] = a.offset(), c[3][k] = a.top(), c[4][k] = a.unsnapped();
+      c[5][k] = static_cast<R>(a.count() - 2);
+    }
+    using V = detail::Vec4<R>;
+    lane_t0_ = V::load(c[0]), lane_scale_ = V::load(c[1]), lane_offset_ = V::load(c[2]), lane_top_ = V::load(c[3]);
+    lane_unsnapped_ = V::load(c[4]), lane_last_ = V::load(c[5]);
   }
 
   /// S per channel at (θi, θr, φ) [1/sr], radians; NaN in every channel for a NaN argument.
@@ -377,6 +321,17 @@ class FibreScattering {
     (*this)(ti, tr, phi, rgb);
   }
 
+  /// S as operator() gives it, with each axis's taps computed one at a time (FixedAxis::taps)
+  /// instead of the four axes located together in registers: the same values (for tests).
+  void per_axis(R theta_i, R theta_r, R phi, R* rgb) const {
+    if (!(theta_i == theta_i) || !(theta_r == theta_r) || !(phi == phi)) {
+      rgb[0] = rgb[1] = rgb[2] = theta_i + theta_r + phi;
+      return;
+    }
+    if (eval_per_axis_) (this->*eval_per_axis_)(theta_i, theta_r, phi, rgb);
+    else rgb[0] = rgb[1] = rgb[2] = R(0);
+  }
+
   /// Bytes of the per-fibre slices.
   std::size_t bytes() const { return (np_.size() + e_.size() + mp_.size()) * sizeof(R); }
 
@@ -387,18 +342,21 @@ class FibreScattering {
 
   // The lookup for P explicit lobes and H residual lobes (0 or 1): block sizes known at compile
   // time, so that the loops over lobes and channels unroll into whole registers (detail::Vec4).
-  template <int P, int H>
+  // Lanes: the four axes of N_p and M_p located together where they can be (interior).
+  template <int P, int H, bool Lanes>
   void eval(R theta_i, R theta_r, R phi, R* rgb) const {
     using V = detail::Vec4<R>;
     constexpr int G = pad(P) / 4, M = G + H, N = 3 * G, E = 3 * G + H;  // registers per node
-    const R theta_d = std::fabs(R(0.5) * (theta_r - theta_i));
-    const FixedTaps<R> tt = taps4(np_theta_, theta_d), tf = taps4(np_phi_, detail::fold_phi(phi, np_axes_[1]));
-    const FixedTaps<R> te = taps4(e_theta_, theta_d);
-    const FixedTaps<R> ti = taps4(mp_theta_i_, theta_i), tr = taps4(mp_theta_r_, theta_r);
+    const R theta_d = std::fabs(R(0.5) * (theta_r - theta_i)), phi_f = detail::fold_phi(phi, np_axes_[1]);
     V m[M], n[N], e[E];
-    accumulate2<M>(mp_.data(), ti, tr, m);
-    accumulate2<N>(np_.data(), tt, tf, n);
+    const FixedTaps<R> te = taps4(e_theta_, theta_d);
     accumulate1<E>(e_.data(), te, e);
+    if (!(Lanes && lanes_ && interior<M, N>(theta_d, phi_f, theta_i, theta_r, m, n))) {
+      const FixedTaps<R> tt = taps4(np_theta_, theta_d), tf = taps4(np_phi_, phi_f);
+      const FixedTaps<R> ti = taps4(mp_theta_i_, theta_i), tr = taps4(mp_theta_r_, theta_r);
+      accumulate2<M>(mp_.data(), ti, tr, m);
+      accumulate2<N>(np_.data(), tt, tf, n);
+    }
     // Per channel c and lane (lobe): M_p N_p E_p, summed over the lobes' registers, then over lanes.
     V sum[3];
     for (int c = 0; c < 3; ++c) {
@@ -409,11 +367,40 @@ class FibreScattering {
     if (H) s = s + V::all(detail::nonnegative(m[G].lane0())) * e[3 * G].nonnegative();
     s.store3(rgb);
   }
+  // The taps of θd, φ (N_p) and θi, θr (M_p) as four lanes (FixedAxis::locate's operations, in
+  // the same order, on each lane: uniform axes, θd ∈ [0, π] and φ folded), then the products
+  // over M_p and N_p. Returns false, having done nothing, where a lane needs more than that: a
+  // cell at an end (its taps wrap, mirror or extrapolate), a snap to a node, θd beyond π.
+  template <int M, int N>
+  HAIRLUT_SAMPLER_INLINE bool interior(R theta_d, R phi, R theta_i, R theta_r, detail::Vec4<R>* m, detail::Vec4<R>* n) const {
+    using V = detail::Vec4<R>;
+    if (!(theta_d <= static_cast<R>(3.14159265358979323846))) return false;
+    V s = (V::set(theta_d, phi, theta_i, theta_r) - lane_t0_) * lane_scale_ + lane_offset_;
+    s = V::max(V::min(s, lane_top_), V::all(R(0)));
+    int i[4];
+    const V f = s.split(i);
+    // Interior: 1 ≤ i ≤ count − 3, i.e. 1 ≤ s < count − 2; no snap: |f − ½| ≤ unsnapped.
+    if ((V::greater(V::all(R(1)), s) | (V::greater(lane_last_, s) ^ 15) | V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_)) != 0) return false;
+    // Catmull–Rom weights (FixedAxis::catmull_rom), lane k the axis k; −t³ + 2t² is 2t² − t³.
+    const V f2 = f * f, f3 = f2 * f, h = V::all(R(0.5));
+    const V w[4] = {h * ((V::all(R(2)) * f2 - f3) - f), h * ((V::all(R(3)) * f3 - V::all(R(5)) * f2) + V::all(R(2))),
+                    h * ((V::all(R(-3)) * f3 + V::all(R(4)) * f2) + f), h * (f3 - f2)};
+    const std::size_t o[4] = {static_cast<std::size_t>(i[0] - 1) * np_theta_.stride(), static_cast<std::size_t>(i[1] - 1) * np_phi_.stride(),
+                              static_cast<std::size_t>(i[2] - 1) * mp_theta_i_.stride(), static_cast<std::size_t>(i[3] - 1) * mp_theta_r_.stride()};
+    accumulate2_interior<M, 2, 3>(mp_.data() + o[2] + o[3], mp_theta_i_.stride(), w, m);
+    accumulate2_interior<N, 0, 1>(np_.data() + o[0] + o[1], np_theta_.stride(), w, n);
+    return true;
+  }
   template <int P>
-  Eval pick(int lobes, bool residual) const {
-    if constexpr (P > kMax) return nullptr;
-    else if (lobes == P) return residual ? &FibreScattering::eval<P, 1> : &FibreScattering::eval<P, 0>;
-    else return pick<P + 1>(lobes, residual);
+  Eval pick(int lobes, bool residual, bool lanes) const {
+    if constexpr (P > kMax) {
+      return nullptr;
+    } else if (lobes == P) {
+      if (lanes) return residual ? &FibreScattering::eval<P, 1, true> : &FibreScattering::eval<P, 0, true>;
+      return residual ? &FibreScattering::eval<P, 1, false> : &FibreScattering::eval<P, 0, false>;
+    } else {
+      return pick<P + 1>(lobes, residual, lanes);
+    }
   }
 
   // Four taps on every axis (a linear axis's two, then two of weight 0 on its second node), so
@@ -437,6 +424,20 @@ class FibreScattering {
     for (int k = 0; k < B; ++k) out[k] = row(0, k) + row(1, k);
     for (int k = 0; k < B; ++k) out[k] = out[k] + (row(2, k) + row(3, k));
   }
+  // accumulate2 for interior cells: the taps of a at p + i · sa, those of b (the inner axis, B
+  // registers per node) at p + 4 B j, their weights lane La and Lb of w[i], w[j]. The same sums
+  // in the same order.
+  template <int B, int La, int Lb>
+  static HAIRLUT_SAMPLER_INLINE void accumulate2_interior(const R* p, std::size_t sa, const detail::Vec4<R>* w, detail::Vec4<R>* out) {
+    using V = detail::Vec4<R>;
+    const V b0 = w[0].template lane<Lb>(), b1 = w[1].template lane<Lb>(), b2 = w[2].template lane<Lb>(), b3 = w[3].template lane<Lb>();
+    auto row = [&](int i, int k) {
+      const R* q = p + static_cast<std::size_t>(i) * sa + 4 * k;
+      return w[i].template lane<La>() * ((b0 * V::load(q) + b1 * V::load(q + 4 * B)) + (b2 * V::load(q + 8 * B) + b3 * V::load(q + 12 * B)));
+    };
+    for (int k = 0; k < B; ++k) out[k] = row(0, k) + row(1, k);
+    for (int k = 0; k < B; ++k) out[k] = out[k] + (row(2, k) + row(3, k));
+  }
   template <int B>
   static HAIRLUT_SAMPLER_INLINE void accumulate1(const R* p, const FixedTaps<R>& a, detail::Vec4<R>* out) {
     using V = detail::Vec4<R>;
@@ -448,9 +449,11 @@ class FibreScattering {
     for (int k = 0; k < B; ++k) out[k] = (a0 * V::load(q0 + 4 * k) + a1 * V::load(q1 + 4 * k)) + (a2 * V::load(q2 + 4 * k) + a3 * V::load(q3 + 4 * k));
   }
 
-  Eval eval_ = nullptr;
+  Eval eval_ = nullptr, eval_per_axis_ = nullptr;
   int lobes_ = 0, L_ = 0;
-  bool residual_ = false, has_energy_ = false;
+  bool residual_ = false, has_energy_ = false, lanes_ = false;
+  // Per lane (θd, φ of N_p; θi, θr of M_p): t0, scale, offset, top, unsnapped, count − 2.
+  detail::Vec4<R> lane_t0_{}, lane_scale_{}, lane_offset_{}, lane_top_{}, lane_unsnapped_{}, lane_last_{};
   Axis np_axes_[2], mp_axes_[2], e_axis_;
   FixedAxis<R> np_theta_, np_phi_, e_theta_, mp_theta_i_, mp_theta_r_;
   std::vector<R> np_, e_, mp_;

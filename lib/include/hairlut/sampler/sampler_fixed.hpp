@@ -31,26 +31,7 @@
 #include <utility>
 
 #include "hairlut/sampler/sampler.hpp"
-
-// The per-axis tap computation is forced inline: a lookup is a handful of them and the call
-// overhead is of the same order as their work.
-#if defined(__GNUC__) || defined(__clang__)
-#define HAIRLUT_SAMPLER_INLINE __attribute__((always_inline)) inline
-#define HAIRLUT_SAMPLER_NOINLINE __attribute__((noinline))
-#else
-#define HAIRLUT_SAMPLER_INLINE inline
-#define HAIRLUT_SAMPLER_NOINLINE
-#endif
-
-// SSE2 (every x86-64 target) combines the two values of a pair along the last axis in one
-// register; elsewhere, or with HAIRLUT_SAMPLER_NO_SIMD defined, the same operations run one value
-// at a time. The results are the same (IEEE operations in the same order).
-#if !defined(HAIRLUT_SAMPLER_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
-#define HAIRLUT_SAMPLER_SSE2 1
-#include <emmintrin.h>
-#else
-#define HAIRLUT_SAMPLER_SSE2 0
-#endif
+#include "hairlut/sampler/sampler_simd.hpp"
 
 namespace hairlut {
 namespace sampler {
@@ -106,6 +87,18 @@ class FixedAxis {
     step = wrapped ? -static_cast<std::ptrdiff_t>(i0) * static_cast<std::ptrdiff_t>(stride_) : step_;
   }
   bool geometric() const { return prepared_.axis.interpolation == Interpolation::geometric; }
+  /// Whether locate(x) is s = (x − t0()) · scale() + offset() clamped to [0, top()], then the
+  /// integer part and the fraction f, with snapping where |f − ½| > unsnapped(): a uniform axis
+  /// of at least 2 nodes that clamps, or an even one for x ∈ [0, π] (what an evaluator that
+  /// locates several axes at once in registers relies on, sampler_fibre.hpp).
+  bool uniform_affine() const { return simple_ && spacing_ == Spacing::uniform && (fold_ == Fold::none || fold_ == Fold::even); }
+  bool even() const { return fold_ == Fold::even; }
+  R t0() const { return t0_; }
+  R scale() const { return scale_; }
+  R offset() const { return offset_; }
+  R top() const { return top_; }
+  R unsnapped() const { return unsnapped_; }
+  std::size_t stride() const { return stride_; }
   int count() const { return n_; }
   const Axis& axis() const { return prepared_.axis; }
 
@@ -367,9 +360,56 @@ inline R fixed_product_mask(const T* p, const FixedTaps<R>* tp, std::index_seque
 template <class T, class R, int D>
 using FixedKernel = R (*)(const T*, const FixedTaps<R>*);
 
+// The product for a cubic last axis, four lanes at a time (Vec4: SSE2 registers): lane k holds
+// the tensor product over axes 0 … D − 2 of the values at the last axis's tap k, nested as
+// fixed_product nests them (each axis's taps summed pairwise: (t₀ + t₁) + (t₂ + t₃)), and the last
+// axis's four weights are applied at the end, as one product of registers and a sum over lanes.
+// The same terms as fixed_product, summed in another order: equal up to rounding. Contig: the four
+// taps of the last axis are consecutive values (one load); otherwise they are gathered (next to an
+// end, where they repeat or mirror).
+template <class T, class R, bool Contig, int N, int... Rest>
+HAIRLUT_SAMPLER_INLINE Vec4<R> vec_product(const T* p, const FixedTaps<R>* tp, const Vec4<R>* wv) {
+  if constexpr (sizeof...(Rest) == 0) {
+    static_assert(N == 4, "the last axis is cubic");
+    if constexpr (Contig) return Vec4<R>::load_from(p + tp->off[0]);
+    else return Vec4<R>::gather(p, tp->off);
+  } else {
+    const Vec4<R> a = wv[0] * vec_product<T, R, Contig, Rest...>(p + tp->off[0], tp + 1, wv + 4);
+    const Vec4<R> b = wv[1] * vec_product<T, R, Contig, Rest...>(p + tp->off[1], tp + 1, wv + 4);
+    if constexpr (N == 2) {
+      return a + b;
+    } else {
+      const Vec4<R> c = wv[2] * vec_product<T, R, Contig, Rest...>(p + tp->off[2], tp + 1, wv + 4);
+      const Vec4<R> d = wv[3] * vec_product<T, R, Contig, Rest...>(p + tp->off[3], tp + 1, wv + 4);
+      return (a + b) + (c + d);
+    }
+  }
+}
+template <class T, class R, int D, int Mask, bool Contig, std::size_t... I>
+HAIRLUT_SAMPLER_INLINE Vec4<R> vec_product_mask(const T* p, const FixedTaps<R>* tp, const Vec4<R>* wv, std::index_sequence<I...>) {
+  return vec_product<T, R, Contig, ((Mask >> (D - 1 - static_cast<int>(I))) & 1 ? 4 : 2)...>(p, tp, wv);
+}
+/// The tensor product of the taps for a table whose last axis is cubic (Mask bit 0), by lanes.
+template <class T, class R, int D, int Mask>
+R fixed_product_cubic_last(const T* p, const FixedTaps<R>* tp) {
+  static_assert(Mask & 1, "the last axis is cubic");
+  using V = Vec4<R>;
+  // The weights of axes 0 … D − 2 broadcast once (4 per axis; a linear axis uses 2).
+  V wv[4 * (D - 1) + 1];
+  for (int d = 0; d + 1 < D; ++d)
+    for (int k = 0; k < ((Mask >> (D - 1 - d)) & 1 ? 4 : 2); ++k) wv[4 * d + k] = V::all(tp[d].w[k]);
+  const FixedTaps<R>& last = tp[D - 1];
+  const std::size_t o = last.off[0];
+  const V lanes = last.off[1] == o + 1 && last.off[2] == o + 2 && last.off[3] == o + 3
+                      ? vec_product_mask<T, R, D, Mask, true>(p, tp, wv, std::make_index_sequence<D>{})
+                      : vec_product_mask<T, R, D, Mask, false>(p, tp, wv, std::make_index_sequence<D>{});
+  return (lanes * V::load(last.w)).sum();
+}
+
 template <class T, class R, int D, int Mask>
 R fixed_kernel(const T* p, const FixedTaps<R>* tp) {
-  return fixed_product_mask<T, R, D, Mask>(p, tp, std::make_index_sequence<D>{});
+  if constexpr ((Mask & 1) != 0) return fixed_product_cubic_last<T, R, D, Mask>(p, tp);
+  else return fixed_product_mask<T, R, D, Mask>(p, tp, std::make_index_sequence<D>{});
 }
 
 template <class T, class R, int D, std::size_t... M>
