@@ -11,9 +11,12 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "hairlut/io/hdf5_io.hpp"
 
 namespace hairlut::detail {
 
@@ -30,6 +33,17 @@ void fix_superblock_checksum(std::vector<char>& image);
 /// Writes `bytes` to `path` (created or truncated) and syncs it; every system error (disk full, a
 /// file-size limit, I/O) becomes an IoError naming the file and the reason.
 void write_file_bytes(const std::filesystem::path& path, const std::vector<char>& bytes);
+
+/// What the sidecar records of a written file: its size and FNV-1a 64 (16 hex digits).
+struct FileDigest {
+  std::uintmax_t bytes = 0;
+  std::string fnv1a64;
+};
+
+/// write_hdf5 that also returns the digest of the bytes it wrote, hashed from the in-memory image
+/// (the writer of a bake's files needs it for the sidecar; reading the file back costs a second
+/// pass over the disk cache and a buffer).
+FileDigest write_hdf5_digest(const TableSet& set, const std::filesystem::path& path, const Hdf5WriteOptions& options);
 
 // Flushes a written file to disk (fsync); throws IoError("<file>: cannot write (<reason>)").
 void sync_file(const std::filesystem::path& path);

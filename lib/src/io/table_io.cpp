@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "hairlut/io/engine_exr.hpp"
+#include "hdf5_bytes.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/util/hash.hpp"
 #include "hairlut/util/version.hpp"
@@ -28,7 +29,7 @@ namespace fs = std::filesystem;
 std::string file_fnv(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   Fnv1a64 h;
-  std::vector<char> block(1 << 20);
+  std::vector<char> block(1 << 16);
   while (in) {
     in.read(block.data(), static_cast<std::streamsize>(block.size()));
     h.update(block.data(), static_cast<std::size_t>(in.gcount()));
@@ -125,8 +126,12 @@ bool outputs_up_to_date(const BakeConfig& c) {
   }
 }
 
-json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& report,
-                  const std::vector<std::pair<std::string, fs::path>>& files) {
+namespace {
+
+// The sidecar; `digests[i]`, where given and non-empty, is the digest of files[i] already known
+// to the writer (hashed from its bytes in memory); other files are read back and hashed.
+json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport& report,
+                      const std::vector<std::pair<std::string, fs::path>>& files, const std::vector<detail::FileDigest>& digests) {
   json s;
   s["format"] = "hairlut-tables";
   s["format_version"] = 1;
@@ -135,8 +140,13 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
   s["model"] = c.model;
   s["config_hash"] = c.hash;
   s["files"] = json::array();
-  for (const auto& [format, path] : files) {
-    json f = {{"format", format}, {"path", path.filename().string()}, {"bytes", fs::file_size(path)}, {"fnv1a64", file_fnv(path)}};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const auto& [format, path] = files[i];
+    const bool known = i < digests.size() && !digests[i].fnv1a64.empty();
+    json f = {{"format", format},
+              {"path", path.filename().string()},
+              {"bytes", known ? digests[i].bytes : fs::file_size(path)},
+              {"fnv1a64", known ? digests[i].fnv1a64 : file_fnv(path)}};
     if (format == "hdf5") f["precision"] = c.output.hdf5_double ? "float64" : "float32";
     else if (format == "engine-exr") f["precision"] = "half";  // engine textures are RGBA half
     else f["precision"] = c.output.exr_half ? "half" : "float32";
@@ -178,6 +188,13 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
   return s;
 }
 
+}  // namespace
+
+json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& report,
+                  const std::vector<std::pair<std::string, fs::path>>& files) {
+  return sidecar_document(set, c, report, files, {});
+}
+
 std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& c, const BakeReport& report,
                                          const std::atomic<bool>* cancel, const SlabbedTables* slabbed) {
   if (slabbed && !slabbed->empty() && c.output.exr)
@@ -195,11 +212,12 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   const DirectoryLock lock(c.output.directory, true);
   TempFiles temps;
   std::vector<std::pair<std::string, fs::path>> written;  // format, temporary path
+  std::vector<detail::FileDigest> digests;                 // of written[i] where known from memory
   if (c.output.hdf5) {
     const fs::path t = temporary_for(paths.hdf5);
     temps.paths.push_back(t);
-    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, {c.output.hdf5_deflate});
-    else write_hdf5(set, t, {c.output.hdf5_deflate});
+    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, {c.output.hdf5_deflate}), digests.emplace_back();
+    else digests.push_back(detail::write_hdf5_digest(set, t, {c.output.hdf5_deflate}));
     written.emplace_back("hdf5", t);
   }
   if (c.output.exr) {
@@ -217,7 +235,7 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
     engine_finals.push_back(e.path);
   }
   // The sidecar describes the final names.
-  json side = sidecar_json(set, c, report, written);
+  json side = sidecar_document(set, c, report, written, digests);
   for (auto& f : side["files"]) {
     const std::string name = f["path"].get<std::string>();
     f["path"] = name.substr(0, name.rfind(".tmp-"));
