@@ -125,15 +125,22 @@ std::vector<FourierCase> fourier_cases(bool quick) {
     cases.push_back({rep, label, c});
   };
   using S = FourierTableConfig::Store;
+  // θd carries the error (the C_n oscillate along θd as the caustics and the fibre's edge move, the
+  // faster the higher n); σa needs few nodes once the absorption at the edge is factored out.
   const std::string best = "Fourier C_n(theta_d, sigma_a), C_n/F, cubic";
-  add("fourier", best, 32, 16, S::absorption, true, true, true, 1e-4);
-  if (quick) return cases;
-  add("fourier", best, 64, 32, S::absorption, true, true, true, 1e-4);
-  add("fourier", best, 128, 32, S::absorption, true, true, true, 1e-4);
-  add("fourier", best, 128, 64, S::absorption, true, true, true, 1e-4);
-  add("fourier-raw", "Fourier, raw C_n, cubic", 64, 32, S::raw, true, true, true, 1e-4);
-  add("fourier-ratio", "Fourier, C_0/F and C_n/C_0, cubic", 64, 32, S::ratio, true, true, true, 1e-4);
-  add("fourier-linear", "Fourier, C_n/F, linear", 64, 32, S::absorption, true, true, false, 1e-4);
+  if (quick) {
+    add("fourier", best, 128, 16, S::absorption, true, true, true, 1e-4);
+    return cases;
+  }
+  add("fourier", best, 64, 16, S::absorption, true, true, true, 1e-4);
+  add("fourier", best, 128, 16, S::absorption, true, true, true, 1e-4);
+  add("fourier", best, 256, 16, S::absorption, true, true, true, 1e-4);
+  add("fourier", best, 256, 32, S::absorption, true, true, true, 1e-4);
+  add("fourier-raw", "Fourier, raw C_n, cubic", 256, 16, S::raw, true, true, true, 1e-4);
+  add("fourier-ratio", "Fourier, C_0/F and C_n/C_0, cubic", 256, 16, S::ratio, true, true, true, 1e-4);
+  add("fourier-uniform-theta", "Fourier, C_n/F, uniform theta_d, cubic", 256, 16, S::absorption, false, true, true, 1e-4);
+  add("fourier-linear", "Fourier, C_n/F, linear", 256, 16, S::absorption, true, true, false, 1e-4);
+  add("fourier-tolerance-1e-3", "Fourier, C_n/F, cubic, terms for tolerance 1e-3", 128, 16, S::absorption, true, true, true, 1e-3);
   return cases;
 }
 
