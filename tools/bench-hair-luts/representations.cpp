@@ -39,12 +39,9 @@ using namespace hairlut;
 using json = nlohmann::ordered_json;
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-struct ErrorStats {
-  double worst = 0.0, p99 = 0.0;
-  std::vector<double> where;  // coordinates of the worst point
-};
+}  // namespace
 
-ErrorStats stats(std::vector<double> e, std::vector<std::vector<double>> at) {
+ErrorStats error_stats(std::vector<double> e, std::vector<std::vector<double>> at) {
   ErrorStats s;
   if (e.empty()) return s;
   const auto imax = static_cast<std::size_t>(std::max_element(e.begin(), e.end()) - e.begin());
@@ -55,7 +52,6 @@ ErrorStats stats(std::vector<double> e, std::vector<std::vector<double>> at) {
   return s;
 }
 
-// A uniformly random coordinate on an axis's declared range (log-uniform on log axes).
 double draw(const GridAxis& a, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   if (a.count == 1) return a.lo;
@@ -63,17 +59,15 @@ double draw(const GridAxis& a, std::mt19937_64& rng) {
   return a.lo + u(rng) * (a.hi - a.lo);
 }
 
-// Sampled error of every generic N_p table of `set` (axes beta, sigma_a, theta_d, phi).
-std::map<std::string, ErrorStats> np_errors(const TableSet& set, double eta, int slabs, std::uint64_t seed) {
-  const auto& lobes = set.metadata.at("lobes");
+NpPoints np_points(const std::vector<GridAxis>& ax, const std::vector<std::string>& lobes, double eta, int slabs, std::uint64_t seed) {
   const int L = static_cast<int>(lobes.size());
-  const Table* first = set.find("np/R");
-  const auto& ax = first->axes;
+  NpPoints pts;
+  pts.lobes = lobes;
+  pts.x.resize(static_cast<std::size_t>(L));
+  pts.exact.resize(static_cast<std::size_t>(L));
+  pts.den.resize(static_cast<std::size_t>(L));
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
   constexpr int kBetas = 4, kPhis = 16, kDense = 721;
-  std::vector<std::vector<double>> err(static_cast<std::size_t>(L));
-  std::vector<std::vector<std::vector<double>>> at(static_cast<std::size_t>(L));
   const auto rules = std::make_shared<GaussLegendreCache>();
   for (int s = 0; s < slabs; ++s) {
     const double sigma = draw(ax[1], rng), theta = draw(ax[2], rng);
@@ -101,23 +95,59 @@ std::map<std::string, ErrorStats> np_errors(const TableSet& set, double eta, int
       at_(p, static_cast<int>(k), static_cast<int>(b), j) = v;
     });
     for (int p = 0; p < L; ++p) {
-      const Table* t = set.find("np/" + lobes[static_cast<std::size_t>(p)].get<std::string>());
+      const auto P = static_cast<std::size_t>(p);
       for (int b = 0; b < kBetas; ++b) {
         double peak = 0.0, white = 0.0;
         for (std::size_t j = 0; j < kDense; ++j) peak = std::max(peak, at_(p, 0, b, j)), white = std::max(white, at_(p, 1, b, j));
         const double den = std::max(peak, 1e-3 * white);
         for (std::size_t j = kDense; j < np; ++j) {
-          const std::vector<double> x = {betas[static_cast<std::size_t>(b)], sigma, theta, phis[j]};
-          err[static_cast<std::size_t>(p)].push_back(std::abs(set.sample_value(*t, x) - at_(p, 0, b, j)) / den);
-          at[static_cast<std::size_t>(p)].push_back(x);
+          pts.x[P].push_back({betas[static_cast<std::size_t>(b)], sigma, theta, phis[j]});
+          pts.exact[P].push_back(at_(p, 0, b, j));
+          pts.den[P].push_back(den);
         }
       }
     }
   }
+  return pts;
+}
+
+std::map<std::string, ErrorStats> np_errors(const NpPoints& pts, const std::function<double(int p, const std::vector<double>& x)>& value) {
   std::map<std::string, ErrorStats> out;
-  for (int p = 0; p < L; ++p)
-    out[lobes[static_cast<std::size_t>(p)].get<std::string>()] = stats(err[static_cast<std::size_t>(p)], at[static_cast<std::size_t>(p)]);
+  for (std::size_t p = 0; p < pts.lobes.size(); ++p) {
+    std::vector<double> err;
+    err.reserve(pts.x[p].size());
+    for (std::size_t i = 0; i < pts.x[p].size(); ++i)
+      err.push_back(std::abs(value(static_cast<int>(p), pts.x[p][i]) - pts.exact[p][i]) / pts.den[p][i]);
+    out[pts.lobes[p]] = error_stats(err, pts.x[p]);
+  }
   return out;
+}
+
+namespace {
+
+// The points of the generic N_p measure, computed once per domain (every representation of a
+// domain is measured at the same points: they depend only on the axes' ranges and the seed).
+const NpPoints& cached_np_points(const std::vector<GridAxis>& ax, const std::vector<std::string>& lobes, double eta, int slabs,
+                                 std::uint64_t seed) {
+  static std::map<std::string, NpPoints> cache;
+  std::ostringstream key;
+  key.precision(17);
+  for (const GridAxis& a : ax) key << a.lo << " " << a.hi << " " << (a.spacing == Spacing::log) << " " << (a.count == 1) << ";";
+  for (const std::string& l : lobes) key << l << ",";
+  key << eta << ";" << slabs << ";" << seed;
+  auto it = cache.find(key.str());
+  if (it == cache.end()) it = cache.emplace(key.str(), np_points(ax, lobes, eta, slabs, seed)).first;
+  return it->second;
+}
+
+// Sampled error of every generic N_p table of `set` (axes beta, sigma_a, theta_d, phi).
+std::map<std::string, ErrorStats> np_errors(const TableSet& set, double eta, int slabs, std::uint64_t seed) {
+  std::vector<std::string> lobes;
+  for (const auto& l : set.metadata.at("lobes")) lobes.push_back(l.get<std::string>());
+  std::vector<const Table*> tables;
+  for (const std::string& l : lobes) tables.push_back(set.find("np/" + l));
+  const NpPoints& pts = cached_np_points(tables.front()->axes, lobes, eta, slabs, seed);
+  return np_errors(pts, [&](int p, const std::vector<double>& x) { return set.sample_value(*tables[static_cast<std::size_t>(p)], x); });
 }
 
 // Sampled error of an M_p table over (beta, theta_i, theta_r), relative to the peak over θr.
@@ -138,7 +168,7 @@ ErrorStats mp_errors(const Table& t, int points, std::uint64_t seed) {
       at.push_back({beta, ti, tr});
     }
   }
-  return stats(err, at);
+  return error_stats(err, at);
 }
 
 // ns per lookup of the quantity a renderer reads (with the factor table, if any), through the
@@ -190,6 +220,8 @@ double lookup_ns(const TableSet& set, const Table& t, int lookups, std::uint64_t
   throw DomainError("table " + t.path() + ": the bench times lookups in tables of 3 or 4 axes");
 }
 
+}  // namespace
+
 // Per-lobe worst, p99 and worst point into a result row, and their largest over the lobes.
 void add_errors(json& row, const std::map<std::string, ErrorStats>& errors) {
   double worst = 0.0, p99 = 0.0;
@@ -203,6 +235,8 @@ void add_errors(json& row, const std::map<std::string, ErrorStats>& errors) {
   row["worst_all"] = worst;
   row["p99_all"] = p99;
 }
+
+namespace {
 
 json axis(int count, const std::string& range_key, std::vector<double> range, const std::string& spacing, const std::string& interp) {
   json a = {{"count", count}, {range_key, range}, {"spacing", spacing}};
@@ -289,11 +323,17 @@ json bench_representations(bool quick, bool quiet) {
                                 {"shape-cubic", "hairlut shape + cubic 64^3", 64, 1, 64, 64},
                                 {"shape-cubic", "hairlut shape + cubic, budget allocated", 12, 1, 128, 170},
                                 {"shape-linear", "hairlut shape + multilinear, budget allocated", 12, 1, 128, 170}};
+  std::vector<GridAxis> generic_axes;
+  std::vector<std::string> generic_lobes;
   auto run_np = [&](const NpCase& c, const std::string& domain, std::vector<double> beta_deg, double sigma_max) {
     say(domain + ": " + c.label + " " + std::to_string(c.beta) + "x" + std::to_string(c.sigma) + "x" + std::to_string(c.theta) + "x" +
         std::to_string(c.phi));
     const TableSet set = bake_json({{"np", np_config(c, beta_deg, sigma_max, quick)}}, "repr");
     const auto errors = np_errors(set, 1.55, slabs, 17);
+    if (domain == "generic" && generic_axes.empty()) {
+      generic_axes = set.find("np/R")->axes;
+      for (const auto& l : set.metadata.at("lobes")) generic_lobes.push_back(l.get<std::string>());
+    }
     std::size_t entries = 0, bytes = 0;
     for (const Table& t : set.tables) entries += t.size();
     bytes = set.bytes();
@@ -310,6 +350,10 @@ json bench_representations(bool quick, bool quiet) {
     rows.push_back(row);
   };
   for (const NpCase& c : generic) run_np(c, "generic", {2, 30}, 10.0);
+  // The detector's Fourier coefficients C_n(θd, σa) tabulated, β and φ exact, at the same points.
+  for (const json& r : fourier_representation_rows(fourier_cases(quick), cached_np_points(generic_axes, generic_lobes, 1.55, slabs, 17),
+                                                   generic_axes, 1.55, lookups, quiet))
+    rows.push_back(r);
   for (const NpCase& c : engine) run_np(c, "engine-np-64^3", {2, 30}, 0.0);
   // Engine budgets: M_p over (β, θi, θr) at HDRP's 64³.
   // The same budget (64³ = 262 144 entries): evenly split, then allocated (12 β × 147 θi × 148 θr
@@ -367,18 +411,35 @@ void write_representations(const json& rows, const json& machine, const std::str
     std::snprintf(b, sizeof b, "%.2g", v);
     return std::string(b);
   };
+  auto counts_of = [](const json& r) {
+    std::string counts;
+    if (r.contains("counts"))
+      for (const auto& [k, v] : r["counts"].items()) counts += (counts.empty() ? "" : " x ") + std::to_string(v.get<int>());
+    return counts;
+  };
   for (const json& r : rows) {
     const json w = r.value("worst", json::object());
     csv << r["domain"].get<std::string>() << "," << r["representation"].get<std::string>() << ",\"" << r["label"].get<std::string>() << "\","
         << r["entries_per_lobe"] << "," << r["bytes"] << "," << g(w, "R") << "," << g(w, "TT") << "," << g(w, "TRT") << "," << g(w, "TRRT")
         << "," << r["worst_all"] << "," << r["p99_all"] << "," << r["lookup_ns"] << "\n";
-    std::string counts;
-    if (r.contains("counts"))
-      for (const auto& [k, v] : r["counts"].items()) counts += (counts.empty() ? "" : " x ") + std::to_string(v.get<int>());
+    const std::string counts = counts_of(r);
     md << "| " << r["domain"].get<std::string>() << " | " << r["label"].get<std::string>() << " | " << counts << " | "
        << r["entries_per_lobe"] << " | " << f(g(w, "R")) << " / " << f(g(w, "TT")) << " / " << f(g(w, "TRT")) << " / " << f(g(w, "TRRT"))
        << " | " << f(r["worst_all"].get<double>()) << " | " << f(r["p99_all"].get<double>()) << " | "
        << f(r["lookup_ns"].get<double>()) << " ns |\n";
+  }
+  bool fourier = false;
+  for (const json& r : rows) {
+    if (!r.contains("fourier")) continue;
+    const json& f4 = r["fourier"];
+    if (!fourier) md << "\nFourier rows (C_n over theta_d x sigma_a, beta and phi exact; terms for beta_min at the tolerance):\n\n";
+    fourier = true;
+    const json& tr = f4["truncation_alone"];
+    md << "- " << r["label"].get<std::string>() << " " << counts_of(r) << ": stores " << f4["stored"].get<std::string>() << ", "
+       << f4["theta_d_spacing"].get<std::string>() << " theta_d, " << f4["sigma_a_spacing"].get<std::string>() << " sigma_a, "
+       << f4["interpolation"].get<std::string>() << ", tolerance " << f(f4["tolerance"].get<double>()) << "; " << r["bytes"]
+       << " bytes; truncation alone (exact C_n at the point, no table): worst " << f(tr["worst_all"].get<double>()) << ", p99 "
+       << f(tr["p99_all"].get<double>()) << "\n";
   }
   std::ofstream(out_dir + "/representations.md") << md.str();
   // Pareto plot: entries per lobe against the worst sampled error, one series per representation.
