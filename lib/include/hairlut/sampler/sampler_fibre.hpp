@@ -72,11 +72,20 @@ HAIRLUT_SAMPLER_INLINE R fast_atan01(R x) {
 /// φ ∈ [0, π] the angle between the normal-plane projections, atan2(|cross|, dot) of the two
 /// projections by fast_atan01 on the octant (≤ 2e-8 rad, and no loss of accuracy near 0 and π);
 /// N_p is even in φ, so its sign is not needed. φ = 0 when a direction lies along the fibre.
+/// The two arcsines are fast_acos's operations on two register lanes (the same bits).
 template <class R>
 HAIRLUT_SAMPLER_INLINE void fibre_angles(const R* wi, const R* wo, R& theta_i, R& theta_r, R& phi) {
   const R half_pi = static_cast<R>(1.57079632679489661923);
-  theta_i = half_pi - fast_acos(wi[0]);
-  theta_r = half_pi - fast_acos(wo[0]);
+  {
+    using V = detail::Vec4<R>;
+    const V x = V::set(wi[0], wo[0], R(0), R(0));
+    const V a = V::min(x.abs(), V::all(R(1))), a2 = a * a, a4 = a2 * a2;
+    const V p01 = V::all(R(1.5707963050)) + a * V::all(R(-0.2145988016)), p23 = V::all(R(0.0889789874)) + a * V::all(R(-0.0501743046));
+    const V p45 = V::all(R(0.0308918810)) + a * V::all(R(-0.0170881256)), p67 = V::all(R(0.0066700901)) + a * V::all(R(-0.0012624911));
+    const V r = (V::all(R(1)) - a).sqrt() * ((p01 + a2 * p23) + a4 * (p45 + a2 * p67));
+    const V t = V::all(half_pi) - V::if_negative(x, V::all(static_cast<R>(3.14159265358979323846)) - r, r);
+    theta_i = t.lane0(), theta_r = t.template lane<1>().lane0();
+  }
   const R y = std::fabs(wi[1] * wo[2] - wi[2] * wo[1]), x = wi[1] * wo[1] + wi[2] * wo[2], ax = std::fabs(x);
   const R lo = y < ax ? y : ax, hi = y < ax ? ax : y;
   R t = fast_atan01(hi > R(0) ? lo / hi : R(0));

@@ -84,6 +84,14 @@ struct Vec4 {
   }
   /// |v| per lane.
   HAIRLUT_SAMPLER_INLINE Vec4 abs() const { return {{std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2]), std::fabs(v[3])}}; }
+  /// √v per lane (correctly rounded, as std::sqrt).
+  HAIRLUT_SAMPLER_INLINE Vec4 sqrt() const { return {{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])}}; }
+  /// x_k < 0 ? a_k : b_k per lane.
+  static HAIRLUT_SAMPLER_INLINE Vec4 if_negative(const Vec4& x, const Vec4& a, const Vec4& b) {
+    Vec4 r;
+    for (int k = 0; k < 4; ++k) r.v[k] = x.v[k] < R(0) ? a.v[k] : b.v[k];
+    return r;
+  }
   friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {{a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]}}; }
   /// max(v, 0) per lane; NaN stays NaN.
   HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const {
@@ -132,6 +140,11 @@ struct Vec4<float, true> {
     return {_mm_sub_ps(v, _mm_cvtepi32_ps(q))};
   }
   HAIRLUT_SAMPLER_INLINE Vec4 abs() const { return {_mm_and_ps(v, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)))}; }
+  HAIRLUT_SAMPLER_INLINE Vec4 sqrt() const { return {_mm_sqrt_ps(v)}; }
+  static HAIRLUT_SAMPLER_INLINE Vec4 if_negative(const Vec4& x, const Vec4& a, const Vec4& b) {
+    const __m128 m = _mm_cmplt_ps(x.v, _mm_setzero_ps());
+    return {_mm_or_ps(_mm_and_ps(m, a.v), _mm_andnot_ps(m, b.v))};
+  }
   friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {_mm_mul_ps(a.v, b.v)}; }
   // maxps returns its second operand where either is NaN.
   HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const { return {_mm_max_ps(_mm_setzero_ps(), v)}; }
@@ -198,6 +211,11 @@ struct Vec4<double, true> {
   HAIRLUT_SAMPLER_INLINE Vec4 abs() const {
     const __m128d m = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
     return {_mm_and_pd(lo, m), _mm_and_pd(hi, m)};
+  }
+  HAIRLUT_SAMPLER_INLINE Vec4 sqrt() const { return {_mm_sqrt_pd(lo), _mm_sqrt_pd(hi)}; }
+  static HAIRLUT_SAMPLER_INLINE Vec4 if_negative(const Vec4& x, const Vec4& a, const Vec4& b) {
+    const __m128d ml = _mm_cmplt_pd(x.lo, _mm_setzero_pd()), mh = _mm_cmplt_pd(x.hi, _mm_setzero_pd());
+    return {_mm_or_pd(_mm_and_pd(ml, a.lo), _mm_andnot_pd(ml, b.lo)), _mm_or_pd(_mm_and_pd(mh, a.hi), _mm_andnot_pd(mh, b.hi))};
   }
   friend HAIRLUT_SAMPLER_INLINE Vec4 operator*(const Vec4& a, const Vec4& b) { return {_mm_mul_pd(a.lo, b.lo), _mm_mul_pd(a.hi, b.hi)}; }
   HAIRLUT_SAMPLER_INLINE Vec4 nonnegative() const { return {_mm_max_pd(_mm_setzero_pd(), lo), _mm_max_pd(_mm_setzero_pd(), hi)}; }
