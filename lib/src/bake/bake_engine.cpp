@@ -19,8 +19,6 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-constexpr double kAzimuthalTolerance = 1e-10;  // truncation of unit_attenuation_np, relative to its mean 1/2π
-
 // A table with its attributes (detail::make_table allocates it).
 Table new_table(const std::string& group, const std::string& name, const std::string& quantity, const std::string& units,
                 const std::string& long_name, const std::vector<GridAxis>& axes, Precision precision, json attributes) {
