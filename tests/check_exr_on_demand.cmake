@@ -20,21 +20,25 @@ function(write_config path formats)
 ")
 endfunction()
 
-# Runs the baker on CONFIG with the loader's trace; sets TRACE in the caller to the trace.
-function(bake_traced config out_dir)
+# Writes a config with output.formats FORMATS under WORK/NAME.json, bakes it into WORK/NAME with the
+# loader's trace, checks that the baker wrote WORK/NAME/exr-on-demand.EXPECTED, and sets TRACE in
+# the caller to the trace.
+function(bake_traced name formats expected)
+  set(config "${WORK}/${name}.json")
+  set(out_dir "${WORK}/${name}")
+  write_config("${config}" "${formats}")
   execute_process(COMMAND ${CMAKE_COMMAND} -E env LD_DEBUG=files "${BAKE}" --config "${config}" --output-dir "${out_dir}" --force --quiet
                   --threads 1 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "bake of ${config} failed (exit ${rc}):\n${out}\n${err}")
   endif()
+  if(NOT EXISTS "${out_dir}/exr-on-demand.${expected}")
+    message(FATAL_ERROR "the bake of ${name}.json wrote no ${expected} file")
+  endif()
   set(TRACE "${out}\n${err}" PARENT_SCOPE)
 endfunction()
 
-write_config("${WORK}/hdf5-only.json" "[\"hdf5\"]")
-bake_traced("${WORK}/hdf5-only.json" "${WORK}/hdf5-only")
-if(NOT EXISTS "${WORK}/hdf5-only/exr-on-demand.h5")
-  message(FATAL_ERROR "the HDF5-only bake wrote no HDF5 file")
-endif()
+bake_traced(hdf5-only "[\"hdf5\"]" h5)
 # The trace must be there at all (it names the C library the baker always maps).
 if(NOT TRACE MATCHES "file=[^\n]*libc\\.so")
   message(FATAL_ERROR "LD_DEBUG=files gave no loader trace; cannot check which libraries the baker maps:\n${TRACE}")
@@ -45,11 +49,7 @@ if(loaded)
   message(FATAL_ERROR "an HDF5-only bake mapped OpenEXR code:\n${shown}")
 endif()
 
-write_config("${WORK}/with-exr.json" "[\"hdf5\", \"exr\"]")
-bake_traced("${WORK}/with-exr.json" "${WORK}/with-exr")
-if(NOT EXISTS "${WORK}/with-exr/exr-on-demand.exr")
-  message(FATAL_ERROR "the bake with EXR output wrote no EXR file")
-endif()
+bake_traced(with-exr "[\"hdf5\", \"exr\"]" exr)
 if(NOT TRACE MATCHES "file=[^\n]*hairlut-exr\\.so[^\n]*dynamically loaded")
   message(FATAL_ERROR "the bake with EXR output shows no dlopen of hairlut-exr.so in the loader's trace:\n${TRACE}")
 endif()
