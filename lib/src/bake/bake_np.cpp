@@ -334,8 +334,8 @@ NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report
     np_axes = plan.axes;
     const std::size_t entries = use_bands ? banded_entries : plan.entries;
     double predicted = plan.predicted_error;
-    for (const ResolutionPlan& b : banded)
-      if (use_bands) predicted = std::max(predicted, b.predicted_error);
+    if (use_bands)
+      for (const ResolutionPlan& b : banded) predicted = std::max(predicted, b.predicted_error);
     report.resolution = {{"target_error", *c.np_target_error},
                          {"predicted_error", predicted},
                          {"entries_per_lobe", entries},
