@@ -401,6 +401,9 @@ def probe_concurrent():
     cfg_a = json.load(open(a))
     cfg_a["output"]["directory"] = os.path.join(d, "out")
     cfg_a["quadrature"] = {"order": 32}
+    # Small tables: the bakes only need to overlap (both start together and write at the end).
+    cfg_a["tables"]["np"]["axes"]["beta"]["count"] = 6
+    cfg_a["tables"]["np"]["axes"]["sigma_a"]["count"] = 6
     cfg_b = json.loads(json.dumps(cfg_a))
     cfg_b["name"] = "other"
     cfg_b["tables"]["np"]["axes"]["phi"]["count"] = 96
