@@ -156,7 +156,7 @@ json bench_per_material(const Settings& st) {
       const double step = kTwoPi / PeriodicGrid::of(l.phis).period;
       const int W = 2 * static_cast<int>(std::ceil(std::sqrt(2.0 * std::log(2.0 / tol)) * beta / step)) + 1;
       for (std::size_t t = 0; t < l.thetas.size(); ++t) {
-        const int m = plan.spread_nodes_at(t);
+        const int m = plan.nodes_at(t);
         int spread_lobes = 0;
         for (int p = 0; p < 3; ++p) spread_lobes += plan.spreads(t, p), fourier_lobes += !plan.spreads(t, p);
         spread_m = std::max(spread_m, m);

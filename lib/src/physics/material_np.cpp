@@ -1,190 +1,221 @@
 #include "hairlut/physics/material_np.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
+#include "hairlut/util/vector_math.hpp"
 #include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/fresnel.hpp"
 
 namespace hairlut {
+namespace {
+
+// The Kosloff–Tal-Ezer parameter of a 2m-point transplanted rule: the map's singularities at
+// s = ±1/α lie on the Bernstein ellipse ρ with ρ^{−4m} = tolerance / 1000, so that the map costs
+// the rule a thousandth of the tolerance (Hale & Trefethen 2008, §3).
+double map_alpha(int m, double tolerance) { return 1.0 / std::cosh(std::log(1e3 / tolerance) / (4.0 * m)); }
+
+// Points 2R + 1 of a detector window: the Gaussian is cut where it falls below tolerance/2 of its peak.
+long window_radius(double beta, double step, double tolerance) {
+  return static_cast<long>(std::ceil(std::sqrt(2.0 * std::log(2.0 / tolerance)) * beta / step));
+}
+
+// Windows of up to kShortWindow points run over kShortWindow slots, the extra ones zero (adding an
+// exact 0 leaves every sum as it was): a fixed-length inner loop without remainder.
+constexpr std::size_t kShortWindow = 8;
+std::size_t window_run(long R) { return std::max<std::size_t>(kShortWindow, static_cast<std::size_t>(2 * R + 1)); }
+
+// Work estimates (multiply–adds, an exponential counted as 8) of one (θd, lobe) on m nodes, with
+// `planes` channels summed (1 for R, whose amplitude f does not depend on σa).
+double spread_work(int m, long R, std::size_t planes, bool window_fixed) {
+  const double W = 2.0 * static_cast<double>(R) + 1.0;
+  return m * (W * static_cast<double>(planes) + (window_fixed ? 0.0 : 3.0 * W + 24.0));
+}
+double fourier_work(int m, int terms, std::size_t planes, std::size_t points) {
+  const double N = terms + 1.0;
+  return m * N * (static_cast<double>(planes) + 3.0) + static_cast<double>(planes) * static_cast<double>(points) * std::min(N, 2.0 * static_cast<double>(points));
+}
+
+}  // namespace
+
+int material_np_nodes(double beta, int p, const FiberGeometry& g, double tol) {
+  require_positive("beta", beta);
+  if (!(tol > 0.0 && tol < 1.0)) throw_domain_error("tolerance", "must lie in (0, 1)", tol);
+  const double rate = std::max(std::abs(2.0 * p * g.inv_eta_prime - 2.0), 2.0);
+  const double h = kPi * (beta / rate) * std::sqrt(2.0 / std::log(10.0 / tol));  // widest spacing allowed
+  // m = π² α / (4 h asin α) with α = map_alpha(m): two fixed-point passes from α → 1.
+  double m = kPi / (2.0 * h);
+  for (int pass = 0; pass < 2; ++pass) {
+    const double a = map_alpha(std::max(1, static_cast<int>(std::ceil(m))), tol);
+    m = kPi * kPi * a / (4.0 * h * std::asin(a));
+  }
+  const double scale = std::max(1.0, std::log(1.0 / tol) / std::log(1e10));
+  const double floor = std::max(32.0, 12.0 + 12.0 / std::sqrt(std::max(g.eta - 1.0, 1e-4))) * scale;
+  const double n = std::min(std::max(m + 12.0, floor), 16384.0);
+  return static_cast<int>(std::ceil(n / 8.0)) * 8;
+}
+
+struct MaterialNp::Row {
+  FiberGeometry g;
+  std::size_t m = 0, K = 0;
+  std::vector<double> st, gt, len, f, omf, T, fpow, tpow, amp;  // amp: [i · planes + k]
+  std::vector<double> centre, d0, g0, rr, win, buf, circle;
+  std::vector<long> start;
+  std::vector<double> vr, vi, phase, zr, zi, sr, si, C, v, series_row;  // the Fourier form
+  std::vector<std::size_t> used;
+  bool rotations = false;  // vr, vi hold e^{2iγt} of this θd
+};
+
 MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid_(PeriodicGrid::of(r_.phis)) {
   if (r_.betas.empty()) throw DomainError("a per-material N_p bake needs at least one lobe");
   for (double b : r_.betas) require_positive("beta", b);
   for (double s : r_.sigmas) require_non_negative("sigma_a", s);
+  if (!(r_.tolerance > 0.0 && r_.tolerance < 1.0)) throw_domain_error("tolerance", "must lie in (0, 1)", r_.tolerance);
   if (grid_.period <= 0) note_ = PeriodicGrid::why_not(r_.phis);
   const std::size_t nt = r_.thetas.size(), L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
   const double tol = r_.tolerance;
+  const double step = grid_.period > 0 ? kTwoPi / grid_.period : 0.0;
   spread_.assign(nt * L, 0);
-  spread_m_.assign(nt, 0);
-  fourier_m_.assign(nt, 0);
+  m_.assign(nt, 0);
   terms_.resize(L);
-  for (std::size_t p = 0; p < L; ++p) terms_[p] = fourier_terms(r_.betas[p], tol);
+  window_.assign(L, 0);
+  series_weight_.resize(L);
   int max_terms = 0;
-  // The node counts depend on θd only through the largest phase rate max(|2p/η' − 2|, 2) (constant
-  // in θd for p ≤ 2), so they are computed once per lobe and rate.
-  std::map<std::pair<std::size_t, double>, std::pair<int, int>> counts;
+  for (std::size_t p = 0; p < L; ++p) {
+    const double beta = r_.betas[p];
+    terms_[p] = fourier_terms(beta, tol);
+    if (grid_.period > 0) {
+      Window wp;
+      wp.R = window_radius(beta, step, tol);
+      wp.run = window_run(wp.R);
+      wp.inv2var = 1.0 / (2.0 * beta * beta);
+      wp.norm = 1.0 / (std::sqrt(kTwoPi) * beta);
+      wp.recurrence = step / beta <= 20.0;
+      for (long j = -wp.R; j <= wp.R; ++j) wp.c.push_back(std::exp(-static_cast<double>(j * j) * step * step * wp.inv2var));
+      window_[p] = static_cast<int>(2 * wp.R + 1);
+      windows_.push_back(std::move(wp));
+    }
+    for (int n = 0; n <= terms_[p]; ++n)
+      series_weight_[p].push_back((n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * beta * beta) / kTwoPi);
+  }
+  // The node counts depend on θd only through the phase rate max(|2p/η' − 2|, 2) (constant in θd
+  // for p ≤ 2), so they are computed once per lobe and rate.
+  std::map<std::pair<std::size_t, double>, int> counts;
   for (std::size_t t = 0; t < nt; ++t) {
     const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
     for (std::size_t p = 0; p < L; ++p) {
-      const int pi = static_cast<int>(p);
-      const double beta = r_.betas[p];
-      const double rate = std::max(std::abs(2.0 * pi * g.inv_eta_prime - 2.0), 2.0);
+      const double rate = std::max(std::abs(2.0 * static_cast<double>(p) * g.inv_eta_prime - 2.0), 2.0);
       auto it = counts.find({p, rate});
-      if (it == counts.end()) it = counts.emplace(std::pair{p, rate}, std::pair{spread_nodes(beta, pi, g, tol), fourier_nodes(terms_[p], pi, g, tol)}).first;
-      const int ms = it->second.first, mf = it->second.second;
-      const bool spread = spread_cost(beta, ms, K, grid_, tol) < fourier_cost(terms_[p], mf, K, 1, nphi);
+      if (it == counts.end()) it = counts.emplace(std::pair{p, rate}, material_np_nodes(r_.betas[p], static_cast<int>(p), g, tol)).first;
+      m_[t] = std::max(m_[t], it->second);
+    }
+    for (std::size_t p = 0; p < L; ++p) {
+      const std::size_t planes = p == 0 ? 1 : K;
+      const bool spread = grid_.period > 0 &&
+                          spread_work(m_[t], window_radius(r_.betas[p], step, tol), planes, p == 0) < fourier_work(m_[t], terms_[p], planes, nphi);
       spread_[t * L + p] = spread;
-      if (spread) spread_m_[t] = std::max(spread_m_[t], ms);
-      else fourier_m_[t] = std::max(fourier_m_[t], mf), max_terms = std::max(max_terms, terms_[p]);
+      if (!spread) max_terms = std::max(max_terms, terms_[p]);
     }
   }
-  std::vector<double> x, w;
-  for (std::size_t t = 0; t < nt; ++t)
-    for (const int m : {spread_m_[t], fourier_m_[t]}) {
-      if (m == 0 || nodes_.count(m)) continue;
-      newton_gauss_legendre(m, x, w);
-      RuleNodes& n = nodes_[m];
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        const double gamma = 0.25 * kPi * (1.0 + x[i]);
-        n.gamma.push_back(gamma);
-        n.cos_gamma.push_back(std::cos(gamma));
-        n.sin_gamma.push_back(std::sin(gamma));
-        n.weight.push_back(w[i] * 0.25 * kPi * n.cos_gamma.back());
-        n.cos_2gamma.push_back(std::cos(2.0 * gamma));
-        n.sin_2gamma.push_back(std::sin(2.0 * gamma));
-      }
+  // The rules, with R's windows where R spreads (Φ = −2γ: the same at every θd).
+  std::vector<double> s, w;
+  Row row;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const int m = m_[t];
+    if (nodes_.count(m)) continue;
+    newton_gauss_legendre(2 * m, s, w);
+    const double a = map_alpha(m, tol), as = std::asin(a);
+    RuleNodes& n = nodes_[m];
+    for (std::size_t i = static_cast<std::size_t>(m); i < s.size(); ++i) {
+      const double gamma = 0.5 * kPi * std::asin(a * s[i]) / as;
+      // dγ/ds = (π/2) α / (asin α √(1 − α²s²)); the node also stands for its mirror −γ.
+      const double weight = w[i] * 0.5 * kPi * a / (as * std::sqrt((1.0 - a * s[i]) * (1.0 + a * s[i])));
+      n.gamma.push_back(gamma);
+      n.cos_gamma.push_back(std::cos(gamma));
+      n.sin_gamma.push_back(std::sin(gamma));
+      n.weight.push_back(weight * n.cos_gamma.back());
+      n.cos_2gamma.push_back(std::cos(2.0 * gamma));
+      n.sin_2gamma.push_back(std::sin(2.0 * gamma));
     }
+  }
+  for (std::size_t t = 0; t < nt; ++t) {
+    RuleNodes& n = nodes_[m_[t]];
+    if (!spread_[t * L] || !n.r_start.empty()) continue;
+    const std::size_t m = n.gamma.size(), run = windows_[0].run;
+    std::vector<double> centre(m);
+    for (std::size_t i = 0; i < m; ++i) centre[i] = -2.0 * n.gamma[i];
+    anchor_windows(0, centre.data(), m, row);
+    n.r_start = row.start;
+    n.r_window.assign(m * run, 0.0);
+    for (std::size_t i = 0; i < m; ++i) window_values(0, i, row, n.r_window.data() + i * run);
+  }
   if (max_terms > 0) series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
 }
 
-void MaterialNp::evaluate(std::size_t t, std::vector<double>& out) const {
-  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
-  out.assign(L * K * nphi, 0.0);
-  if (spread_m_[t] > 0) spread_at(t, out);
-  if (fourier_m_[t] == 0) return;
-  fourier_at(t, out);
-}
-
-// The Fourier form (fourier_coefficients) with what the lobes and channels of a θd share: the
-// node factors once, T_k once per node for every lobe, and e^{iΦ_p} = (−1)^p e^{−2iγ} (e^{2iγt})^p
-// from one sine and cosine per node (e^{−2iγ} once per rule). C_n by rotating z^n, re-anchored
-// with exact cos and sin of nΦ every 32 steps as there.
-void MaterialNp::fourier_at(std::size_t t, std::vector<double>& out) const {
-  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
-  const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
-  const RuleNodes& rn = nodes_.at(fourier_m_[t]);
-  const std::size_t m = rn.gamma.size();
-  const double a = g.inv_eta_prime;
-  std::vector<double> gt(m), f(m), omf(m), vr(m), vi(m), T(K * m);
+// Anchors the windows of Gaussians centred at centre[0 … m): per node the padded-circle slot of
+// its first point, d0, g0 = e^{−d0²/2β²} and r = e^{−d0Δ/β²} (two exponentials over arrays).
+void MaterialNp::anchor_windows(std::size_t p, const double* centre, std::size_t m, Row& row) const {
+  const Window& w = windows_[p];
+  const auto P = static_cast<long>(grid_.period);
+  const double step = kTwoPi / static_cast<double>(P);
+  row.start.resize(m), row.d0.resize(m), row.g0.resize(m), row.rr.resize(m);
   for (std::size_t i = 0; i < m; ++i) {
-    const double st = rn.sin_gamma[i] * a;
-    const double ct = std::sqrt((1.0 - st) * (1.0 + st));
-    gt[i] = std::asin(st);
-    const double c = g.cos_theta_d * rn.cos_gamma[i];
-    f[i] = detail::fresnel_reflectance_unchecked(g.eta, c);
-    omf[i] = detail::fresnel_transmittance_unchecked(g.eta, c);
-    const double len = r_.path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
-    for (std::size_t k = 0; k < K; ++k) T[k * m + i] = std::exp(-reduced_absorption(r_.sigmas[k], g) * len);
-    vr[i] = std::cos(2.0 * gt[i]), vi[i] = std::sin(2.0 * gt[i]);
+    const double u = (centre[i] - grid_.phi0) / step;
+    const double jr = (u + 0x1.8p52) - 0x1.8p52;  // nearest integer (|u| < 2^51)
+    const double d0 = (jr - u) * step;
+    row.d0[i] = d0;
+    row.g0[i] = -d0 * d0 * w.inv2var;
+    row.rr[i] = -2.0 * d0 * step * w.inv2var;
+    long r0 = static_cast<long>(jr) % P;
+    row.start[i] = r0 < 0 ? r0 + P : r0;  // slot q holds circle point (q − R) mod P
   }
-  std::vector<double> phase, zr, zi, sr, si, amp, C, v, row(nphi);
-  for (std::size_t p = 0; p < L; ++p) {
-    if (spread_[t * L + p]) continue;
-    const int pi = static_cast<int>(p);
-    const auto N = static_cast<std::size_t>(terms_[p]);
-    // Nodes with a non-zero weight for some channel: e^{iΦ}, and the weights [k][i].
-    phase.clear(), sr.clear(), si.clear(), amp.clear();
-    std::vector<std::size_t> used;
-    for (std::size_t i = 0; i < m; ++i) {
-      double fp = pi == 0 ? f[i] : omf[i] * omf[i];
-      for (int q = 1; q < pi; ++q) fp *= f[i];
-      const double base = rn.weight[i] * fp;
-      bool any = false;
-      for (std::size_t k = 0; k < K; ++k) {
-        double tp = 1.0;
-        for (int q = 0; q < pi; ++q) tp *= T[k * m + i];
-        any |= base * tp != 0.0;
-      }
-      if (!any) continue;
-      used.push_back(i);
-      double er = (pi % 2 ? -1.0 : 1.0) * rn.cos_2gamma[i], ei = (pi % 2 ? 1.0 : -1.0) * rn.sin_2gamma[i];  // (−1)^p e^{−2iγ}
-      for (int q = 0; q < pi; ++q) {
-        const double r = er * vr[i] - ei * vi[i];
-        ei = er * vi[i] + ei * vr[i];
-        er = r;
-      }
-      sr.push_back(er), si.push_back(ei);
-      phase.push_back(exit_azimuth(pi, rn.gamma[i], gt[i]));
+  exp_in_place(std::span<double>(row.g0.data(), m));
+  exp_in_place(std::span<double>(row.rr.data(), m));
+}
+
+// Node i's window: win[R + j] = g(d0 + jΔ) for |j| ≤ R (slots beyond 2R + 1 left as they are).
+void MaterialNp::window_values(std::size_t p, std::size_t i, const Row& row, double* win) const {
+  const Window& w = windows_[p];
+  const long R = w.R;
+  if (w.recurrence) {
+    double up = row.g0[i], down = row.g0[i];
+    const double r = row.rr[i], rinv = 1.0 / row.rr[i];
+    win[R] = up;
+    for (long j = 1; j <= R; ++j) {
+      up *= r;
+      down *= rinv;
+      win[R + j] = up * w.c[static_cast<std::size_t>(R + j)];
+      win[R - j] = down * w.c[static_cast<std::size_t>(R - j)];
     }
-    const std::size_t u = used.size();
-    amp.assign(K * u, 0.0);
-    for (std::size_t q = 0; q < u; ++q) {
-      const std::size_t i = used[q];
-      double fp = pi == 0 ? f[i] : omf[i] * omf[i];
-      for (int e = 1; e < pi; ++e) fp *= f[i];
-      for (std::size_t k = 0; k < K; ++k) {
-        double tp = 1.0;
-        for (int e = 0; e < pi; ++e) tp *= T[k * m + i];
-        amp[k * u + q] = rn.weight[i] * fp * tp;
-      }
-    }
-    C.assign((N + 1) * K, 0.0);
-    zr.assign(u, 1.0), zi.assign(u, 0.0);
-    for (std::size_t n = 0; n <= N; ++n) {
-      if (n % 32 == 0 && n > 0)
-        for (std::size_t q = 0; q < u; ++q) {
-          const double arg = static_cast<double>(n) * phase[q];
-          zr[q] = std::cos(arg), zi[q] = std::sin(arg);
-        }
-      for (std::size_t k = 0; k < K; ++k) {
-        const double* w = amp.data() + k * u;
-        double sum = 0.0;
-#pragma omp simd reduction(+ : sum)
-        for (std::size_t q = 0; q < u; ++q) sum += zr[q] * w[q];
-        C[n * K + k] = sum;
-      }
-#pragma omp simd
-      for (std::size_t q = 0; q < u; ++q) {
-        const double r = zr[q] * sr[q] - zi[q] * si[q];
-        zi[q] = zr[q] * si[q] + zi[q] * sr[q];
-        zr[q] = r;
-      }
-    }
-    const double beta = r_.betas[p];
-    std::vector<double> weight(N + 1);
-    for (std::size_t n = 0; n <= N; ++n) weight[n] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n * n) * beta * beta) / kTwoPi;
-    v.resize(N + 1);
-    for (std::size_t k = 0; k < K; ++k) {
-      for (std::size_t n = 0; n <= N; ++n) v[n] = weight[n] * C[n * K + k];
-      series_->evaluate(v, row);
-      for (std::size_t j = 0; j < nphi; ++j) out[(p * K + k) * nphi + j] = std::max(0.0, row[j]);  // roundoff below 0 clamped
+  } else {
+    const double step = kTwoPi / static_cast<double>(grid_.period);
+    for (long j = -R; j <= R; ++j) {
+      const double d = row.d0[i] + static_cast<double>(j) * step;
+      win[j + R] = std::exp(-d * d * w.inv2var);
     }
   }
 }
 
-// Spreading (the quadrature of spread_np): N(φ_j) = ½ Σ_i W_i A_i [g(φ_j − Φ_i) + g(φ_j + Φ_i)],
-// each node's Gaussian added to the circle points within √(2 ln(2/ε)) β of Φ_i. The window
-// values g(d0 + jΔ) = g0 r^j c_j with g0 = e^{−d0²/2β²}, r = e^{−d0Δ/β²}, c_j = e^{−j²Δ²/2β²}
-// (c_j once per lobe), added to a circle padded by the window radius on both sides and folded
-// at the end, so that the inner loop is a straight run of multiply–adds over the window × σa.
-void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
-  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
-  const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
-  const RuleNodes& n = nodes_.at(spread_m_[t]);
-  const std::size_t m = n.gamma.size();
+// The factors of every node of θd node t that do not depend on the lobe: γt, the path length,
+// f and 1 − f, and T = e^{−σa' ℓ} per channel.
+void MaterialNp::node_factors(std::size_t t, Row& row) const {
+  const FiberGeometry& g = row.g;
+  const RuleNodes& n = nodes_.at(m_[t]);
+  const std::size_t m = n.gamma.size(), K = r_.sigmas.size();
+  row.m = m, row.K = K;
+  row.st.resize(m), row.gt.resize(m), row.len.resize(m), row.f.resize(m), row.omf.resize(m), row.T.resize(K * m);
   const double a = g.inv_eta_prime, eta = g.eta;
-  std::vector<double> st(m), gt(m), f(m), one_minus_f(m), len(m);
-  for (std::size_t i = 0; i < m; ++i) st[i] = n.sin_gamma[i] * a;
-  for (std::size_t i = 0; i < m; ++i) gt[i] = std::asin(st[i]);
+  for (std::size_t i = 0; i < m; ++i) row.st[i] = n.sin_gamma[i] * a;
+  for (std::size_t i = 0; i < m; ++i) row.gt[i] = std::asin(row.st[i]);
+  const bool chord = r_.path == AbsorptionPath::chord;
 #pragma omp simd
   for (std::size_t i = 0; i < m; ++i) {
-    const double ct = std::sqrt((1.0 - st[i]) * (1.0 + st[i]));
-    len[i] = r_.path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
+    const double s = row.st[i];
+    const double ct = std::sqrt((1.0 - s) * (1.0 + s));
+    row.len[i] = chord ? 2.0 * ct : 4.0 * ct * ct;
     // Unpolarised Fresnel at cos θd cos γ from outside (η > 1: never total reflection), and its
     // complement in the cancellation-free form.
     const double c = g.cos_theta_d * n.cos_gamma[i];
@@ -192,110 +223,212 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
     const double ds = c + eta * ctr, dp = eta * c + ctr;
     const double rs = (c - eta * ctr) / ds, rp = (eta * c - ctr) / dp;
     const double num = 4.0 * eta * c * ctr;
-    f[i] = std::min(1.0, 0.5 * (rs * rs + rp * rp));
-    one_minus_f[i] = std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
+    row.f[i] = std::min(1.0, 0.5 * (rs * rs + rp * rp));
+    row.omf[i] = std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
   }
-  std::vector<std::vector<double>> T(K, std::vector<double>(m));
   for (std::size_t k = 0; k < K; ++k) {
     const double sp = reduced_absorption(r_.sigmas[k], g);
-    for (std::size_t i = 0; i < m; ++i) T[k][i] = std::exp(-sp * len[i]);
+    double* T = row.T.data() + k * m;
+    for (std::size_t i = 0; i < m; ++i) T[i] = -sp * row.len[i];
   }
-  // A(p) = f for p = 0, (1 − f)² f^{p−1} T^p after: the powers of lobe p from those of lobe p − 1
-  // (the same products in the same order as multiplying out each lobe's powers).
-  std::vector<double> fpow(m), tpow(K * m, 1.0);
-  const auto P = static_cast<long>(grid_.period);
-  const double step = kTwoPi / static_cast<double>(P);
-  const long shift = std::lround(-2.0 * grid_.phi0 / step);
-  std::vector<double> amp(K * m), j0(m), dz(m), e1(m), e2(m), g0(m), rr(m), win, c, buf, circle(static_cast<std::size_t>(P) * K);
-  std::vector<char> live(m);
+  exp_in_place(std::span<double>(row.T.data(), K * m));
+}
+
+void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<double>* energies) const {
+  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size(), E = energy_count();
+  thread_local Row row;
+  row.g = FiberGeometry::make(r_.eta, r_.thetas[t]);
+  node_factors(t, row);
+  row.rotations = false;
+  const RuleNodes& n = nodes_.at(m_[t]);
+  const std::size_t m = row.m;
+  out.assign(L * K * nphi, 0.0);
+  if (energies) energies->assign(K * E, 0.0);
+  // A(p) = f for p = 0, (1 − f)² f^{p−1} T^p after: the powers of lobe p from those of lobe p − 1.
+  // amp = W · A: [i] for R (the same for every σa), [i · K + k] after.
+  row.fpow.resize(m);
+  row.tpow.assign(K * m, 1.0);
   for (std::size_t p = 0; p < L; ++p) {
-    if (p == 0) std::copy(f.begin(), f.end(), fpow.begin());
-    else if (p == 1) std::transform(one_minus_f.begin(), one_minus_f.end(), fpow.begin(), [](double x) { return x * x; });
-    else std::transform(fpow.begin(), fpow.end(), f.begin(), fpow.begin(), std::multiplies<>());
+    if (p == 0) std::copy(row.f.begin(), row.f.end(), row.fpow.begin());
+    else if (p == 1) for (std::size_t i = 0; i < m; ++i) row.fpow[i] = row.omf[i] * row.omf[i];
+    else for (std::size_t i = 0; i < m; ++i) row.fpow[i] *= row.f[i];
     if (p > 0)
-      for (std::size_t k = 0; k < K; ++k) std::transform(tpow.begin() + static_cast<long>(k * m), tpow.begin() + static_cast<long>((k + 1) * m), T[k].begin(),
-                                                         tpow.begin() + static_cast<long>(k * m), std::multiplies<>());
-    if (!spread_[t * L + p]) continue;
-    const int pi = static_cast<int>(p);
-    const double beta = r_.betas[p];
-    const long R = static_cast<long>(std::ceil(std::sqrt(2.0 * std::log(2.0 / r_.tolerance)) * beta / step));
-    const std::size_t W = static_cast<std::size_t>(2 * R + 1);
-    // Windows of up to kShortWindow points run over kShortWindow slots, the extra ones zero
-    // (adding an exact 0 leaves every sum as it was): a fixed-length loop without remainder.
-    constexpr std::size_t kShortWindow = 8;
-    const std::size_t run = W <= kShortWindow ? kShortWindow : W;
-    const double inv2var = 1.0 / (2.0 * beta * beta), norm = 1.0 / (std::sqrt(kTwoPi) * beta);
-    const bool recurrence = step / beta <= 20.0;  // r^j c_j stays far from overflow
-    c.resize(W);
-    for (long j = -R; j <= R; ++j) c[static_cast<std::size_t>(j + R)] = std::exp(-static_cast<double>(j * j) * step * step * inv2var);
+      for (std::size_t q = 0; q < K * m; ++q) row.tpow[q] *= row.T[q];
+    const std::size_t planes = p == 0 ? 1 : K;
+    row.amp.resize(m * planes);
     for (std::size_t i = 0; i < m; ++i) {
-      const double base = n.weight[i] * fpow[i] * norm;
-      bool any = false;
-      for (std::size_t k = 0; k < K; ++k) {
-        amp[i * K + k] = base * tpow[k * m + i];
-        any |= amp[i * K + k] != 0.0;
-      }
-      live[i] = any;
-      const double centre = exit_azimuth(pi, n.gamma[i], gt[i]);
-      const double u = (centre - grid_.phi0) / step;
-      const double jr = (u + 0x1.8p52) - 0x1.8p52;  // nearest integer (|u| < 2^51)
-      const double d0 = (jr - u) * step;
-      j0[i] = jr;
-      dz[i] = d0;
-      e1[i] = -d0 * d0 * inv2var;
-      e2[i] = -2.0 * d0 * step * inv2var;
+      const double base = n.weight[i] * row.fpow[i];
+      if (p == 0) row.amp[i] = base;
+      else for (std::size_t k = 0; k < K; ++k) row.amp[i * K + k] = base * row.tpow[k * m + i];
     }
-    for (std::size_t i = 0; i < m; ++i) g0[i] = std::exp(e1[i]), rr[i] = std::exp(e2[i]);
-    const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
-    buf.assign(stride * K, 0.0);
-    win.assign(run, 0.0);
-    for (std::size_t i = 0; i < m; ++i) {
-      const double* ai = amp.data() + i * K;
-      if (!live[i] || g0[i] == 0.0) continue;
-      if (recurrence) {
-        double up = g0[i], down = g0[i];
-        const double r = rr[i], rinv = 1.0 / rr[i];
-        win[static_cast<std::size_t>(R)] = g0[i];
-        for (long j = 1; j <= R; ++j) {
-          up *= r;
-          down *= rinv;
-          win[static_cast<std::size_t>(R + j)] = up * c[static_cast<std::size_t>(R + j)];
-          win[static_cast<std::size_t>(R - j)] = down * c[static_cast<std::size_t>(R - j)];
-        }
+    if (energies)  // ∫N_p dφ = Σ W A: the quadrature of N_p with D replaced by its integral 1
+      for (std::size_t k = 0; k < K; ++k) {
+        double e = 0.0;
+        for (std::size_t i = 0; i < m; ++i) e += row.amp[i * planes + (planes == 1 ? 0 : k)];
+        (*energies)[k * E + p] = e;
+      }
+    if (spread_[t * L + p]) spread_lobe(p, n, row, out);
+    else fourier_lobe(p, n, row, out);
+  }
+  if (energies && r_.residual) {
+    // A_{≥P} = (1 − f)² f^{P−1} T^P / (1 − f T), 1 − fT = (1 − f) + f(1 − T) without cancellation.
+    const double P = static_cast<double>(L);
+    for (std::size_t k = 0; k < K; ++k) {
+      const double sp = reduced_absorption(r_.sigmas[k], row.g);
+      double e = 0.0;
+      for (std::size_t i = 0; i < m; ++i) {
+        const double tau = sp * row.len[i], T = row.T[k * m + i];
+        const double denom = row.omf[i] + row.f[i] * -std::expm1(-tau);
+        const double a = denom <= 0.0 ? 0.0 : std::min(1.0, row.omf[i] * row.omf[i] * std::pow(row.f[i], P - 1.0) * std::pow(T, P) / denom);
+        e += n.weight[i] * a;
+      }
+      (*energies)[k * E + L] = e;
+    }
+  }
+}
+
+// Spreading: N(φ_j) = ½ Σ_i W_i A_i [g(φ_j − Φ_i) + g(φ_j + Φ_i)], each node's Gaussian added to
+// the circle points of its window, on a circle padded by the window radius on both sides and
+// folded at the end, so that the inner loop is a straight run of multiply–adds per channel.
+void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::vector<double>& out) const {
+  const std::size_t K = row.K, m = row.m, nphi = r_.phis.size();
+  const Window& w = windows_[p];
+  const std::size_t planes = p == 0 ? 1 : K, run = w.run;
+  const auto P = static_cast<long>(grid_.period);
+  const long R = w.R;
+  const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
+  row.buf.assign(stride * planes, 0.0);
+  const bool fixed = p == 0;  // R's windows were computed with the rule
+  if (!fixed) {
+    row.centre.resize(m);
+    for (std::size_t i = 0; i < m; ++i) row.centre[i] = exit_azimuth(static_cast<int>(p), n.gamma[i], row.gt[i]);
+    anchor_windows(p, row.centre.data(), m, row);
+    row.win.assign(run, 0.0);
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    const double* ai = row.amp.data() + i * planes;
+    bool live = false;
+    for (std::size_t k = 0; k < planes; ++k) live |= ai[k] != 0.0;
+    if (!live) continue;
+    const double* win;
+    std::size_t r0;
+    if (fixed) {
+      win = n.r_window.data() + i * run;
+      r0 = static_cast<std::size_t>(n.r_start[i]);
+    } else {
+      if (row.g0[i] == 0.0) continue;
+      window_values(p, i, row, row.win.data());
+      win = row.win.data();
+      r0 = static_cast<std::size_t>(row.start[i]);
+    }
+    for (std::size_t k = 0; k < planes; ++k) {
+      double* b = row.buf.data() + k * stride + r0;
+      const double ak = ai[k] * w.norm;
+      if (run == kShortWindow) {
+#pragma omp simd
+        for (std::size_t j = 0; j < kShortWindow; ++j) b[j] += ak * win[j];
       } else {
-        for (long j = -R; j <= R; ++j) {
-          const double d = dz[i] + static_cast<double>(j) * step;
-          win[static_cast<std::size_t>(j + R)] = std::exp(-d * d * inv2var);
-        }
-      }
-      long r0 = static_cast<long>(j0[i]) % P;
-      if (r0 < 0) r0 += P;
-      // One plane per σa: a straight, vectorizable run over the window.
-      for (std::size_t k = 0; k < K; ++k) {
-        double* b = buf.data() + k * stride + static_cast<std::size_t>(r0);
-        const double ak = ai[k];
-        if (run == kShortWindow) {
 #pragma omp simd
-          for (std::size_t j = 0; j < kShortWindow; ++j) b[j] += ak * win[j];
-        } else {
-#pragma omp simd
-          for (std::size_t j = 0; j < run; ++j) b[j] += ak * win[j];
-        }
+        for (std::size_t j = 0; j < run; ++j) b[j] += ak * win[j];
       }
     }
-    // Fold the padding onto the circle: buffer slot q holds circle point (q − R) mod P.
-    std::fill(circle.begin(), circle.end(), 0.0);
+  }
+  // Fold the padding onto the circle: buffer slot q holds circle point (q − R) mod P.
+  row.circle.assign(static_cast<std::size_t>(P) * planes, 0.0);
+  for (std::size_t k = 0; k < planes; ++k) {
+    const double* b = row.buf.data() + k * stride;
+    double* c = row.circle.data() + k * static_cast<std::size_t>(P);
     for (std::size_t q = 0; q < stride; ++q) {
       long rc = (static_cast<long>(q) - R) % P;
       if (rc < 0) rc += P;
-      for (std::size_t k = 0; k < K; ++k) circle[static_cast<std::size_t>(rc) * K + k] += buf[k * stride + q];
+      c[rc] += b[q];
     }
+  }
+  const double step = kTwoPi / static_cast<double>(P);
+  const long shift = std::lround(-2.0 * grid_.phi0 / step);
+  for (std::size_t k = 0; k < K; ++k) {
+    const double* c = row.circle.data() + (planes == 1 ? 0 : k) * static_cast<std::size_t>(P);
+    double* o = out.data() + (p * K + k) * nphi;
     for (std::size_t j = 0; j < nphi; ++j) {
       const auto here = static_cast<std::size_t>(static_cast<long>(j) % P);
       long mirror = (shift - static_cast<long>(j)) % P;
       if (mirror < 0) mirror += P;
-      for (std::size_t k = 0; k < K; ++k)
-        out[(p * K + k) * nphi + j] = std::max(0.0, 0.5 * (circle[here * K + k] + circle[static_cast<std::size_t>(mirror) * K + k]));
+      o[j] = std::max(0.0, 0.5 * (c[here] + c[mirror]));
+    }
+  }
+}
+
+// The Fourier form (fourier_coefficients) with what the lobes and channels of a θd share: the
+// node factors once, e^{iΦ_p} = (−1)^p e^{−2iγ} (e^{2iγt})^p from one sine and cosine per node
+// (e^{−2iγ} once per rule), R's coefficients once for every channel. C_n by rotating z^n,
+// re-anchored with exact cos and sin of nΦ every 32 steps.
+void MaterialNp::fourier_lobe(std::size_t p, const RuleNodes& n, Row& row, std::vector<double>& out) const {
+  const std::size_t K = row.K, m = row.m, nphi = r_.phis.size();
+  const std::size_t planes = p == 0 ? 1 : K;
+  const int pi = static_cast<int>(p);
+  const auto N = static_cast<std::size_t>(terms_[p]);
+  if (!row.rotations) {  // e^{2iγt}, once per θd
+    row.vr.resize(m), row.vi.resize(m);
+    for (std::size_t i = 0; i < m; ++i) row.vr[i] = std::cos(2.0 * row.gt[i]), row.vi[i] = std::sin(2.0 * row.gt[i]);
+    row.rotations = true;
+  }
+  // Nodes with a non-zero weight for some channel: e^{iΦ}, and the weights [k][q].
+  row.used.clear(), row.phase.clear(), row.sr.clear(), row.si.clear();
+  for (std::size_t i = 0; i < m; ++i) {
+    bool any = false;
+    for (std::size_t k = 0; k < planes; ++k) any |= row.amp[i * planes + k] != 0.0;
+    if (!any) continue;
+    row.used.push_back(i);
+    double er = (pi % 2 ? -1.0 : 1.0) * n.cos_2gamma[i], ei = (pi % 2 ? 1.0 : -1.0) * n.sin_2gamma[i];  // (−1)^p e^{−2iγ}
+    for (int q = 0; q < pi; ++q) {
+      const double r = er * row.vr[i] - ei * row.vi[i];
+      ei = er * row.vi[i] + ei * row.vr[i];
+      er = r;
+    }
+    row.sr.push_back(er), row.si.push_back(ei);
+    row.phase.push_back(exit_azimuth(pi, n.gamma[i], row.gt[i]));
+  }
+  const std::size_t u = row.used.size();
+  std::vector<double>& amp = row.win;  // [k · u + q]
+  amp.resize(planes * u);
+  for (std::size_t q = 0; q < u; ++q)
+    for (std::size_t k = 0; k < planes; ++k) amp[k * u + q] = row.amp[row.used[q] * planes + k];
+  row.C.assign((N + 1) * planes, 0.0);
+  row.zr.assign(u, 1.0), row.zi.assign(u, 0.0);
+  for (std::size_t nn = 0; nn <= N; ++nn) {
+    if (nn % 32 == 0 && nn > 0)
+      for (std::size_t q = 0; q < u; ++q) {
+        const double arg = static_cast<double>(nn) * row.phase[q];
+        row.zr[q] = std::cos(arg), row.zi[q] = std::sin(arg);
+      }
+    for (std::size_t k = 0; k < planes; ++k) {
+      const double* a = amp.data() + k * u;
+      const double* z = row.zr.data();
+      double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+      for (std::size_t q = 0; q < u; ++q) sum += z[q] * a[q];
+      row.C[nn * planes + k] = sum;
+    }
+    double* zr = row.zr.data();
+    double* zi = row.zi.data();
+    const double* sr = row.sr.data();
+    const double* si = row.si.data();
+#pragma omp simd
+    for (std::size_t q = 0; q < u; ++q) {
+      const double r = zr[q] * sr[q] - zi[q] * si[q];
+      zi[q] = zr[q] * si[q] + zi[q] * sr[q];
+      zr[q] = r;
+    }
+  }
+  const std::vector<double>& weight = series_weight_[p];
+  row.v.resize(N + 1);
+  row.series_row.resize(nphi);
+  for (std::size_t k = 0; k < planes; ++k) {
+    for (std::size_t nn = 0; nn <= N; ++nn) row.v[nn] = weight[nn] * row.C[nn * planes + k];
+    series_->evaluate(row.v, row.series_row);
+    for (std::size_t kk = planes == 1 ? 0 : k; kk < (planes == 1 ? K : k + 1); ++kk) {
+      double* o = out.data() + (p * K + kk) * nphi;
+      for (std::size_t j = 0; j < nphi; ++j) o[j] = std::max(0.0, row.series_row[j]);  // roundoff below 0 clamped
     }
   }
 }
