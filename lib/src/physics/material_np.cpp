@@ -23,10 +23,58 @@ long window_radius(double beta, double step, double tolerance) {
   return static_cast<long>(std::ceil(std::sqrt(2.0 * std::log(2.0 / tolerance)) * beta / step));
 }
 
-// Windows of up to kShortWindow points run over kShortWindow slots, the extra ones zero (adding an
-// exact 0 leaves every sum as it was): a fixed-length inner loop without remainder.
-constexpr std::size_t kShortWindow = 8;
-std::size_t window_run(long R) { return std::max<std::size_t>(kShortWindow, static_cast<std::size_t>(2 * R + 1)); }
+// A window of 2R + 1 points runs over a multiple of 4 slots (at least 8), the extra ones zero
+// (adding an exact 0 leaves every sum as it was): inner loops of a fixed length without remainder.
+std::size_t window_run(long R) { return std::max<std::size_t>(8, (static_cast<std::size_t>(2 * R + 1) + 3) / 4 * 4); }
+
+// b[j] += a · w[j] for j < Run (a compile-time length: unrolled, two lanes at a time).
+template <std::size_t Run>
+void add_window(double* b, double a, const double* w) {
+#pragma omp simd
+  for (std::size_t j = 0; j < Run; ++j) b[j] += a * w[j];
+}
+void add_window(double* b, double a, const double* w, std::size_t run) {
+  switch (run) {
+    case 8: return add_window<8>(b, a, w);
+    case 12: return add_window<12>(b, a, w);
+    case 16: return add_window<16>(b, a, w);
+    case 20: return add_window<20>(b, a, w);
+    case 24: return add_window<24>(b, a, w);
+    case 28: return add_window<28>(b, a, w);
+    case 32: return add_window<32>(b, a, w);
+    default:
+#pragma omp simd
+      for (std::size_t j = 0; j < run; ++j) b[j] += a * w[j];
+  }
+}
+
+// out[k · points + j] = Σ_{n ≤ N} v[n · Planes + k] cos nφ_j (cos_table as [n][j]), each sum taken in
+// increasing n from 0 (CosineSeries's order), two points at a time with the planes in registers.
+template <std::size_t Planes>
+void cosine_sums(const double* cos_table, std::size_t points, const double* v, std::size_t N, double* out) {
+  std::size_t j = 0;
+  for (; j + 2 <= points; j += 2) {
+    double a[Planes][2] = {};
+    for (std::size_t n = 0; n <= N; ++n) {
+      const double c0 = cos_table[n * points + j], c1 = cos_table[n * points + j + 1];
+      for (std::size_t k = 0; k < Planes; ++k) {
+        a[k][0] += v[n * Planes + k] * c0;
+        a[k][1] += v[n * Planes + k] * c1;
+      }
+    }
+    for (std::size_t k = 0; k < Planes; ++k) out[k * points + j] = a[k][0], out[k * points + j + 1] = a[k][1];
+  }
+  for (; j < points; ++j)
+    for (std::size_t k = 0; k < Planes; ++k) {
+      double sum = 0.0;
+      for (std::size_t n = 0; n <= N; ++n) sum += v[n * Planes + k] * cos_table[n * points + j];
+      out[k * points + j] = sum;
+    }
+}
+
+// Above this many (terms + 1) × points the Fourier sums go through CosineSeries (which folds terms
+// beyond a periodic grid's period) instead of a table of cos nφ_j of their own.
+constexpr std::size_t kCosineTable = std::size_t{1} << 16;
 
 // Work estimates (multiply–adds, an exponential counted as 8) of one (θd, lobe) on m nodes, with
 // `planes` channels summed (1 for R, whose amplitude f does not depend on σa).
@@ -95,6 +143,8 @@ MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid
       wp.norm = 1.0 / (std::sqrt(kTwoPi) * beta);
       wp.recurrence = step / beta <= 20.0;
       for (long j = -wp.R; j <= wp.R; ++j) wp.c.push_back(std::exp(-static_cast<double>(j * j) * step * step * wp.inv2var));
+      const long P = grid_.period;  // padded slot q holds circle point (q − R) mod P
+      for (long q = 0; q < P + static_cast<long>(wp.run) - 1; ++q) wp.fold.push_back(static_cast<std::uint32_t>(((q - wp.R) % P + P) % P));
       window_[p] = static_cast<int>(2 * wp.R + 1);
       windows_.push_back(std::move(wp));
     }
@@ -152,7 +202,20 @@ MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid
     n.r_window.assign(m * run, 0.0);
     for (std::size_t i = 0; i < m; ++i) window_values(0, i, row, n.r_window.data() + i * run);
   }
-  if (max_terms > 0) series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
+  if (grid_.period > 0) {  // φ_j and its mirror −φ_j as circle points
+    const long P = grid_.period, shift = std::lround(-2.0 * grid_.phi0 / step);
+    for (std::size_t j = 0; j < nphi; ++j) {
+      here_.push_back(static_cast<std::uint32_t>(static_cast<long>(j) % P));
+      mirror_.push_back(static_cast<std::uint32_t>(((shift - static_cast<long>(j)) % P + P) % P));
+    }
+  }
+  if (max_terms > 0 && static_cast<std::size_t>(max_terms + 1) * nphi <= kCosineTable) {
+    cos_terms_ = max_terms;
+    for (int nn = 0; nn <= max_terms; ++nn)
+      for (std::size_t j = 0; j < nphi; ++j) cos_table_.push_back(std::cos(static_cast<double>(nn) * r_.phis[j]));
+  } else if (max_terms > 0) {
+    series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
+  }
 }
 
 // Anchors the windows of Gaussians centred at centre[0 … m): per node the padded-circle slot of
@@ -256,15 +319,14 @@ void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<d
       for (std::size_t q = 0; q < K * m; ++q) row.tpow[q] *= row.T[q];
     const std::size_t planes = p == 0 ? 1 : K;
     row.amp.resize(m * planes);
-    for (std::size_t i = 0; i < m; ++i) {
-      const double base = n.weight[i] * row.fpow[i];
-      if (p == 0) row.amp[i] = base;
-      else for (std::size_t k = 0; k < K; ++k) row.amp[i * K + k] = base * row.tpow[k * m + i];
-    }
+    for (std::size_t i = 0; i < m; ++i) row.amp[i] = n.weight[i] * row.fpow[i];
+    for (std::size_t k = planes; k-- > 0;)  // in place: plane 0 last
+      for (std::size_t i = 0; i < m; ++i) row.amp[k * m + i] = row.amp[i] * row.tpow[k * m + i];
     if (energies)  // ∫N_p dφ = Σ W A: the quadrature of N_p with D replaced by its integral 1
       for (std::size_t k = 0; k < K; ++k) {
+        const double* a = row.amp.data() + (planes == 1 ? 0 : k) * m;
         double e = 0.0;
-        for (std::size_t i = 0; i < m; ++i) e += row.amp[i * planes + (planes == 1 ? 0 : k)];
+        for (std::size_t i = 0; i < m; ++i) e += a[i];
         (*energies)[k * E + p] = e;
       }
     if (spread_[t * L + p]) spread_lobe(p, n, row, out);
@@ -295,7 +357,6 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
   const Window& w = windows_[p];
   const std::size_t planes = p == 0 ? 1 : K, run = w.run;
   const auto P = static_cast<long>(grid_.period);
-  const long R = w.R;
   const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
   row.buf.assign(stride * planes, 0.0);
   const bool fixed = p == 0;  // R's windows were computed with the rule
@@ -305,56 +366,39 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
     anchor_windows(p, row.centre.data(), m, row);
     row.win.assign(run, 0.0);
   }
+  const double* amp = row.amp.data();
   for (std::size_t i = 0; i < m; ++i) {
-    const double* ai = row.amp.data() + i * planes;
-    bool live = false;
-    for (std::size_t k = 0; k < planes; ++k) live |= ai[k] != 0.0;
-    if (!live) continue;
     const double* win;
     std::size_t r0;
     if (fixed) {
       win = n.r_window.data() + i * run;
       r0 = static_cast<std::size_t>(n.r_start[i]);
     } else {
-      if (row.g0[i] == 0.0) continue;
       window_values(p, i, row, row.win.data());
       win = row.win.data();
       r0 = static_cast<std::size_t>(row.start[i]);
     }
-    for (std::size_t k = 0; k < planes; ++k) {
-      double* b = row.buf.data() + k * stride + r0;
-      const double ak = ai[k] * w.norm;
-      if (run == kShortWindow) {
-#pragma omp simd
-        for (std::size_t j = 0; j < kShortWindow; ++j) b[j] += ak * win[j];
-      } else {
-#pragma omp simd
-        for (std::size_t j = 0; j < run; ++j) b[j] += ak * win[j];
-      }
-    }
+    for (std::size_t k = 0; k < planes; ++k) add_window(row.buf.data() + k * stride + r0, amp[k * m + i] * w.norm, win, run);
   }
-  // Fold the padding onto the circle: buffer slot q holds circle point (q − R) mod P.
-  row.circle.assign(static_cast<std::size_t>(P) * planes, 0.0);
+  // Fold the padding onto the circle, then N(φ_j) = ½ (circle(φ_j) + circle(−φ_j)).
+  const auto Pu = static_cast<std::size_t>(P);
+  row.circle.assign(Pu * planes, 0.0);
+  const auto R = static_cast<std::size_t>(w.R);
   for (std::size_t k = 0; k < planes; ++k) {
     const double* b = row.buf.data() + k * stride;
-    double* c = row.circle.data() + k * static_cast<std::size_t>(P);
-    for (std::size_t q = 0; q < stride; ++q) {
-      long rc = (static_cast<long>(q) - R) % P;
-      if (rc < 0) rc += P;
-      c[rc] += b[q];
+    double* c = row.circle.data() + k * Pu;
+    if (run - 1 <= Pu) {  // each circle point gets its own slot and at most one wrapped one
+      for (std::size_t j = 0; j < Pu; ++j) c[j] = b[R + j];
+      for (std::size_t q = 0; q < R; ++q) c[Pu - R + q] += b[q];
+      for (std::size_t q = R + Pu; q < stride; ++q) c[q - R - Pu] += b[q];
+    } else {
+      for (std::size_t q = 0; q < stride; ++q) c[w.fold[q]] += b[q];
     }
   }
-  const double step = kTwoPi / static_cast<double>(P);
-  const long shift = std::lround(-2.0 * grid_.phi0 / step);
   for (std::size_t k = 0; k < K; ++k) {
-    const double* c = row.circle.data() + (planes == 1 ? 0 : k) * static_cast<std::size_t>(P);
+    const double* c = row.circle.data() + (planes == 1 ? 0 : k) * Pu;
     double* o = out.data() + (p * K + k) * nphi;
-    for (std::size_t j = 0; j < nphi; ++j) {
-      const auto here = static_cast<std::size_t>(static_cast<long>(j) % P);
-      long mirror = (shift - static_cast<long>(j)) % P;
-      if (mirror < 0) mirror += P;
-      o[j] = std::max(0.0, 0.5 * (c[here] + c[mirror]));
-    }
+    for (std::size_t j = 0; j < nphi; ++j) o[j] = std::max(0.0, 0.5 * (c[here_[j]] + c[mirror_[j]]));
   }
 }
 
@@ -372,64 +416,82 @@ void MaterialNp::fourier_lobe(std::size_t p, const RuleNodes& n, Row& row, std::
     for (std::size_t i = 0; i < m; ++i) row.vr[i] = std::cos(2.0 * row.gt[i]), row.vi[i] = std::sin(2.0 * row.gt[i]);
     row.rotations = true;
   }
-  // Nodes with a non-zero weight for some channel: e^{iΦ}, and the weights [k][q].
-  row.used.clear(), row.phase.clear(), row.sr.clear(), row.si.clear();
+  // e^{iΦ} of every node (nodes of zero amplitude add exact zeros).
+  row.phase.resize(m), row.sr.resize(m), row.si.resize(m);
+  const double sign = pi % 2 ? -1.0 : 1.0;
   for (std::size_t i = 0; i < m; ++i) {
-    bool any = false;
-    for (std::size_t k = 0; k < planes; ++k) any |= row.amp[i * planes + k] != 0.0;
-    if (!any) continue;
-    row.used.push_back(i);
-    double er = (pi % 2 ? -1.0 : 1.0) * n.cos_2gamma[i], ei = (pi % 2 ? 1.0 : -1.0) * n.sin_2gamma[i];  // (−1)^p e^{−2iγ}
+    double er = sign * n.cos_2gamma[i], ei = -sign * n.sin_2gamma[i];  // (−1)^p e^{−2iγ}
     for (int q = 0; q < pi; ++q) {
       const double r = er * row.vr[i] - ei * row.vi[i];
       ei = er * row.vi[i] + ei * row.vr[i];
       er = r;
     }
-    row.sr.push_back(er), row.si.push_back(ei);
-    row.phase.push_back(exit_azimuth(pi, n.gamma[i], row.gt[i]));
+    row.sr[i] = er, row.si[i] = ei;
+    row.phase[i] = exit_azimuth(pi, n.gamma[i], row.gt[i]);
   }
-  const std::size_t u = row.used.size();
-  std::vector<double>& amp = row.win;  // [k · u + q]
-  amp.resize(planes * u);
-  for (std::size_t q = 0; q < u; ++q)
-    for (std::size_t k = 0; k < planes; ++k) amp[k * u + q] = row.amp[row.used[q] * planes + k];
+  const double* amp = row.amp.data();  // [k · m + i]
   row.C.assign((N + 1) * planes, 0.0);
-  row.zr.assign(u, 1.0), row.zi.assign(u, 0.0);
+  row.zr.assign(m, 1.0), row.zi.assign(m, 0.0);
+  double* zr = row.zr.data();
+  double* zi = row.zi.data();
+  const double* sr = row.sr.data();
+  const double* si = row.si.data();
+  const std::size_t m4 = m / 4 * 4;
   for (std::size_t nn = 0; nn <= N; ++nn) {
     if (nn % 32 == 0 && nn > 0)
-      for (std::size_t q = 0; q < u; ++q) {
-        const double arg = static_cast<double>(nn) * row.phase[q];
-        row.zr[q] = std::cos(arg), row.zi[q] = std::sin(arg);
+      for (std::size_t i = 0; i < m; ++i) {
+        const double arg = static_cast<double>(nn) * row.phase[i];
+        zr[i] = std::cos(arg), zi[i] = std::sin(arg);
       }
+    // C_n = Σ_i Re(z_i^n) amp_i in four interleaved partial sums (a fixed order: the same result
+    // for any vector width).
     for (std::size_t k = 0; k < planes; ++k) {
-      const double* a = amp.data() + k * u;
-      const double* z = row.zr.data();
-      double sum = 0.0;
-#pragma omp simd reduction(+ : sum)
-      for (std::size_t q = 0; q < u; ++q) sum += z[q] * a[q];
-      row.C[nn * planes + k] = sum;
+      const double* a = amp + k * m;
+      double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+      for (std::size_t i = 0; i < m4; i += 4) {
+        s0 += zr[i] * a[i];
+        s1 += zr[i + 1] * a[i + 1];
+        s2 += zr[i + 2] * a[i + 2];
+        s3 += zr[i + 3] * a[i + 3];
+      }
+      for (std::size_t i = m4; i < m; ++i) s0 += zr[i] * a[i];
+      row.C[nn * planes + k] = (s0 + s1) + (s2 + s3);
     }
-    double* zr = row.zr.data();
-    double* zi = row.zi.data();
-    const double* sr = row.sr.data();
-    const double* si = row.si.data();
 #pragma omp simd
-    for (std::size_t q = 0; q < u; ++q) {
-      const double r = zr[q] * sr[q] - zi[q] * si[q];
-      zi[q] = zr[q] * si[q] + zi[q] * sr[q];
-      zr[q] = r;
+    for (std::size_t i = 0; i < m; ++i) {
+      const double r = zr[i] * sr[i] - zi[i] * si[i];
+      zi[i] = zr[i] * si[i] + zi[i] * sr[i];
+      zr[i] = r;
     }
   }
   const std::vector<double>& weight = series_weight_[p];
-  row.v.resize(N + 1);
-  row.series_row.resize(nphi);
-  for (std::size_t k = 0; k < planes; ++k) {
-    for (std::size_t nn = 0; nn <= N; ++nn) row.v[nn] = weight[nn] * row.C[nn * planes + k];
-    series_->evaluate(row.v, row.series_row);
-    for (std::size_t kk = planes == 1 ? 0 : k; kk < (planes == 1 ? K : k + 1); ++kk) {
-      double* o = out.data() + (p * K + kk) * nphi;
-      for (std::size_t j = 0; j < nphi; ++j) o[j] = std::max(0.0, row.series_row[j]);  // roundoff below 0 clamped
+  row.v.resize((N + 1) * planes);
+  for (std::size_t nn = 0; nn <= N; ++nn)
+    for (std::size_t k = 0; k < planes; ++k) row.v[nn * planes + k] = weight[nn] * row.C[nn * planes + k];
+  row.series_row.resize(planes * nphi);
+  double* o = row.series_row.data();  // [k · nphi + j]
+  if (series_) {
+    std::vector<double> vk(N + 1);
+    for (std::size_t k = 0; k < planes; ++k) {
+      for (std::size_t nn = 0; nn <= N; ++nn) vk[nn] = row.v[nn * planes + k];
+      series_->evaluate(vk, std::span<double>(o + k * nphi, nphi));
     }
+  } else if (planes == 3) {
+    cosine_sums<3>(cos_table_.data(), nphi, row.v.data(), N, o);
+  } else if (planes == 1) {
+    cosine_sums<1>(cos_table_.data(), nphi, row.v.data(), N, o);
+  } else {
+    for (std::size_t k = 0; k < planes; ++k)
+      for (std::size_t j = 0; j < nphi; ++j) {
+        double sum = 0.0;
+        for (std::size_t nn = 0; nn <= N; ++nn) sum += row.v[nn * planes + k] * cos_table_[nn * nphi + j];
+        o[k * nphi + j] = sum;
+      }
+  }
+  for (std::size_t k = 0; k < K; ++k) {
+    const double* src = o + (planes == 1 ? 0 : k) * nphi;
+    double* dst = out.data() + (p * K + k) * nphi;
+    for (std::size_t j = 0; j < nphi; ++j) dst[j] = std::max(0.0, src[j]);  // roundoff below 0 clamped
   }
 }
 
@@ -441,7 +503,9 @@ void newton_gauss_legendre(int m, std::vector<double>& nodes, std::vector<double
   std::vector<double> a(M + 1), b(M + 1);
   for (std::size_t k = 2; k <= M; ++k) a[k] = (2.0 * static_cast<double>(k) - 1.0) / static_cast<double>(k), b[k] = (static_cast<double>(k) - 1.0) / static_cast<double>(k);
   std::vector<double> x(half), value(half), deriv(half), p0(half), p1(half);
-  for (std::size_t i = 0; i < half; ++i) x[i] = std::cos(kPi * (static_cast<double>(i) + 0.75) / (n + 0.5));
+  // Tricomi's first guess (1 − 1/8m² + 1/8m³) cos(π(4i + 3)/(4m + 2)), within O(m⁻⁴) of the root.
+  for (std::size_t i = 0; i < half; ++i)
+    x[i] = (1.0 - 1.0 / (8.0 * n * n) + 1.0 / (8.0 * n * n * n)) * std::cos(kPi * (4.0 * static_cast<double>(i) + 3.0) / (4.0 * n + 2.0));
   // P_m and P_m' = m (x P_m − P_{m−1}) / (x² − 1) at every root estimate at once (a loop over the
   // roots inside the recurrence, which vectorizes).
   auto evaluate = [&] {

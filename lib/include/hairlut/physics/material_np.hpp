@@ -18,6 +18,7 @@
 // reference and checked there in tests/test_material_np.cpp (≤ tolerance × the lobe peak).
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <span>
@@ -91,6 +92,7 @@ class MaterialNp {
     double inv2var = 0.0, norm = 0.0;
     bool recurrence = true;  // r^j c_j far from overflow; otherwise each point by its own exp
     std::vector<double> c;
+    std::vector<std::uint32_t> fold;  // padded slot q → circle point (q − R) mod P
   };
   struct Row;  // one θd's node factors and scratch (material_np.cpp)
   void node_factors(std::size_t t, Row& row) const;
@@ -107,11 +109,14 @@ class MaterialNp {
   std::vector<std::vector<double>> series_weight_;  // per lobe: (n ? 2 : 1) e^{−n²β²/2} / 2π
   std::vector<Window> windows_;                     // per lobe (periodic grids)
   std::map<int, RuleNodes> nodes_;
-  std::unique_ptr<CosineSeries> series_;
+  std::vector<std::uint32_t> here_, mirror_;  // circle points of φ_j and −φ_j (periodic grids)
+  int cos_terms_ = 0;
+  std::vector<double> cos_table_;             // cos nφ_j as [n][j], n ≤ cos_terms_
+  std::unique_ptr<CosineSeries> series_;      // instead of the table when it would be large
 };
 
 /// Gauss–Legendre nodes (ascending) and weights of order m on [−1, 1] by Newton's method on the
-/// three-term recurrence from the asymptotic first guess cos(π(i + 3/4)/(m + 1/2)), in double:
+/// three-term recurrence from Tricomi's first guess, in double:
 /// O(m²) work, a fraction of GaussLegendreRule's cost; agrees with it to ~1e−15 (tested).
 void newton_gauss_legendre(int m, std::vector<double>& nodes, std::vector<double>& weights);
 
