@@ -33,12 +33,7 @@ class Handle {
     std::swap(close_, o.close_);
     return *this;
   }
-  ~Handle() {
-    if (id_ >= 0 && close_) {
-      H5E_BEGIN_TRY { close_(id_); }
-      H5E_END_TRY;
-    }
-  }
+  ~Handle();
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
   // Closes now and returns HDF5's status (the destructor, which cannot report, ignores it).
@@ -58,7 +53,10 @@ class Handle {
 // reaches the user only as the one-line IoError built from the stack (hdf5_reason).
 class ErrorSilencer {
  public:
+  /// Whether an ErrorSilencer is alive on this thread (HDF5's automatic printing is per thread).
+  static bool active() { return depth_ > 0; }
   ErrorSilencer() {
+    ++depth_;
     // HDF5 1.10 cannot close a file whose corrupted object header failed to load (no identifier
     // stays open, but its shutdown loops and prints "infinite loop closing library" at exit).
     // hairlut never leaves data to flush at exit (files are written from memory images and closed
@@ -71,9 +69,13 @@ class ErrorSilencer {
   }
   ErrorSilencer(const ErrorSilencer&) = delete;
   ErrorSilencer& operator=(const ErrorSilencer&) = delete;
-  ~ErrorSilencer() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+  ~ErrorSilencer() {
+    H5Eset_auto2(H5E_DEFAULT, func_, data_);
+    --depth_;
+  }
 
  private:
+  static inline thread_local int depth_ = 0;
   H5E_auto2_t func_ = nullptr;
   void* data_ = nullptr;
 };
@@ -102,12 +104,19 @@ struct File {
   }
 };
 
+// f() with HDF5's automatic error printing off: inside an ErrorSilencer it already is (and saving
+// and restoring it around every call costs more than many of the calls themselves).
 template <class F>
 auto quiet(F&& f) {
+  if (ErrorSilencer::active()) return f();
   decltype(f()) r{};
   H5E_BEGIN_TRY { r = f(); }
   H5E_END_TRY;
   return r;
+}
+
+inline Handle::~Handle() {
+  if (id_ >= 0 && close_) quiet([&] { return close_(id_); });
 }
 
 Handle string_type();
