@@ -22,6 +22,7 @@
 #include "hdf5_bytes.hpp"
 #include "hdf5_objects.hpp"
 #include "table_checksum.hpp"
+#include "table_text.hpp"
 #include "slab_queue.hpp"
 
 namespace hairlut {
@@ -56,7 +57,8 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
   Fnv1a64 hash;
   // Each table's description, dumped once for the checksum and its hairlut_table attribute.
   std::vector<std::string> described;
-  for (const Table& t : set.tables) described.push_back(t.describe().dump());
+  detail::TableText text;
+  for (const Table& t : set.tables) described.push_back(text.compact(t));
   if (!feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", detail::content_checksum_of(set, described));
   else hash.update(set.metadata.dump());
 
