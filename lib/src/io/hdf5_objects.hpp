@@ -151,6 +151,21 @@ Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std
 
 void write_scale(const File& f, hid_t group, const GridAxis& a, const std::string& name, int deflate);
 
+// Dimension-scale attachments as HDF5's Dimension Scales specification stores them (what
+// H5DSattach_scale leaves after attaching each scale in turn), each list written once: attaching
+// one scale at a time rereads and rewrites the dataset's DIMENSION_LIST and the scale's whole
+// REFERENCE_LIST at every attachment.
+struct ScaleUse {  // an entry of REFERENCE_LIST: HDF5's ds_list_t
+  hobj_ref_t dataset;
+  int dimension;
+};
+// DIMENSION_LIST on a dataset: for dimension k, one object reference, to scales[k].
+void write_dimension_list(const File& f, hid_t ds, const std::vector<hobj_ref_t>& scales);
+// REFERENCE_LIST on a dimension scale: every (dataset, dimension) that uses it.
+void write_reference_list(const File& f, hid_t scale, const std::vector<ScaleUse>& uses);
+// An object reference to loc/name.
+hobj_ref_t object_reference(const File& f, hid_t loc, const std::string& name);
+
 // --- The attributes h5py users read (written by write_json_attrs / write_string_attr) must say
 // what the checksummed metadata say: a reader refuses a file whose visible metadata were altered,
 // naming the attribute. Numbers live in the (checksummed) object header; string values live in

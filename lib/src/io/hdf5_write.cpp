@@ -67,20 +67,28 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
   std::map<std::string, std::map<std::string, GridAxis>> scales;
   for (const Table& t : set.tables)
     for (const GridAxis& a : t.axes) scales[t.group].emplace(names.of(t.group, a), a);
+  // Each scale's reference (for the tables' DIMENSION_LIST) and its uses (its REFERENCE_LIST,
+  // written once every table is attached).
+  struct ScaleRefs {
+    hobj_ref_t ref;
+    std::vector<ScaleUse> uses;
+  };
+  std::map<std::string, ScaleRefs> scale_refs;  // by group/name
   for (const auto& [group, axes] : scales) {
     Handle g = open_or_create_group(f, file, group);
-    for (const auto& [name, axis] : axes) write_scale(f, g.get(), axis, name, options.deflate);
+    for (const auto& [name, axis] : axes) {
+      write_scale(f, g.get(), axis, name, options.deflate);
+      scale_refs[group + "/" + name].ref = object_reference(f, g.get(), name);
+    }
   }
-  // The group of the tables being written and its opened dimension scales, kept while consecutive
-  // tables share the group (a per-material set lists each material's tables together).
+  // The group of the tables being written, kept while consecutive tables share the group (a
+  // per-material set lists each material's tables together).
   std::string open_group;
   Handle g;
-  std::map<std::string, Handle> open_scales;
   for (std::size_t i = 0; i < set.tables.size(); ++i) {
     const Table& t = set.tables[i];
     const bool slabbed = feed && !(*feed->ranges)[i].empty();
     if (!g.valid() || t.group != open_group) {
-      open_scales.clear();
       g = open_or_create_group(f, file, t.group);
       open_group = t.group;
     }
@@ -123,17 +131,24 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
         feed->queue->put_empty(item.values);
       }
     }
+    std::vector<hobj_ref_t> dims_refs;
+    const hobj_ref_t self = object_reference(f, g.get(), t.name);
     for (std::size_t k = 0; k < t.axes.size(); ++k) {
-      const std::string name = names.of(t.group, t.axes[k]);
-      auto scale = open_scales.find(name);
-      if (scale == open_scales.end()) scale = open_scales.emplace(name, Handle(H5Dopen2(g.get(), name.c_str(), H5P_DEFAULT), H5Dclose)).first;
-      f.check_status(H5DSattach_scale(ds.get(), scale->second.get(), static_cast<unsigned>(k)), "cannot attach axis " + t.axes[k].name);
+      ScaleRefs& s = scale_refs.at(t.group + "/" + names.of(t.group, t.axes[k]));
+      dims_refs.push_back(s.ref);
+      s.uses.push_back({self, static_cast<int>(k)});
     }
+    write_dimension_list(f, ds.get(), dims_refs);
     write_string_attr(f, ds.get(), "quantity", t.quantity);
     write_string_attr(f, ds.get(), "units", t.units);
     write_string_attr(f, ds.get(), "long_name", t.long_name);
     write_json_attrs(f, ds.get(), t.attributes);
     write_fixed_string_attr(f, ds.get(), "hairlut_table", described[i]);
+  }
+  for (const auto& [path, s] : scale_refs) {
+    Handle scale(quiet([&] { return H5Dopen2(file, path.c_str(), H5P_DEFAULT); }), H5Dclose);
+    f.check(scale.get(), "cannot open dimension scale " + path);
+    write_reference_list(f, scale.get(), s.uses);
   }
   if (feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", hash.hex());
 }
