@@ -33,6 +33,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
   };
   std::vector<Pending> pending;
   pending.reserve(c.scene->materials.size());
+  MaterialNpRules rules_shared;  // the materials share the θd axis and so their quadrature rules
   for (const MaterialConfig& m : c.scene->materials) {
     const std::string group = "materials/" + m.name;
     const std::size_t first = set.tables.size();
@@ -65,7 +66,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
     Pending& item = pending.emplace_back(Pending{first, energy_first, residual_index, channel_sigmas, nullptr});
     if (c.quadrature.method == NpQuadratureConfig::Method::fourier) {
       // The material's own path: every lobe and channel of a θd from one node set.
-      MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance, c.residual};
+      MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance, c.residual, &rules_shared};
       for (int p = 0; p < s.lobes; ++p) mr.betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
       item.np = std::make_unique<MaterialNp>(std::move(mr));
       if (!item.np->note().empty() && &m == &c.scene->materials.front()) report.notes.push_back("per-material N_p: " + item.np->note());

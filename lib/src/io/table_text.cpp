@@ -15,7 +15,7 @@ std::size_t TableText::index_of(const GridAxis& a) {
   for (std::size_t i = 0; i < axes_.size(); ++i)
     if (identical_axes(axes_[i].axis, a)) return i;
   const json j = a.to_json();
-  axes_.push_back({a, j.dump(), j.dump(2)});
+  axes_.push_back({a, j.dump(), j.dump(2), {}, -1});
   return axes_.size() - 1;
 }
 
@@ -40,15 +40,20 @@ std::string TableText::substitute(const std::string& text, int indent_by) {
     const std::size_t close = text.find(kClose, digits);
     out.append(text, at, open - at);
     const std::size_t i = std::stoul(text.substr(digits, close - digits));
-    const Axis& a = axes_.at(i);
+    Axis& a = axes_.at(i);
     if (indent_by < 0) {
       out += a.compact;
     } else {
-      const std::string pad(static_cast<std::size_t>(indent_by), ' ');
-      for (const char ch : a.indented) {
-        out.push_back(ch);
-        if (ch == '\n') out += pad;
+      if (a.padded_by != indent_by) {  // the indented dump re-indented, once per axis and depth
+        const std::string pad(static_cast<std::size_t>(indent_by), ' ');
+        a.padded.clear();
+        for (const char ch : a.indented) {
+          a.padded.push_back(ch);
+          if (ch == '\n') a.padded += pad;
+        }
+        a.padded_by = indent_by;
       }
+      out += a.padded;
     }
     at = close + sizeof kClose - 1;
   }

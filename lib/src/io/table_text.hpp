@@ -33,6 +33,8 @@ class TableText {
   struct Axis {
     GridAxis axis;
     std::string compact, indented;  // indented: dump(2) of the axis alone
+    std::string padded;             // indented with padded_by spaces after each line break
+    int padded_by = -1;
   };
   std::size_t index_of(const GridAxis& a);
   std::string substitute(const std::string& text, int indent_by);

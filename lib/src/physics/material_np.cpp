@@ -102,8 +102,33 @@ int material_np_nodes(double beta, int p, const FiberGeometry& g, double tol) {
   }
   const double scale = std::max(1.0, std::log(1.0 / tol) / std::log(1e10));
   const double floor = std::max(32.0, 12.0 + 12.0 / std::sqrt(std::max(g.eta - 1.0, 1e-4))) * scale;
-  const double n = std::min(std::max(m + 12.0, floor), 16384.0);
+  const double n = std::min(std::max(m + 4.0, floor), 16384.0);
   return static_cast<int>(std::ceil(n / 8.0)) * 8;
+}
+
+TransplantedRule transplanted_rule(int m, double tol) {
+  std::vector<double> s, w;
+  newton_gauss_legendre(2 * m, s, w);
+  const double a = map_alpha(m, tol), as = std::asin(a);
+  TransplantedRule n;
+  for (std::size_t i = static_cast<std::size_t>(m); i < s.size(); ++i) {
+    const double gamma = 0.5 * kPi * std::asin(a * s[i]) / as;
+    // dγ/ds = (π/2) α / (asin α √(1 − α²s²)); the node also stands for its mirror −γ.
+    const double weight = w[i] * 0.5 * kPi * a / (as * std::sqrt((1.0 - a * s[i]) * (1.0 + a * s[i])));
+    n.gamma.push_back(gamma);
+    n.cos_gamma.push_back(std::cos(gamma));
+    n.sin_gamma.push_back(std::sin(gamma));
+    n.weight.push_back(weight * n.cos_gamma.back());
+    n.cos_2gamma.push_back(std::cos(2.0 * gamma));
+    n.sin_2gamma.push_back(std::sin(2.0 * gamma));
+  }
+  return n;
+}
+
+const TransplantedRule& MaterialNpRules::get(int m, double tol) {
+  auto it = rules_.find({m, tol});
+  if (it == rules_.end()) it = rules_.emplace(std::pair{m, tol}, transplanted_rule(m, tol)).first;
+  return it->second;
 }
 
 struct MaterialNp::Row {
@@ -171,25 +196,11 @@ MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid
     }
   }
   // The rules, with R's windows where R spreads (Φ = −2γ: the same at every θd).
-  std::vector<double> s, w;
   Row row;
   for (std::size_t t = 0; t < nt; ++t) {
     const int m = m_[t];
     if (nodes_.count(m)) continue;
-    newton_gauss_legendre(2 * m, s, w);
-    const double a = map_alpha(m, tol), as = std::asin(a);
-    RuleNodes& n = nodes_[m];
-    for (std::size_t i = static_cast<std::size_t>(m); i < s.size(); ++i) {
-      const double gamma = 0.5 * kPi * std::asin(a * s[i]) / as;
-      // dγ/ds = (π/2) α / (asin α √(1 − α²s²)); the node also stands for its mirror −γ.
-      const double weight = w[i] * 0.5 * kPi * a / (as * std::sqrt((1.0 - a * s[i]) * (1.0 + a * s[i])));
-      n.gamma.push_back(gamma);
-      n.cos_gamma.push_back(std::cos(gamma));
-      n.sin_gamma.push_back(std::sin(gamma));
-      n.weight.push_back(weight * n.cos_gamma.back());
-      n.cos_2gamma.push_back(std::cos(2.0 * gamma));
-      n.sin_2gamma.push_back(std::sin(2.0 * gamma));
-    }
+    static_cast<TransplantedRule&>(nodes_[m]) = r_.rules ? r_.rules->get(m, tol) : transplanted_rule(m, tol);
   }
   for (std::size_t t = 0; t < nt; ++t) {
     RuleNodes& n = nodes_[m_[t]];

@@ -32,6 +32,26 @@
 
 namespace hairlut {
 
+/// The nodes γ_i ∈ (0, π/2) of a transplanted rule (material_np_nodes) and their θd-independent
+/// factors: weight = w_i cos γ_i with w_i the weight of ∫_0^{π/2} (the 2m-point rule on
+/// [−π/2, π/2] folded onto its positive half).
+struct TransplantedRule {
+  std::vector<double> gamma, cos_gamma, sin_gamma, weight, cos_2gamma, sin_2gamma;
+};
+/// The rule of m nodes for the tolerance (Gauss–Legendre of order 2m by newton_gauss_legendre,
+/// mapped by γ = (π/2) asin(αs)/asin(α), α from the tolerance).
+TransplantedRule transplanted_rule(int m, double tolerance);
+
+/// Rules shared by the MaterialNp of one bake, each (m, tolerance) built once (the materials of a
+/// show share their θd axis and so their rules). Not thread-safe: build the MaterialNp on one thread.
+class MaterialNpRules {
+ public:
+  const TransplantedRule& get(int m, double tolerance);
+
+ private:
+  std::map<std::pair<int, double>, TransplantedRule> rules_;
+};
+
 /// The fixed inputs of a per-material N_p bake.
 struct MaterialNpRequest {
   double eta = 1.55;
@@ -42,12 +62,13 @@ struct MaterialNpRequest {
   std::vector<double> phis;    ///< φ nodes (any; periodic grids take the spreading path)
   double tolerance = 1e-12;
   bool residual = false;       ///< also the residual lobes' energy ½∫A_{≥P} dh (P = betas.size())
+  MaterialNpRules* rules = nullptr;  ///< optional: rules shared with other bakes (else built here)
 };
 
 /// Nodes m (a multiple of 8) of the transplanted rule (2m points on [−π/2, π/2], m of them in
 /// (0, π/2)) for N_p of lobe p with detector width β at the geometry's θd to the tolerance (relative
 /// to the lobe's peak): the widest spacing π²α/(4m asin α) must resolve a Gaussian of width
-/// σ = β / max|dΦ/dγ| (spacing ≤ π σ √(2 / ln(10/ε)), the trapezoid bound), plus 12; and at least
+/// σ = β / max|dΦ/dγ| (spacing ≤ π σ √(2 / ln(10/ε)), the trapezoid bound), plus 4; and at least
 /// max(32, 12 + 12/√(η − 1)) × max(1, ln(1/ε)/ln(1e10)) for the Fresnel factor's rise near grazing.
 int material_np_nodes(double beta, int p, const FiberGeometry& geometry, double tolerance);
 
@@ -76,9 +97,7 @@ class MaterialNp {
 
  private:
   // θd-independent factors of a rule's nodes γ ∈ (0, π/2).
-  struct RuleNodes {
-    std::vector<double> gamma, cos_gamma, sin_gamma, weight;  // weight: w · cos γ (∫_0^{π/2} rule weight w)
-    std::vector<double> cos_2gamma, sin_2gamma;
+  struct RuleNodes : TransplantedRule {
     // R (p = 0) spreads with Φ = −2γ, which does not depend on θd: its windows are computed once.
     std::vector<long> r_start;   // first padded-circle slot of each node's window
     std::vector<double> r_window;  // [i · run + j]
