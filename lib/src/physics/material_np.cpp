@@ -309,7 +309,7 @@ void MaterialNp::node_factors(std::size_t t, Row& row) const {
 }
 
 void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<double>* energies) const {
-  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size(), E = energy_count();
+  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size(), E = L;
   thread_local Row row;
   row.g = FiberGeometry::make(r_.eta, r_.thetas[t]);
   node_factors(t, row);
@@ -342,21 +342,6 @@ void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<d
       }
     if (spread_[t * L + p]) spread_lobe(p, n, row, out);
     else fourier_lobe(p, n, row, out);
-  }
-  if (energies && r_.residual) {
-    // A_{≥P} = (1 − f)² f^{P−1} T^P / (1 − f T), 1 − fT = (1 − f) + f(1 − T) without cancellation.
-    const double P = static_cast<double>(L);
-    for (std::size_t k = 0; k < K; ++k) {
-      const double sp = reduced_absorption(r_.sigmas[k], row.g);
-      double e = 0.0;
-      for (std::size_t i = 0; i < m; ++i) {
-        const double tau = sp * row.len[i], T = row.T[k * m + i];
-        const double denom = row.omf[i] + row.f[i] * -std::expm1(-tau);
-        const double a = denom <= 0.0 ? 0.0 : std::min(1.0, row.omf[i] * row.omf[i] * std::pow(row.f[i], P - 1.0) * std::pow(T, P) / denom);
-        e += n.weight[i] * a;
-      }
-      (*energies)[k * E + L] = e;
-    }
   }
 }
 
