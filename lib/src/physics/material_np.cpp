@@ -72,6 +72,30 @@ void cosine_sums(const double* cos_table, std::size_t points, const double* v, s
     }
 }
 
+// The same for three planes sharing the window (the RGB channels of a lobe): each window value
+// loaded once; every sum gets the same operations as three add_window calls.
+template <std::size_t Run>
+void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w) {
+  const double a0 = a[0], a1 = a[1], a2 = a[2];
+#pragma omp simd
+  for (std::size_t j = 0; j < Run; ++j) {
+    b0[j] += a0 * w[j];
+    b1[j] += a1 * w[j];
+    b2[j] += a2 * w[j];
+  }
+}
+void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w, std::size_t run) {
+  switch (run) {
+    case 8: return add_window3<8>(b0, b1, b2, a, w);
+    case 12: return add_window3<12>(b0, b1, b2, a, w);
+    case 16: return add_window3<16>(b0, b1, b2, a, w);
+    case 20: return add_window3<20>(b0, b1, b2, a, w);
+    case 24: return add_window3<24>(b0, b1, b2, a, w);
+    default:
+      for (int k = 0; k < 3; ++k) add_window(k == 0 ? b0 : k == 1 ? b1 : b2, a[k], w, run);
+  }
+}
+
 // Above this many (terms + 1) × points the Fourier sums go through CosineSeries (which folds terms
 // beyond a periodic grid's period) instead of a table of cos nφ_j of their own.
 constexpr std::size_t kCosineTable = std::size_t{1} << 16;
@@ -374,7 +398,13 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
       win = row.win.data();
       r0 = static_cast<std::size_t>(row.start[i]);
     }
-    for (std::size_t k = 0; k < planes; ++k) add_window(row.buf.data() + k * stride + r0, amp[k * m + i] * w.norm, win, run);
+    double* b = row.buf.data() + r0;
+    if (planes == 3) {
+      const double a[3] = {amp[i] * w.norm, amp[m + i] * w.norm, amp[2 * m + i] * w.norm};
+      add_window3(b, b + stride, b + 2 * stride, a, win, run);
+    } else {
+      for (std::size_t k = 0; k < planes; ++k) add_window(b + k * stride, amp[k * m + i] * w.norm, win, run);
+    }
   }
   // Fold the padding onto the circle, then N(φ_j) = ½ (circle(φ_j) + circle(−φ_j)).
   const auto Pu = static_cast<std::size_t>(P);
