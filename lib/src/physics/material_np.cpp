@@ -111,11 +111,10 @@ double fourier_work(int m, int terms, std::size_t planes, std::size_t points) {
 struct MaterialNp::Row {
   FiberGeometry g;
   std::size_t m = 0, K = 0;
-  std::vector<double> st, gt, len, f, omf, T, fpow, tpow, amp;  // amp: [i · planes + k]
+  std::vector<double> st, gt, len, f, omf, T, fpow, tpow, amp;  // T, tpow, amp: [k · m + i]
   std::vector<double> centre, d0, g0, rr, win, buf, circle;
   std::vector<long> start;
   std::vector<double> vr, vi, phase, zr, zi, sr, si, C, v, series_row;  // the Fourier form
-  std::vector<std::size_t> used;
   bool rotations = false;  // vr, vi hold e^{2iγt} of this θd
 };
 
