@@ -6,7 +6,7 @@ Bakes one per-material config at two resolutions (N_p of 48 KiB and of 72 KiB pe
 output.hdf5.compression 0 and 6, and checks:
 - the storage is the documented one (docs/table-format.md, "HDF5 layout"): datasets of at most
   4 KiB compact and unfiltered; with compression 6 larger ones chunked with shuffle, deflate and
-  Fletcher-32; with compression 0 unfiltered, compact up to 60 KiB, contiguous beyond;
+  Fletcher-32; with compression 0 unfiltered and contiguous;
 - h5py reads the same datasets, dtypes, shapes, values (bit for bit), attributes and attached
   dimension scales from both files (the root attributes that record the config aside);
 - hairlut's reader (validate-hair-luts) accepts both files and reports the same results for both;
@@ -57,7 +57,7 @@ def check_storage(f, compression):
         ds = f[name]
         layout = ds.id.get_create_plist().get_layout()
         nbytes = ds.size * ds.dtype.itemsize
-        if nbytes <= 4096 or (compression == 0 and nbytes <= 60 * 1024):
+        if nbytes <= 4096:
             want = h5py.h5d.COMPACT
         else:
             want = h5py.h5d.CONTIGUOUS if compression == 0 else h5py.h5d.CHUNKED

@@ -33,6 +33,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
   };
   std::vector<Pending> pending;
   pending.reserve(c.scene->materials.size());
+  MaterialNpRules rules_shared;  // the materials share the θd axis and so their quadrature rules
   for (const MaterialConfig& m : c.scene->materials) {
     const std::string group = "materials/" + m.name;
     const std::size_t first = set.tables.size();
@@ -65,7 +66,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
     Pending& item = pending.emplace_back(Pending{first, energy_first, residual_index, channel_sigmas, nullptr});
     if (c.quadrature.method == NpQuadratureConfig::Method::fourier) {
       // The material's own path: every lobe and channel of a θd from one node set.
-      MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance};
+      MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance, &rules_shared};
       for (int p = 0; p < s.lobes; ++p) mr.betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
       item.np = std::make_unique<MaterialNp>(std::move(mr));
       if (!item.np->note().empty() && &m == &c.scene->materials.front()) report.notes.push_back("per-material N_p: " + item.np->note());
@@ -80,21 +81,28 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
     report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
   }
   // One parallel loop over every (material, θd): N_p of every lobe and channel, and the lobe
-  // energies of every channel at once (material_energies: lobe_energies' rule and integrand).
-  // Few large loops rather than two per material: less time in OpenMP's start and spin-waiting.
+  // energies of every channel at once — from N_p's own nodes on the material's path (MaterialNp)
+  // without a residual, else by material_energies (lobe_energies' rule and integrand). Few large loops rather than two
+  // per material: less time in OpenMP's start and spin-waiting.
   parallel_for(pending.size() * nt, opt, "N_p and energies (per material)", 3 * nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t item) {
     const Pending& w = pending[item / nt];
     const std::size_t it = item % nt, K = w.sigmas.size();
+    std::vector<double> e;
     if (w.np) {
       std::vector<double> v;
-      w.np->evaluate(it, v);
-      for (int p = 0; p < s.lobes; ++p)
-        for (std::size_t ic = 0; ic < K; ++ic)
-          for (std::size_t ip = 0; ip < nphi; ++ip)
-            set.tables[w.first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v[(static_cast<std::size_t>(p) * K + ic) * nphi + ip]);
+      w.np->evaluate(it, v, c.residual ? nullptr : &e);
+      for (int p = 0; p < s.lobes; ++p) {
+        Table& t = set.tables[w.first + static_cast<std::size_t>(p)];
+        for (std::size_t ic = 0; ic < K; ++ic) {
+          const double* src = v.data() + (static_cast<std::size_t>(p) * K + ic) * nphi;
+          const std::size_t dst = (ic * nt + it) * nphi;
+          for (std::size_t ip = 0; ip < nphi; ++ip) t.set(dst + ip, src[ip]);
+        }
+      }
     }
-    std::vector<double> e;
-    material_energies(c.eta, thetas[it], c.path, w.sigmas, lobe_set, s.energy_rule, e);
+    // The residual's integrand (1 − f)² f^{P−1} T^P / (1 − fT) needs more nodes than N_p's wide lobes
+    // have: with a residual, every energy comes from the energy rule.
+    if (!w.np || c.residual) material_energies(c.eta, thetas[it], c.path, w.sigmas, lobe_set, s.energy_rule, e);
     const auto E = static_cast<std::size_t>(lobe_set.size());
     for (std::size_t ic = 0; ic < K; ++ic) {
       for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, e[ic * E + p]);

@@ -15,7 +15,7 @@ inline bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a)
 
 inline bool identical_axes(const GridAxis& a, const GridAxis& b) {
   if (a.name != b.name || a.units != b.units || a.long_name != b.long_name || a.spacing != b.spacing || a.placement != b.placement ||
-      a.wrap != b.wrap || a.interpolation != b.interpolation || a.count != b.count || !same_bits(a.lo, b.lo) || !same_bits(a.hi, b.hi) ||
+      a.wrap != b.wrap || a.interpolation != b.interpolation || a.lo_end != b.lo_end || a.count != b.count || !same_bits(a.lo, b.lo) || !same_bits(a.hi, b.hi) ||
       a.values.size() != b.values.size() || a.labels != b.labels)
     return false;
   return a.values.empty() || std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(double)) == 0;

@@ -81,7 +81,7 @@ std::uint32_t lookup3(const unsigned char* k, std::size_t length) {
 
 }  // namespace
 
-void write_file_bytes(const std::filesystem::path& path, const std::vector<char>& bytes) {
+void write_file_bytes(const std::filesystem::path& path, std::span<const char> bytes) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw IoError(path.string() + ": cannot create file (" + std::strerror(errno) + ")");
   std::size_t done = 0;
@@ -115,7 +115,7 @@ void sync_file(const std::filesystem::path& path) {
 }
 
 // Superblock versions 2 and 3: 12 bytes, four addresses, then the lookup3 checksum.
-void fix_superblock_checksum(std::vector<char>& image) {
+void fix_superblock_checksum(std::span<char> image) {
   auto* b = reinterpret_cast<unsigned char*>(image.data());
   if (image.size() < 12 || b[8] < 2) return;
   const std::size_t n = 12 + 4 * static_cast<std::size_t>(b[9]);

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,11 +29,11 @@ std::string global_heap_problem(const std::filesystem::path& file);
 
 /// HDF5 1.10's H5Fget_file_image clears the superblock's "open for writing" flags in the image but
 /// leaves the checksum computed with them set: recompute it (superblock versions 2 and 3).
-void fix_superblock_checksum(std::vector<char>& image);
+void fix_superblock_checksum(std::span<char> image);
 
 /// Writes `bytes` to `path` (created or truncated) and syncs it; every system error (disk full, a
 /// file-size limit, I/O) becomes an IoError naming the file and the reason.
-void write_file_bytes(const std::filesystem::path& path, const std::vector<char>& bytes);
+void write_file_bytes(const std::filesystem::path& path, std::span<const char> bytes);
 
 /// What the sidecar records of a written file: its size and FNV-1a 64 (16 hex digits).
 struct FileDigest {

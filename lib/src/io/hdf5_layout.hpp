@@ -3,11 +3,13 @@
 // material, most of them a few hundred bytes):
 //
 // - compact (the values inside the dataset's object header): every dataset of at most
-//   kCompactSmallBytes, whatever the deflate level (deflate gains nothing there), and every
-//   dataset of at most kCompactMaxBytes when deflate is 0. The object header is checksummed
-//   (format ≥ 1.8 headers), so the values keep a checksum without Fletcher-32;
+//   kCompactSmallBytes, whatever the deflate level (deflate gains nothing there). The object
+//   header is checksummed (format ≥ 1.8 headers), so the values keep a checksum without Fletcher-32;
 // - contiguous, no filters: larger datasets when deflate is 0 (the values carry no HDF5
-//   checksum; hairlut_checksum covers them, and every hairlut reader checks it);
+//   checksum; hairlut_checksum covers them, and every hairlut reader checks it). Compact storage up
+//   to 60 KiB was tried for these: a 49 KiB table inside its header is copied with the header's
+//   messages and checksummed with it at every flush (a 16-material file: 27 M instructions and
+//   1,200 page faults more than contiguous);
 // - chunked with shuffle, deflate and Fletcher-32 otherwise (unchanged).
 //
 // Attributes stay in the object header (compact attribute storage) up to kCompactAttributes per
@@ -24,7 +26,7 @@
 namespace hairlut::detail {
 
 inline constexpr std::size_t kCompactSmallBytes = 4096;
-inline constexpr std::size_t kCompactMaxBytes = 60 * 1024;  // an object header message holds < 64 KiB
+inline constexpr std::size_t kCompactMaxBytes = kCompactSmallBytes;  // compact only when small, deflate or not
 inline constexpr unsigned kCompactAttributes = 64;
 
 enum class Hdf5Layout { compact, contiguous, chunked };

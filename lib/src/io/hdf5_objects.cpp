@@ -199,6 +199,35 @@ void write_scale(const File& f, hid_t group, const GridAxis& a, const std::strin
   }
 }
 
+void write_dimension_list(const File& f, hid_t ds, const std::vector<hobj_ref_t>& scales) {
+  const hsize_t rank = scales.size();
+  Handle space(H5Screate_simple(1, &rank, nullptr), H5Sclose);
+  Handle type(H5Tvlen_create(H5T_STD_REF_OBJ), H5Tclose);
+  Handle attr(quiet([&] { return H5Acreate2(ds, DIMENSION_LIST, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  f.check(attr.get(), "cannot create attribute " DIMENSION_LIST);
+  std::vector<hobj_ref_t> refs = scales;
+  std::vector<hvl_t> lists(scales.size());
+  for (std::size_t k = 0; k < scales.size(); ++k) lists[k] = {1, &refs[k]};
+  f.check_status(quiet([&] { return H5Awrite(attr.get(), type.get(), lists.data()); }), "cannot write attribute " DIMENSION_LIST);
+}
+
+void write_reference_list(const File& f, hid_t scale, const std::vector<ScaleUse>& uses) {
+  const hsize_t n = uses.size();
+  Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  Handle type(H5Tcreate(H5T_COMPOUND, sizeof(ScaleUse)), H5Tclose);
+  f.check_status(H5Tinsert(type.get(), "dataset", HOFFSET(ScaleUse, dataset), H5T_STD_REF_OBJ), "cannot build the REFERENCE_LIST type");
+  f.check_status(H5Tinsert(type.get(), "dimension", HOFFSET(ScaleUse, dimension), H5T_NATIVE_INT), "cannot build the REFERENCE_LIST type");
+  Handle attr(quiet([&] { return H5Acreate2(scale, REFERENCE_LIST, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  f.check(attr.get(), "cannot create attribute " REFERENCE_LIST);
+  f.check_status(quiet([&] { return H5Awrite(attr.get(), type.get(), uses.data()); }), "cannot write attribute " REFERENCE_LIST);
+}
+
+hobj_ref_t object_reference(const File& f, hid_t loc, const std::string& name) {
+  hobj_ref_t ref{};
+  f.check_status(H5Rcreate(&ref, loc, name.c_str(), H5R_OBJECT, -1), "cannot reference " + name);
+  return ref;
+}
+
 // --- The attributes h5py users read (written by write_json_attrs / write_string_attr) must say
 // what the checksummed metadata say: a reader refuses a file whose visible metadata were altered,
 // naming the attribute. Numbers live in the (checksummed) object header; string values live in

@@ -33,12 +33,7 @@ class Handle {
     std::swap(close_, o.close_);
     return *this;
   }
-  ~Handle() {
-    if (id_ >= 0 && close_) {
-      H5E_BEGIN_TRY { close_(id_); }
-      H5E_END_TRY;
-    }
-  }
+  ~Handle();
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
   // Closes now and returns HDF5's status (the destructor, which cannot report, ignores it).
@@ -58,7 +53,10 @@ class Handle {
 // reaches the user only as the one-line IoError built from the stack (hdf5_reason).
 class ErrorSilencer {
  public:
+  /// Whether an ErrorSilencer is alive on this thread (HDF5's automatic printing is per thread).
+  static bool active() { return depth_ > 0; }
   ErrorSilencer() {
+    ++depth_;
     // HDF5 1.10 cannot close a file whose corrupted object header failed to load (no identifier
     // stays open, but its shutdown loops and prints "infinite loop closing library" at exit).
     // hairlut never leaves data to flush at exit (files are written from memory images and closed
@@ -71,9 +69,13 @@ class ErrorSilencer {
   }
   ErrorSilencer(const ErrorSilencer&) = delete;
   ErrorSilencer& operator=(const ErrorSilencer&) = delete;
-  ~ErrorSilencer() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+  ~ErrorSilencer() {
+    H5Eset_auto2(H5E_DEFAULT, func_, data_);
+    --depth_;
+  }
 
  private:
+  static inline thread_local int depth_ = 0;
   H5E_auto2_t func_ = nullptr;
   void* data_ = nullptr;
 };
@@ -102,12 +104,19 @@ struct File {
   }
 };
 
+// f() with HDF5's automatic error printing off: inside an ErrorSilencer it already is (and saving
+// and restoring it around every call costs more than many of the calls themselves).
 template <class F>
 auto quiet(F&& f) {
+  if (ErrorSilencer::active()) return f();
   decltype(f()) r{};
   H5E_BEGIN_TRY { r = f(); }
   H5E_END_TRY;
   return r;
+}
+
+inline Handle::~Handle() {
+  if (id_ >= 0 && close_) quiet([&] { return close_(id_); });
 }
 
 Handle string_type();
@@ -141,6 +150,21 @@ std::vector<hsize_t> chunk_dims(const std::vector<hsize_t>& dims, std::size_t el
 Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std::size_t element, int deflate, bool whole = true);
 
 void write_scale(const File& f, hid_t group, const GridAxis& a, const std::string& name, int deflate);
+
+// Dimension-scale attachments as HDF5's Dimension Scales specification stores them (what
+// H5DSattach_scale leaves after attaching each scale in turn), each list written once: attaching
+// one scale at a time rereads and rewrites the dataset's DIMENSION_LIST and the scale's whole
+// REFERENCE_LIST at every attachment.
+struct ScaleUse {  // an entry of REFERENCE_LIST: HDF5's ds_list_t
+  hobj_ref_t dataset;
+  int dimension;
+};
+// DIMENSION_LIST on a dataset: for dimension k, one object reference, to scales[k].
+void write_dimension_list(const File& f, hid_t ds, const std::vector<hobj_ref_t>& scales);
+// REFERENCE_LIST on a dimension scale: every (dataset, dimension) that uses it.
+void write_reference_list(const File& f, hid_t scale, const std::vector<ScaleUse>& uses);
+// An object reference to loc/name.
+hobj_ref_t object_reference(const File& f, hid_t loc, const std::string& name);
 
 // --- The attributes h5py users read (written by write_json_attrs / write_string_attr) must say
 // what the checksummed metadata say: a reader refuses a file whose visible metadata were altered,

@@ -15,6 +15,7 @@
 
 #include "hairlut/io/engine_exr.hpp"
 #include "hdf5_bytes.hpp"
+#include "table_text.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/util/hash.hpp"
 #include "hairlut/util/version.hpp"
@@ -130,8 +131,11 @@ namespace {
 
 // The sidecar; `digests[i]`, where given and non-empty, is the digest of files[i] already known
 // to the writer (hashed from its bytes in memory); other files are read back and hashed.
+// With `text`, each table's axes are placeholders for text->indented (at depth 4: root, "tables",
+// the table, "axes").
 json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport& report,
-                      const std::vector<std::pair<std::string, fs::path>>& files, const std::vector<detail::FileDigest>& digests) {
+                      const std::vector<std::pair<std::string, fs::path>>& files, const std::vector<detail::FileDigest>& digests,
+                      detail::TableText* text = nullptr) {
   json s;
   s["format"] = "hairlut-tables";
   s["format_version"] = 1;
@@ -159,7 +163,7 @@ json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport
       for (std::size_t i = 0; i < paths.size(); ++i) exr_place[paths[i]] = {part, paths.size() > 1 ? std::string(1, "RGBA"[i]) : ""};
   s["tables"] = json::array();
   for (const Table& t : set.tables) {
-    json d = t.describe();
+    json d = text ? text->with_placeholders(t) : t.describe();
     if (c.output.hdf5) d["hdf5"] = {{"dataset", "/" + t.path()}};
     if (c.output.exr) {
       const auto& [part, channel] = exr_place[t.path()];
@@ -235,7 +239,8 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
     engine_finals.push_back(e.path);
   }
   // The sidecar describes the final names.
-  json side = sidecar_document(set, c, report, written, digests);
+  detail::TableText text;
+  json side = sidecar_document(set, c, report, written, digests, &text);
   for (auto& f : side["files"]) {
     const std::string name = f["path"].get<std::string>();
     f["path"] = name.substr(0, name.rfind(".tmp-"));
@@ -244,7 +249,7 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   temps.paths.push_back(side_tmp);
   {
     std::ofstream out(side_tmp, std::ios::binary);
-    out << side.dump(2) << "\n";
+    out << text.indented(side, 4) << "\n";
     if (!out) throw IoError(side_tmp.string() + ": cannot write sidecar");
   }
   std::vector<fs::path> finals;

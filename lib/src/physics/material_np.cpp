@@ -1,190 +1,271 @@
 #include "hairlut/physics/material_np.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
+#include "hairlut/util/vector_math.hpp"
 #include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/fresnel.hpp"
 
 namespace hairlut {
+namespace {
+
+// Points 2R + 1 of a detector window: the Gaussian is cut where it falls below tolerance/2 of its peak.
+long window_radius(double beta, double step, double tolerance) {
+  return static_cast<long>(std::ceil(std::sqrt(2.0 * std::log(2.0 / tolerance)) * beta / step));
+}
+
+// A window of 2R + 1 points runs over a multiple of 4 slots (at least 8), the extra ones zero
+// (adding an exact 0 leaves every sum as it was): inner loops of a fixed length without remainder.
+std::size_t window_run(long R) { return std::max<std::size_t>(8, (static_cast<std::size_t>(2 * R + 1) + 3) / 4 * 4); }
+
+// b[j] += a · w[j] for j < Run (a compile-time length: unrolled, two lanes at a time).
+template <std::size_t Run>
+void add_window(double* b, double a, const double* w) {
+#pragma omp simd
+  for (std::size_t j = 0; j < Run; ++j) b[j] += a * w[j];
+}
+void add_window(double* b, double a, const double* w, std::size_t run) {
+  switch (run) {
+    case 8: return add_window<8>(b, a, w);
+    case 12: return add_window<12>(b, a, w);
+    case 16: return add_window<16>(b, a, w);
+    case 20: return add_window<20>(b, a, w);
+    case 24: return add_window<24>(b, a, w);
+    case 28: return add_window<28>(b, a, w);
+    case 32: return add_window<32>(b, a, w);
+    default:
+#pragma omp simd
+      for (std::size_t j = 0; j < run; ++j) b[j] += a * w[j];
+  }
+}
+
+// out[k · points + j] = Σ_{n ≤ N} v[n · Planes + k] cos nφ_j (cos_table as [n][j]), each sum taken in
+// increasing n from 0 (CosineSeries's order), two points at a time with the planes in registers.
+template <std::size_t Planes>
+void cosine_sums(const double* cos_table, std::size_t points, const double* v, std::size_t N, double* out) {
+  std::size_t j = 0;
+  for (; j + 2 <= points; j += 2) {
+    double a[Planes][2] = {};
+    for (std::size_t n = 0; n <= N; ++n) {
+      const double c0 = cos_table[n * points + j], c1 = cos_table[n * points + j + 1];
+      for (std::size_t k = 0; k < Planes; ++k) {
+        a[k][0] += v[n * Planes + k] * c0;
+        a[k][1] += v[n * Planes + k] * c1;
+      }
+    }
+    for (std::size_t k = 0; k < Planes; ++k) out[k * points + j] = a[k][0], out[k * points + j + 1] = a[k][1];
+  }
+  for (; j < points; ++j)
+    for (std::size_t k = 0; k < Planes; ++k) {
+      double sum = 0.0;
+      for (std::size_t n = 0; n <= N; ++n) sum += v[n * Planes + k] * cos_table[n * points + j];
+      out[k * points + j] = sum;
+    }
+}
+
+// The same for three planes sharing the window (the RGB channels of a lobe): each window value
+// loaded once; every sum gets the same operations as three add_window calls.
+template <std::size_t Run>
+void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w) {
+  const double a0 = a[0], a1 = a[1], a2 = a[2];
+#pragma omp simd
+  for (std::size_t j = 0; j < Run; ++j) {
+    b0[j] += a0 * w[j];
+    b1[j] += a1 * w[j];
+    b2[j] += a2 * w[j];
+  }
+}
+void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w, std::size_t run) {
+  switch (run) {
+    case 8: return add_window3<8>(b0, b1, b2, a, w);
+    case 12: return add_window3<12>(b0, b1, b2, a, w);
+    case 16: return add_window3<16>(b0, b1, b2, a, w);
+    case 20: return add_window3<20>(b0, b1, b2, a, w);
+    case 24: return add_window3<24>(b0, b1, b2, a, w);
+    default:
+      for (int k = 0; k < 3; ++k) add_window(k == 0 ? b0 : k == 1 ? b1 : b2, a[k], w, run);
+  }
+}
+
+// Above this many (terms + 1) × points the Fourier sums go through CosineSeries (which folds terms
+// beyond a periodic grid's period) instead of a table of cos nφ_j of their own.
+constexpr std::size_t kCosineTable = std::size_t{1} << 16;
+
+// Work estimates (multiply–adds, an exponential counted as 8) of one (θd, lobe) on m nodes, with
+// `planes` channels summed (1 for R, whose amplitude f does not depend on σa).
+double spread_work(int m, long R, std::size_t planes, bool window_fixed) {
+  const double W = 2.0 * static_cast<double>(R) + 1.0;
+  return m * (W * static_cast<double>(planes) + (window_fixed ? 0.0 : 3.0 * W + 24.0));
+}
+double fourier_work(int m, int terms, std::size_t planes, std::size_t points) {
+  const double N = terms + 1.0;
+  return m * N * (static_cast<double>(planes) + 3.0) + static_cast<double>(planes) * static_cast<double>(points) * std::min(N, 2.0 * static_cast<double>(points));
+}
+
+}  // namespace
+
+struct MaterialNp::Row {
+  FiberGeometry g;
+  std::size_t m = 0, K = 0;
+  std::vector<double> st, gt, len, f, omf, T, fpow, tpow, amp;  // T, tpow, amp: [k · m + i]
+  std::vector<double> centre, d0, g0, rr, win, buf, circle;
+  std::vector<long> start;
+  std::vector<double> vr, vi, phase, zr, zi, sr, si, C, v, series_row;  // the Fourier form
+  bool rotations = false;  // vr, vi hold e^{2iγt} of this θd
+};
+
 MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid_(PeriodicGrid::of(r_.phis)) {
   if (r_.betas.empty()) throw DomainError("a per-material N_p bake needs at least one lobe");
   for (double b : r_.betas) require_positive("beta", b);
   for (double s : r_.sigmas) require_non_negative("sigma_a", s);
+  if (!(r_.tolerance > 0.0 && r_.tolerance < 1.0)) throw_domain_error("tolerance", "must lie in (0, 1)", r_.tolerance);
   if (grid_.period <= 0) note_ = PeriodicGrid::why_not(r_.phis);
   const std::size_t nt = r_.thetas.size(), L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
   const double tol = r_.tolerance;
+  const double step = grid_.period > 0 ? kTwoPi / grid_.period : 0.0;
   spread_.assign(nt * L, 0);
-  spread_m_.assign(nt, 0);
-  fourier_m_.assign(nt, 0);
+  m_.assign(nt, 0);
   terms_.resize(L);
-  for (std::size_t p = 0; p < L; ++p) terms_[p] = fourier_terms(r_.betas[p], tol);
+  window_.assign(L, 0);
+  series_weight_.resize(L);
   int max_terms = 0;
-  // The node counts depend on θd only through the largest phase rate max(|2p/η' − 2|, 2) (constant
-  // in θd for p ≤ 2), so they are computed once per lobe and rate.
-  std::map<std::pair<std::size_t, double>, std::pair<int, int>> counts;
+  for (std::size_t p = 0; p < L; ++p) {
+    const double beta = r_.betas[p];
+    terms_[p] = fourier_terms(beta, tol);
+    if (grid_.period > 0) {
+      Window wp;
+      wp.R = window_radius(beta, step, tol);
+      wp.run = window_run(wp.R);
+      wp.inv2var = 1.0 / (2.0 * beta * beta);
+      wp.norm = 1.0 / (std::sqrt(kTwoPi) * beta);
+      wp.recurrence = step / beta <= 20.0;
+      for (long j = -wp.R; j <= wp.R; ++j) wp.c.push_back(std::exp(-static_cast<double>(j * j) * step * step * wp.inv2var));
+      const long P = grid_.period;  // padded slot q holds circle point (q − R) mod P
+      for (long q = 0; q < P + static_cast<long>(wp.run) - 1; ++q) wp.fold.push_back(static_cast<std::uint32_t>(((q - wp.R) % P + P) % P));
+      window_[p] = static_cast<int>(2 * wp.R + 1);
+      windows_.push_back(std::move(wp));
+    }
+    for (int n = 0; n <= terms_[p]; ++n)
+      series_weight_[p].push_back((n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n) * n * beta * beta) / kTwoPi);
+  }
+  // The node counts depend on θd only through the phase rate max(|2p/η' − 2|, 2) (constant in θd
+  // for p ≤ 2), so they are computed once per lobe and rate.
+  std::map<std::pair<std::size_t, double>, int> counts;
   for (std::size_t t = 0; t < nt; ++t) {
     const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
     for (std::size_t p = 0; p < L; ++p) {
-      const int pi = static_cast<int>(p);
-      const double beta = r_.betas[p];
-      const double rate = std::max(std::abs(2.0 * pi * g.inv_eta_prime - 2.0), 2.0);
+      const double rate = std::max(std::abs(2.0 * static_cast<double>(p) * g.inv_eta_prime - 2.0), 2.0);
       auto it = counts.find({p, rate});
-      if (it == counts.end()) it = counts.emplace(std::pair{p, rate}, std::pair{spread_nodes(beta, pi, g, tol), fourier_nodes(terms_[p], pi, g, tol)}).first;
-      const int ms = it->second.first, mf = it->second.second;
-      const bool spread = spread_cost(beta, ms, K, grid_, tol) < fourier_cost(terms_[p], mf, K, 1, nphi);
+      if (it == counts.end()) it = counts.emplace(std::pair{p, rate}, material_np_nodes(r_.betas[p], static_cast<int>(p), g, tol)).first;
+      m_[t] = std::max(m_[t], it->second);
+    }
+    for (std::size_t p = 0; p < L; ++p) {
+      const std::size_t planes = p == 0 ? 1 : K;
+      const bool spread = grid_.period > 0 &&
+                          spread_work(m_[t], window_radius(r_.betas[p], step, tol), planes, p == 0) < fourier_work(m_[t], terms_[p], planes, nphi);
       spread_[t * L + p] = spread;
-      if (spread) spread_m_[t] = std::max(spread_m_[t], ms);
-      else fourier_m_[t] = std::max(fourier_m_[t], mf), max_terms = std::max(max_terms, terms_[p]);
+      if (!spread) max_terms = std::max(max_terms, terms_[p]);
     }
   }
-  std::vector<double> x, w;
-  for (std::size_t t = 0; t < nt; ++t)
-    for (const int m : {spread_m_[t], fourier_m_[t]}) {
-      if (m == 0 || nodes_.count(m)) continue;
-      newton_gauss_legendre(m, x, w);
-      RuleNodes& n = nodes_[m];
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        const double gamma = 0.25 * kPi * (1.0 + x[i]);
-        n.gamma.push_back(gamma);
-        n.cos_gamma.push_back(std::cos(gamma));
-        n.sin_gamma.push_back(std::sin(gamma));
-        n.weight.push_back(w[i] * 0.25 * kPi * n.cos_gamma.back());
-        n.cos_2gamma.push_back(std::cos(2.0 * gamma));
-        n.sin_2gamma.push_back(std::sin(2.0 * gamma));
-      }
+  // The rules, with R's windows where R spreads (Φ = −2γ: the same at every θd).
+  Row row;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const int m = m_[t];
+    if (nodes_.count(m)) continue;
+    static_cast<TransplantedRule&>(nodes_[m]) = r_.rules ? r_.rules->get(m, tol) : transplanted_rule(m, tol);
+  }
+  for (std::size_t t = 0; t < nt; ++t) {
+    RuleNodes& n = nodes_[m_[t]];
+    if (!spread_[t * L] || !n.r_start.empty()) continue;
+    const std::size_t m = n.gamma.size(), run = windows_[0].run;
+    std::vector<double> centre(m);
+    for (std::size_t i = 0; i < m; ++i) centre[i] = -2.0 * n.gamma[i];
+    anchor_windows(0, centre.data(), m, row);
+    n.r_start = row.start;
+    n.r_window.assign(m * run, 0.0);
+    for (std::size_t i = 0; i < m; ++i) window_values(0, i, row, n.r_window.data() + i * run);
+  }
+  if (grid_.period > 0) {  // φ_j and its mirror −φ_j as circle points
+    const long P = grid_.period, shift = std::lround(-2.0 * grid_.phi0 / step);
+    for (std::size_t j = 0; j < nphi; ++j) {
+      here_.push_back(static_cast<std::uint32_t>(static_cast<long>(j) % P));
+      mirror_.push_back(static_cast<std::uint32_t>(((shift - static_cast<long>(j)) % P + P) % P));
     }
-  if (max_terms > 0) series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
+  }
+  if (max_terms > 0 && static_cast<std::size_t>(max_terms + 1) * nphi <= kCosineTable) {
+    cos_terms_ = max_terms;
+    for (int nn = 0; nn <= max_terms; ++nn)
+      for (std::size_t j = 0; j < nphi; ++j) cos_table_.push_back(std::cos(static_cast<double>(nn) * r_.phis[j]));
+  } else if (max_terms > 0) {
+    series_ = std::make_unique<CosineSeries>(r_.phis, max_terms);
+  }
 }
 
-void MaterialNp::evaluate(std::size_t t, std::vector<double>& out) const {
-  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
-  out.assign(L * K * nphi, 0.0);
-  if (spread_m_[t] > 0) spread_at(t, out);
-  if (fourier_m_[t] == 0) return;
-  fourier_at(t, out);
-}
-
-// The Fourier form (fourier_coefficients) with what the lobes and channels of a θd share: the
-// node factors once, T_k once per node for every lobe, and e^{iΦ_p} = (−1)^p e^{−2iγ} (e^{2iγt})^p
-// from one sine and cosine per node (e^{−2iγ} once per rule). C_n by rotating z^n, re-anchored
-// with exact cos and sin of nΦ every 32 steps as there.
-void MaterialNp::fourier_at(std::size_t t, std::vector<double>& out) const {
-  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
-  const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
-  const RuleNodes& rn = nodes_.at(fourier_m_[t]);
-  const std::size_t m = rn.gamma.size();
-  const double a = g.inv_eta_prime;
-  std::vector<double> gt(m), f(m), omf(m), vr(m), vi(m), T(K * m);
+// Anchors the windows of Gaussians centred at centre[0 … m): per node the padded-circle slot of
+// its first point, d0, g0 = e^{−d0²/2β²} and r = e^{−d0Δ/β²} (two exponentials over arrays).
+void MaterialNp::anchor_windows(std::size_t p, const double* centre, std::size_t m, Row& row) const {
+  const Window& w = windows_[p];
+  const auto P = static_cast<long>(grid_.period);
+  const double step = kTwoPi / static_cast<double>(P);
+  row.start.resize(m), row.d0.resize(m), row.g0.resize(m), row.rr.resize(m);
   for (std::size_t i = 0; i < m; ++i) {
-    const double st = rn.sin_gamma[i] * a;
-    const double ct = std::sqrt((1.0 - st) * (1.0 + st));
-    gt[i] = std::asin(st);
-    const double c = g.cos_theta_d * rn.cos_gamma[i];
-    f[i] = detail::fresnel_reflectance_unchecked(g.eta, c);
-    omf[i] = detail::fresnel_transmittance_unchecked(g.eta, c);
-    const double len = r_.path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
-    for (std::size_t k = 0; k < K; ++k) T[k * m + i] = std::exp(-reduced_absorption(r_.sigmas[k], g) * len);
-    vr[i] = std::cos(2.0 * gt[i]), vi[i] = std::sin(2.0 * gt[i]);
+    const double u = (centre[i] - grid_.phi0) / step;
+    const double jr = (u + 0x1.8p52) - 0x1.8p52;  // nearest integer (|u| < 2^51)
+    const double d0 = (jr - u) * step;
+    row.d0[i] = d0;
+    row.g0[i] = -d0 * d0 * w.inv2var;
+    row.rr[i] = -2.0 * d0 * step * w.inv2var;
+    long r0 = static_cast<long>(jr) % P;
+    row.start[i] = r0 < 0 ? r0 + P : r0;  // slot q holds circle point (q − R) mod P
   }
-  std::vector<double> phase, zr, zi, sr, si, amp, C, v, row(nphi);
-  for (std::size_t p = 0; p < L; ++p) {
-    if (spread_[t * L + p]) continue;
-    const int pi = static_cast<int>(p);
-    const auto N = static_cast<std::size_t>(terms_[p]);
-    // Nodes with a non-zero weight for some channel: e^{iΦ}, and the weights [k][i].
-    phase.clear(), sr.clear(), si.clear(), amp.clear();
-    std::vector<std::size_t> used;
-    for (std::size_t i = 0; i < m; ++i) {
-      double fp = pi == 0 ? f[i] : omf[i] * omf[i];
-      for (int q = 1; q < pi; ++q) fp *= f[i];
-      const double base = rn.weight[i] * fp;
-      bool any = false;
-      for (std::size_t k = 0; k < K; ++k) {
-        double tp = 1.0;
-        for (int q = 0; q < pi; ++q) tp *= T[k * m + i];
-        any |= base * tp != 0.0;
-      }
-      if (!any) continue;
-      used.push_back(i);
-      double er = (pi % 2 ? -1.0 : 1.0) * rn.cos_2gamma[i], ei = (pi % 2 ? 1.0 : -1.0) * rn.sin_2gamma[i];  // (−1)^p e^{−2iγ}
-      for (int q = 0; q < pi; ++q) {
-        const double r = er * vr[i] - ei * vi[i];
-        ei = er * vi[i] + ei * vr[i];
-        er = r;
-      }
-      sr.push_back(er), si.push_back(ei);
-      phase.push_back(exit_azimuth(pi, rn.gamma[i], gt[i]));
+  exp_in_place(std::span<double>(row.g0.data(), m));
+  exp_in_place(std::span<double>(row.rr.data(), m));
+}
+
+// Node i's window: win[R + j] = g(d0 + jΔ) for |j| ≤ R (slots beyond 2R + 1 left as they are).
+void MaterialNp::window_values(std::size_t p, std::size_t i, const Row& row, double* win) const {
+  const Window& w = windows_[p];
+  const long R = w.R;
+  if (w.recurrence) {
+    double up = row.g0[i], down = row.g0[i];
+    const double r = row.rr[i], rinv = 1.0 / row.rr[i];
+    win[R] = up;
+    for (long j = 1; j <= R; ++j) {
+      up *= r;
+      down *= rinv;
+      win[R + j] = up * w.c[static_cast<std::size_t>(R + j)];
+      win[R - j] = down * w.c[static_cast<std::size_t>(R - j)];
     }
-    const std::size_t u = used.size();
-    amp.assign(K * u, 0.0);
-    for (std::size_t q = 0; q < u; ++q) {
-      const std::size_t i = used[q];
-      double fp = pi == 0 ? f[i] : omf[i] * omf[i];
-      for (int e = 1; e < pi; ++e) fp *= f[i];
-      for (std::size_t k = 0; k < K; ++k) {
-        double tp = 1.0;
-        for (int e = 0; e < pi; ++e) tp *= T[k * m + i];
-        amp[k * u + q] = rn.weight[i] * fp * tp;
-      }
-    }
-    C.assign((N + 1) * K, 0.0);
-    zr.assign(u, 1.0), zi.assign(u, 0.0);
-    for (std::size_t n = 0; n <= N; ++n) {
-      if (n % 32 == 0 && n > 0)
-        for (std::size_t q = 0; q < u; ++q) {
-          const double arg = static_cast<double>(n) * phase[q];
-          zr[q] = std::cos(arg), zi[q] = std::sin(arg);
-        }
-      for (std::size_t k = 0; k < K; ++k) {
-        const double* w = amp.data() + k * u;
-        double sum = 0.0;
-#pragma omp simd reduction(+ : sum)
-        for (std::size_t q = 0; q < u; ++q) sum += zr[q] * w[q];
-        C[n * K + k] = sum;
-      }
-#pragma omp simd
-      for (std::size_t q = 0; q < u; ++q) {
-        const double r = zr[q] * sr[q] - zi[q] * si[q];
-        zi[q] = zr[q] * si[q] + zi[q] * sr[q];
-        zr[q] = r;
-      }
-    }
-    const double beta = r_.betas[p];
-    std::vector<double> weight(N + 1);
-    for (std::size_t n = 0; n <= N; ++n) weight[n] = (n ? 2.0 : 1.0) * std::exp(-0.5 * static_cast<double>(n * n) * beta * beta) / kTwoPi;
-    v.resize(N + 1);
-    for (std::size_t k = 0; k < K; ++k) {
-      for (std::size_t n = 0; n <= N; ++n) v[n] = weight[n] * C[n * K + k];
-      series_->evaluate(v, row);
-      for (std::size_t j = 0; j < nphi; ++j) out[(p * K + k) * nphi + j] = std::max(0.0, row[j]);  // roundoff below 0 clamped
+  } else {
+    const double step = kTwoPi / static_cast<double>(grid_.period);
+    for (long j = -R; j <= R; ++j) {
+      const double d = row.d0[i] + static_cast<double>(j) * step;
+      win[j + R] = std::exp(-d * d * w.inv2var);
     }
   }
 }
 
-// Spreading (the quadrature of spread_np): N(φ_j) = ½ Σ_i W_i A_i [g(φ_j − Φ_i) + g(φ_j + Φ_i)],
-// each node's Gaussian added to the circle points within √(2 ln(2/ε)) β of Φ_i. The window
-// values g(d0 + jΔ) = g0 r^j c_j with g0 = e^{−d0²/2β²}, r = e^{−d0Δ/β²}, c_j = e^{−j²Δ²/2β²}
-// (c_j once per lobe), added to a circle padded by the window radius on both sides and folded
-// at the end, so that the inner loop is a straight run of multiply–adds over the window × σa.
-void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
-  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size();
-  const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
-  const RuleNodes& n = nodes_.at(spread_m_[t]);
-  const std::size_t m = n.gamma.size();
+// The factors of every node of θd node t that do not depend on the lobe: γt, the path length,
+// f and 1 − f, and T = e^{−σa' ℓ} per channel.
+void MaterialNp::node_factors(std::size_t t, Row& row) const {
+  const FiberGeometry& g = row.g;
+  const RuleNodes& n = nodes_.at(m_[t]);
+  const std::size_t m = n.gamma.size(), K = r_.sigmas.size();
+  row.m = m, row.K = K;
+  row.st.resize(m), row.gt.resize(m), row.len.resize(m), row.f.resize(m), row.omf.resize(m), row.T.resize(K * m);
   const double a = g.inv_eta_prime, eta = g.eta;
-  std::vector<double> st(m), gt(m), f(m), one_minus_f(m), len(m);
-  for (std::size_t i = 0; i < m; ++i) st[i] = n.sin_gamma[i] * a;
-  for (std::size_t i = 0; i < m; ++i) gt[i] = std::asin(st[i]);
+  for (std::size_t i = 0; i < m; ++i) row.st[i] = n.sin_gamma[i] * a;
+  for (std::size_t i = 0; i < m; ++i) row.gt[i] = std::asin(row.st[i]);
+  const bool chord = r_.path == AbsorptionPath::chord;
 #pragma omp simd
   for (std::size_t i = 0; i < m; ++i) {
-    const double ct = std::sqrt((1.0 - st[i]) * (1.0 + st[i]));
-    len[i] = r_.path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
+    const double s = row.st[i];
+    const double ct = std::sqrt((1.0 - s) * (1.0 + s));
+    row.len[i] = chord ? 2.0 * ct : 4.0 * ct * ct;
     // Unpolarised Fresnel at cos θd cos γ from outside (η > 1: never total reflection), and its
     // complement in the cancellation-free form.
     const double c = g.cos_theta_d * n.cos_gamma[i];
@@ -192,160 +273,204 @@ void MaterialNp::spread_at(std::size_t t, std::vector<double>& out) const {
     const double ds = c + eta * ctr, dp = eta * c + ctr;
     const double rs = (c - eta * ctr) / ds, rp = (eta * c - ctr) / dp;
     const double num = 4.0 * eta * c * ctr;
-    f[i] = std::min(1.0, 0.5 * (rs * rs + rp * rp));
-    one_minus_f[i] = std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
+    row.f[i] = std::min(1.0, 0.5 * (rs * rs + rp * rp));
+    row.omf[i] = std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
   }
-  std::vector<std::vector<double>> T(K, std::vector<double>(m));
   for (std::size_t k = 0; k < K; ++k) {
     const double sp = reduced_absorption(r_.sigmas[k], g);
-    for (std::size_t i = 0; i < m; ++i) T[k][i] = std::exp(-sp * len[i]);
+    double* T = row.T.data() + k * m;
+    for (std::size_t i = 0; i < m; ++i) T[i] = -sp * row.len[i];
   }
-  // A(p) = f for p = 0, (1 − f)² f^{p−1} T^p after: the powers of lobe p from those of lobe p − 1
-  // (the same products in the same order as multiplying out each lobe's powers).
-  std::vector<double> fpow(m), tpow(K * m, 1.0);
-  const auto P = static_cast<long>(grid_.period);
-  const double step = kTwoPi / static_cast<double>(P);
-  const long shift = std::lround(-2.0 * grid_.phi0 / step);
-  std::vector<double> amp(K * m), j0(m), dz(m), e1(m), e2(m), g0(m), rr(m), win, c, buf, circle(static_cast<std::size_t>(P) * K);
-  std::vector<char> live(m);
+  exp_in_place(std::span<double>(row.T.data(), K * m));
+}
+
+void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<double>* energies) const {
+  const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size(), E = L;
+  thread_local Row row;
+  row.g = FiberGeometry::make(r_.eta, r_.thetas[t]);
+  node_factors(t, row);
+  row.rotations = false;
+  const RuleNodes& n = nodes_.at(m_[t]);
+  const std::size_t m = row.m;
+  out.assign(L * K * nphi, 0.0);
+  if (energies) energies->assign(K * E, 0.0);
+  // A(p) = f for p = 0, (1 − f)² f^{p−1} T^p after: the powers of lobe p from those of lobe p − 1.
+  // amp = W · A: [i] for R (the same for every σa), [i · K + k] after.
+  row.fpow.resize(m);
+  row.tpow.assign(K * m, 1.0);
   for (std::size_t p = 0; p < L; ++p) {
-    if (p == 0) std::copy(f.begin(), f.end(), fpow.begin());
-    else if (p == 1) std::transform(one_minus_f.begin(), one_minus_f.end(), fpow.begin(), [](double x) { return x * x; });
-    else std::transform(fpow.begin(), fpow.end(), f.begin(), fpow.begin(), std::multiplies<>());
+    if (p == 0) std::copy(row.f.begin(), row.f.end(), row.fpow.begin());
+    else if (p == 1) for (std::size_t i = 0; i < m; ++i) row.fpow[i] = row.omf[i] * row.omf[i];
+    else for (std::size_t i = 0; i < m; ++i) row.fpow[i] *= row.f[i];
     if (p > 0)
-      for (std::size_t k = 0; k < K; ++k) std::transform(tpow.begin() + static_cast<long>(k * m), tpow.begin() + static_cast<long>((k + 1) * m), T[k].begin(),
-                                                         tpow.begin() + static_cast<long>(k * m), std::multiplies<>());
-    if (!spread_[t * L + p]) continue;
-    const int pi = static_cast<int>(p);
-    const double beta = r_.betas[p];
-    const long R = static_cast<long>(std::ceil(std::sqrt(2.0 * std::log(2.0 / r_.tolerance)) * beta / step));
-    const std::size_t W = static_cast<std::size_t>(2 * R + 1);
-    // Windows of up to kShortWindow points run over kShortWindow slots, the extra ones zero
-    // (adding an exact 0 leaves every sum as it was): a fixed-length loop without remainder.
-    constexpr std::size_t kShortWindow = 8;
-    const std::size_t run = W <= kShortWindow ? kShortWindow : W;
-    const double inv2var = 1.0 / (2.0 * beta * beta), norm = 1.0 / (std::sqrt(kTwoPi) * beta);
-    const bool recurrence = step / beta <= 20.0;  // r^j c_j stays far from overflow
-    c.resize(W);
-    for (long j = -R; j <= R; ++j) c[static_cast<std::size_t>(j + R)] = std::exp(-static_cast<double>(j * j) * step * step * inv2var);
-    for (std::size_t i = 0; i < m; ++i) {
-      const double base = n.weight[i] * fpow[i] * norm;
-      bool any = false;
+      for (std::size_t q = 0; q < K * m; ++q) row.tpow[q] *= row.T[q];
+    const std::size_t planes = p == 0 ? 1 : K;
+    row.amp.resize(m * planes);
+    for (std::size_t i = 0; i < m; ++i) row.amp[i] = n.weight[i] * row.fpow[i];
+    for (std::size_t k = planes; k-- > 0;)  // in place: plane 0 last
+      for (std::size_t i = 0; i < m; ++i) row.amp[k * m + i] = row.amp[i] * row.tpow[k * m + i];
+    if (energies)  // ∫N_p dφ = Σ W A: the quadrature of N_p with D replaced by its integral 1
       for (std::size_t k = 0; k < K; ++k) {
-        amp[i * K + k] = base * tpow[k * m + i];
-        any |= amp[i * K + k] != 0.0;
+        const double* a = row.amp.data() + (planes == 1 ? 0 : k) * m;
+        double e = 0.0;
+        for (std::size_t i = 0; i < m; ++i) e += a[i];
+        (*energies)[k * E + p] = e;
       }
-      live[i] = any;
-      const double centre = exit_azimuth(pi, n.gamma[i], gt[i]);
-      const double u = (centre - grid_.phi0) / step;
-      const double jr = (u + 0x1.8p52) - 0x1.8p52;  // nearest integer (|u| < 2^51)
-      const double d0 = (jr - u) * step;
-      j0[i] = jr;
-      dz[i] = d0;
-      e1[i] = -d0 * d0 * inv2var;
-      e2[i] = -2.0 * d0 * step * inv2var;
-    }
-    for (std::size_t i = 0; i < m; ++i) g0[i] = std::exp(e1[i]), rr[i] = std::exp(e2[i]);
-    const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
-    buf.assign(stride * K, 0.0);
-    win.assign(run, 0.0);
-    for (std::size_t i = 0; i < m; ++i) {
-      const double* ai = amp.data() + i * K;
-      if (!live[i] || g0[i] == 0.0) continue;
-      if (recurrence) {
-        double up = g0[i], down = g0[i];
-        const double r = rr[i], rinv = 1.0 / rr[i];
-        win[static_cast<std::size_t>(R)] = g0[i];
-        for (long j = 1; j <= R; ++j) {
-          up *= r;
-          down *= rinv;
-          win[static_cast<std::size_t>(R + j)] = up * c[static_cast<std::size_t>(R + j)];
-          win[static_cast<std::size_t>(R - j)] = down * c[static_cast<std::size_t>(R - j)];
-        }
-      } else {
-        for (long j = -R; j <= R; ++j) {
-          const double d = dz[i] + static_cast<double>(j) * step;
-          win[static_cast<std::size_t>(j + R)] = std::exp(-d * d * inv2var);
-        }
-      }
-      long r0 = static_cast<long>(j0[i]) % P;
-      if (r0 < 0) r0 += P;
-      // One plane per σa: a straight, vectorizable run over the window.
-      for (std::size_t k = 0; k < K; ++k) {
-        double* b = buf.data() + k * stride + static_cast<std::size_t>(r0);
-        const double ak = ai[k];
-        if (run == kShortWindow) {
-#pragma omp simd
-          for (std::size_t j = 0; j < kShortWindow; ++j) b[j] += ak * win[j];
-        } else {
-#pragma omp simd
-          for (std::size_t j = 0; j < run; ++j) b[j] += ak * win[j];
-        }
-      }
-    }
-    // Fold the padding onto the circle: buffer slot q holds circle point (q − R) mod P.
-    std::fill(circle.begin(), circle.end(), 0.0);
-    for (std::size_t q = 0; q < stride; ++q) {
-      long rc = (static_cast<long>(q) - R) % P;
-      if (rc < 0) rc += P;
-      for (std::size_t k = 0; k < K; ++k) circle[static_cast<std::size_t>(rc) * K + k] += buf[k * stride + q];
-    }
-    for (std::size_t j = 0; j < nphi; ++j) {
-      const auto here = static_cast<std::size_t>(static_cast<long>(j) % P);
-      long mirror = (shift - static_cast<long>(j)) % P;
-      if (mirror < 0) mirror += P;
-      for (std::size_t k = 0; k < K; ++k)
-        out[(p * K + k) * nphi + j] = std::max(0.0, 0.5 * (circle[here * K + k] + circle[static_cast<std::size_t>(mirror) * K + k]));
-    }
+    if (spread_[t * L + p]) spread_lobe(p, n, row, out);
+    else fourier_lobe(p, n, row, out);
   }
 }
 
-void newton_gauss_legendre(int m, std::vector<double>& nodes, std::vector<double>& weights) {
-  if (m < 1 || m > 32768) throw_domain_error("quadrature order", "must lie in [1, 32768]", static_cast<long long>(m));
-  const auto M = static_cast<std::size_t>(m), half = (M + 1) / 2;
-  const double n = m;
-  // P_k = a_k x P_{k−1} − b_k P_{k−2}, a_k = (2k − 1)/k, b_k = (k − 1)/k.
-  std::vector<double> a(M + 1), b(M + 1);
-  for (std::size_t k = 2; k <= M; ++k) a[k] = (2.0 * static_cast<double>(k) - 1.0) / static_cast<double>(k), b[k] = (static_cast<double>(k) - 1.0) / static_cast<double>(k);
-  std::vector<double> x(half), value(half), deriv(half), p0(half), p1(half);
-  for (std::size_t i = 0; i < half; ++i) x[i] = std::cos(kPi * (static_cast<double>(i) + 0.75) / (n + 0.5));
-  // P_m and P_m' = m (x P_m − P_{m−1}) / (x² − 1) at every root estimate at once (a loop over the
-  // roots inside the recurrence, which vectorizes).
-  auto evaluate = [&] {
-    for (std::size_t i = 0; i < half; ++i) p0[i] = 1.0, p1[i] = x[i];
-    for (std::size_t k = 2; k <= M; ++k) {
-      const double ak = a[k], bk = b[k];
-#pragma omp simd
-      for (std::size_t i = 0; i < half; ++i) {
-        const double p2 = ak * x[i] * p1[i] - bk * p0[i];
-        p0[i] = p1[i];
-        p1[i] = p2;
+// Spreading: N(φ_j) = ½ Σ_i W_i A_i [g(φ_j − Φ_i) + g(φ_j + Φ_i)], each node's Gaussian added to
+// the circle points of its window, on a circle padded by the window radius on both sides and
+// folded at the end, so that the inner loop is a straight run of multiply–adds per channel.
+void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::vector<double>& out) const {
+  const std::size_t K = row.K, m = row.m, nphi = r_.phis.size();
+  const Window& w = windows_[p];
+  const std::size_t planes = p == 0 ? 1 : K, run = w.run;
+  const auto P = static_cast<long>(grid_.period);
+  const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
+  row.buf.assign(stride * planes, 0.0);
+  const bool fixed = p == 0;  // R's windows were computed with the rule
+  if (!fixed) {
+    row.centre.resize(m);
+    for (std::size_t i = 0; i < m; ++i) row.centre[i] = exit_azimuth(static_cast<int>(p), n.gamma[i], row.gt[i]);
+    anchor_windows(p, row.centre.data(), m, row);
+    row.win.assign(run, 0.0);
+  }
+  const double* amp = row.amp.data();
+  for (std::size_t i = 0; i < m; ++i) {
+    const double* win;
+    std::size_t r0;
+    if (fixed) {
+      win = n.r_window.data() + i * run;
+      r0 = static_cast<std::size_t>(n.r_start[i]);
+    } else {
+      window_values(p, i, row, row.win.data());
+      win = row.win.data();
+      r0 = static_cast<std::size_t>(row.start[i]);
+    }
+    double* b = row.buf.data() + r0;
+    if (planes == 3) {
+      const double a[3] = {amp[i] * w.norm, amp[m + i] * w.norm, amp[2 * m + i] * w.norm};
+      add_window3(b, b + stride, b + 2 * stride, a, win, run);
+    } else {
+      for (std::size_t k = 0; k < planes; ++k) add_window(b + k * stride, amp[k * m + i] * w.norm, win, run);
+    }
+  }
+  // Fold the padding onto the circle, then N(φ_j) = ½ (circle(φ_j) + circle(−φ_j)).
+  const auto Pu = static_cast<std::size_t>(P);
+  row.circle.assign(Pu * planes, 0.0);
+  const auto R = static_cast<std::size_t>(w.R);
+  for (std::size_t k = 0; k < planes; ++k) {
+    const double* b = row.buf.data() + k * stride;
+    double* c = row.circle.data() + k * Pu;
+    if (run - 1 <= Pu) {  // each circle point gets its own slot and at most one wrapped one
+      for (std::size_t j = 0; j < Pu; ++j) c[j] = b[R + j];
+      for (std::size_t q = 0; q < R; ++q) c[Pu - R + q] += b[q];
+      for (std::size_t q = R + Pu; q < stride; ++q) c[q - R - Pu] += b[q];
+    } else {
+      for (std::size_t q = 0; q < stride; ++q) c[w.fold[q]] += b[q];
+    }
+  }
+  for (std::size_t k = 0; k < K; ++k) {
+    const double* c = row.circle.data() + (planes == 1 ? 0 : k) * Pu;
+    double* o = out.data() + (p * K + k) * nphi;
+    for (std::size_t j = 0; j < nphi; ++j) o[j] = std::max(0.0, 0.5 * (c[here_[j]] + c[mirror_[j]]));
+  }
+}
+
+// The Fourier form (fourier_coefficients) with what the lobes and channels of a θd share: the
+// node factors once, e^{iΦ_p} = (−1)^p e^{−2iγ} (e^{2iγt})^p from one sine and cosine per node
+// (e^{−2iγ} once per rule), R's coefficients once for every channel. C_n by rotating z^n,
+// re-anchored with exact cos and sin of nΦ every 32 steps.
+void MaterialNp::fourier_lobe(std::size_t p, const RuleNodes& n, Row& row, std::vector<double>& out) const {
+  const std::size_t K = row.K, m = row.m, nphi = r_.phis.size();
+  const std::size_t planes = p == 0 ? 1 : K;
+  const int pi = static_cast<int>(p);
+  const auto N = static_cast<std::size_t>(terms_[p]);
+  if (!row.rotations) {  // e^{2iγt}, once per θd
+    row.vr.resize(m), row.vi.resize(m);
+    for (std::size_t i = 0; i < m; ++i) row.vr[i] = std::cos(2.0 * row.gt[i]), row.vi[i] = std::sin(2.0 * row.gt[i]);
+    row.rotations = true;
+  }
+  // e^{iΦ} of every node (nodes of zero amplitude add exact zeros).
+  row.phase.resize(m), row.sr.resize(m), row.si.resize(m);
+  const double sign = pi % 2 ? -1.0 : 1.0;
+  for (std::size_t i = 0; i < m; ++i) {
+    double er = sign * n.cos_2gamma[i], ei = -sign * n.sin_2gamma[i];  // (−1)^p e^{−2iγ}
+    for (int q = 0; q < pi; ++q) {
+      const double r = er * row.vr[i] - ei * row.vi[i];
+      ei = er * row.vi[i] + ei * row.vr[i];
+      er = r;
+    }
+    row.sr[i] = er, row.si[i] = ei;
+    row.phase[i] = exit_azimuth(pi, n.gamma[i], row.gt[i]);
+  }
+  const double* amp = row.amp.data();  // [k · m + i]
+  row.C.assign((N + 1) * planes, 0.0);
+  row.zr.assign(m, 1.0), row.zi.assign(m, 0.0);
+  double* zr = row.zr.data();
+  double* zi = row.zi.data();
+  const double* sr = row.sr.data();
+  const double* si = row.si.data();
+  const std::size_t m4 = m / 4 * 4;
+  for (std::size_t nn = 0; nn <= N; ++nn) {
+    if (nn % 32 == 0 && nn > 0)
+      for (std::size_t i = 0; i < m; ++i) {
+        const double arg = static_cast<double>(nn) * row.phase[i];
+        zr[i] = std::cos(arg), zi[i] = std::sin(arg);
       }
+    // C_n = Σ_i Re(z_i^n) amp_i in four interleaved partial sums (a fixed order: the same result
+    // for any vector width).
+    for (std::size_t k = 0; k < planes; ++k) {
+      const double* a = amp + k * m;
+      double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+      for (std::size_t i = 0; i < m4; i += 4) {
+        s0 += zr[i] * a[i];
+        s1 += zr[i + 1] * a[i + 1];
+        s2 += zr[i + 2] * a[i + 2];
+        s3 += zr[i + 3] * a[i + 3];
+      }
+      for (std::size_t i = m4; i < m; ++i) s0 += zr[i] * a[i];
+      row.C[nn * planes + k] = (s0 + s1) + (s2 + s3);
     }
-    for (std::size_t i = 0; i < half; ++i) value[i] = p1[i], deriv[i] = n * (x[i] * p1[i] - p0[i]) / (x[i] * x[i] - 1.0);
-  };
-  // Newton until every step is below 1e−15, then one more (quadratic convergence).
-  bool last = false;
-  for (int it = 0; it < 100; ++it) {
-    evaluate();
-    double worst = 0.0;
-    for (std::size_t i = 0; i < half; ++i) {
-      const double dx = value[i] / deriv[i];
-      x[i] -= dx;
-      worst = std::max(worst, std::abs(dx));
+#pragma omp simd
+    for (std::size_t i = 0; i < m; ++i) {
+      const double r = zr[i] * sr[i] - zi[i] * si[i];
+      zi[i] = zr[i] * si[i] + zi[i] * sr[i];
+      zr[i] = r;
     }
-    if (last) break;
-    last = worst <= 1e-15;
   }
-  evaluate();  // P_m' at the converged roots
-  nodes.assign(M, 0.0);
-  weights.assign(M, 0.0);
-  for (std::size_t i = 0; i < half; ++i) {
-    nodes[M - 1 - i] = x[i];
-    nodes[i] = -x[i];
-    weights[M - 1 - i] = weights[i] = 2.0 / ((1.0 - x[i] * x[i]) * deriv[i] * deriv[i]);
+  const std::vector<double>& weight = series_weight_[p];
+  row.v.resize((N + 1) * planes);
+  for (std::size_t nn = 0; nn <= N; ++nn)
+    for (std::size_t k = 0; k < planes; ++k) row.v[nn * planes + k] = weight[nn] * row.C[nn * planes + k];
+  row.series_row.resize(planes * nphi);
+  double* o = row.series_row.data();  // [k · nphi + j]
+  if (series_) {
+    std::vector<double> vk(N + 1);
+    for (std::size_t k = 0; k < planes; ++k) {
+      for (std::size_t nn = 0; nn <= N; ++nn) vk[nn] = row.v[nn * planes + k];
+      series_->evaluate(vk, std::span<double>(o + k * nphi, nphi));
+    }
+  } else if (planes == 3) {
+    cosine_sums<3>(cos_table_.data(), nphi, row.v.data(), N, o);
+  } else if (planes == 1) {
+    cosine_sums<1>(cos_table_.data(), nphi, row.v.data(), N, o);
+  } else {
+    for (std::size_t k = 0; k < planes; ++k)
+      for (std::size_t j = 0; j < nphi; ++j) {
+        double sum = 0.0;
+        for (std::size_t nn = 0; nn <= N; ++nn) sum += row.v[nn * planes + k] * cos_table_[nn * nphi + j];
+        o[k * nphi + j] = sum;
+      }
   }
-  if (M % 2 == 1) nodes[M / 2] = 0.0;
+  for (std::size_t k = 0; k < K; ++k) {
+    const double* src = o + (planes == 1 ? 0 : k) * nphi;
+    double* dst = out.data() + (p * K + k) * nphi;
+    for (std::size_t j = 0; j < nphi; ++j) dst[j] = std::max(0.0, src[j]);  // roundoff below 0 clamped
+  }
 }
 
 void material_energies(double eta, double theta_d, AbsorptionPath path, std::span<const double> sigmas, LobeSet lobes,

@@ -49,6 +49,10 @@ double TableSet::sample_value(const Table& t, const std::vector<double>& x) cons
 }
 
 nlohmann::ordered_json Table::describe() const {
+  return describe([](const GridAxis& a) { return a.to_json(); });
+}
+
+nlohmann::ordered_json Table::describe(const std::function<nlohmann::ordered_json(const GridAxis&)>& axis_json) const {
   nlohmann::ordered_json j;
   j["path"] = path();
   j["group"] = group;
@@ -61,7 +65,7 @@ nlohmann::ordered_json Table::describe() const {
   j["shape"] = nlohmann::ordered_json::array();
   for (const GridAxis& a : axes) j["shape"].push_back(a.count);
   j["axes"] = nlohmann::ordered_json::array();
-  for (const GridAxis& a : axes) j["axes"].push_back(a.to_json());
+  for (const GridAxis& a : axes) j["axes"].push_back(axis_json(a));
   j["attributes"] = attributes;
   return j;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,9 @@ struct Table {
   std::string factor() const { return attributes.value("factor", std::string()); }
   /// Table metadata as JSON (everything but the values).
   nlohmann::ordered_json describe() const;
+  /// describe() with each axis's entry in "axes" given by `axis_json` (writers that dump the
+  /// same axes for many tables put a placeholder there and dump each axis once).
+  nlohmann::ordered_json describe(const std::function<nlohmann::ordered_json(const GridAxis&)>& axis_json) const;
 };
 
 /// A set of tables and the provenance shared by all of them.
