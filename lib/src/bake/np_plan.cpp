@@ -116,10 +116,11 @@ NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report
     std::optional<ResolutionPlan> configured, shape;
     std::vector<ResolutionPlan> banded;
     std::size_t banded_entries = 0;
-    // The Fourier representation competes unless the config chose the tensor one or asks for EXR
-    // output (which has no layout for it).
+    // The Fourier representation competes unless the config chose the tensor one, asks for EXR
+    // output (which has no layout for it) or another quadrature than the Fourier method's (whose
+    // C_n the coefficients are).
     std::optional<FourierResolutionPlan> fourier;
-    if (!c.np_representation && !c.output.exr) {
+    if (!c.np_representation && !c.output.exr && c.quadrature.method == NpQuadratureConfig::Method::fourier) {
       try {
         fourier = plan_fourier_resolution(fourier_bounds(np_axes), c.eta, c.path, c.lobe_count, target);
       } catch (const DomainError&) {
@@ -164,10 +165,10 @@ NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report
     const std::size_t e_configured = configured ? configured->entries : none, e_shape = shape ? shape->entries : none,
                       e_banded = banded.empty() ? none : banded_entries;
     if (fourier && fourier->entries < std::min({e_configured, e_shape, e_banded})) {
-      chosen.axes.clear();
+      if (!energy_axes) energy_axes = dense_energy_axes(np_axes);
+      chosen.axes.clear();  // (np_axes refers to it)
       chosen.bands.clear();
       chosen.normalize_energy = false;
-      if (!energy_axes) energy_axes = dense_energy_axes(np_axes);
       chosen.fourier = fourier->config;
       report_fourier_plan(c, *fourier, target, report);
       if (configured) report.resolution["entries_as_configured"] = configured->entries;

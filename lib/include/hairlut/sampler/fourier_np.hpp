@@ -76,40 +76,50 @@ inline R fourier_absorption(const FourierNpParams& f, R sigma_a, R cos_theta_d) 
 
 namespace detail {
 
-/// (cos x, sin x) for x ∈ [0, π]: a quadrant k = round(2x/π), r = x − kπ/2 ∈ [−π/4, π/4], and the
-/// Taylor polynomials of sin r (to r¹⁵ in double, r¹¹ in float) and cos r (to r¹⁶, r¹²), each
-/// below the rounding of R there; then the quadrant's rotation. Two angles at once (lanes 0, 1).
+/// (cos x, sin x) for two angles x ∈ [0, π]: a quadrant k = round(2x/π), r = x − kπ/2 ∈ [−π/4, π/4]
+/// (π/2 in two parts, Cody–Waite), and the Taylor polynomials of sin r (to r¹⁷ in double, r¹³ in
+/// float) and cos r (to r¹⁶, r¹²), whose remainders at π/4 (< 1e−17, < 1e−10) are below the rounding
+/// of R, in one register: lanes (sin r₀, sin r₁, cos r₀, cos r₁), each lane Horner's scheme in r²
+/// with its own coefficients; then the quadrant's rotation.
+template <class R>
+struct SinCosPolynomial {
+  static constexpr bool wide = sizeof(R) >= sizeof(double);
+  static constexpr int terms = wide ? 9 : 7;  // rows used, from the last: r^16 … r^0 in double, r^12 … r^0 in float
+  // Per lane (sin, sin, cos, cos): the coefficients of r^(2j) in sin r / r = Σ (−1)^j r^(2j) / (2j + 1)!
+  // and cos r = Σ (−1)^j r^(2j) / (2j)!, highest first.
+  alignas(16) static constexpr R c[9][4] = {
+      {R(1.0 / 355687428096000.0), R(1.0 / 355687428096000.0), R(1.0 / 20922789888000.0), R(1.0 / 20922789888000.0)},
+      {R(-1.0 / 1307674368000.0), R(-1.0 / 1307674368000.0), R(-1.0 / 87178291200.0), R(-1.0 / 87178291200.0)},
+      {R(1.0 / 6227020800.0), R(1.0 / 6227020800.0), R(1.0 / 479001600.0), R(1.0 / 479001600.0)},
+      {R(-1.0 / 39916800.0), R(-1.0 / 39916800.0), R(-1.0 / 3628800.0), R(-1.0 / 3628800.0)},
+      {R(1.0 / 362880.0), R(1.0 / 362880.0), R(1.0 / 40320.0), R(1.0 / 40320.0)},
+      {R(-1.0 / 5040.0), R(-1.0 / 5040.0), R(-1.0 / 720.0), R(-1.0 / 720.0)},
+      {R(1.0 / 120.0), R(1.0 / 120.0), R(1.0 / 24.0), R(1.0 / 24.0)},
+      {R(-1.0 / 6.0), R(-1.0 / 6.0), R(-0.5), R(-0.5)},
+      {R(1), R(1), R(1), R(1)}};
+};
+
 template <class R>
 HAIRLUT_SAMPLER_INLINE void sincos_0_pi(R x0, R x1, R& c0, R& s0, R& c1, R& s1) {
   using V = Vec4<R>;
-  constexpr bool wide = sizeof(R) >= sizeof(double);
-  const R half_pi = static_cast<R>(1.57079632679489661923);
-  const int k0 = static_cast<int>(x0 / half_pi + R(0.5)), k1 = static_cast<int>(x1 / half_pi + R(0.5));
-  // r = x − kπ/2 with π/2 in two parts (Cody–Waite: k · hi is exact), so that r keeps its digits.
-  const R hi = wide ? static_cast<R>(1.5707963267341256) : static_cast<R>(1.5707962513f);
-  const R lo = wide ? static_cast<R>(6.077100506506192e-11) : static_cast<R>(7.5497894159e-08f);
+  using P = SinCosPolynomial<R>;
+  const R two_over_pi = static_cast<R>(0.63661977236758134308);
+  const int k0 = static_cast<int>(x0 * two_over_pi + R(0.5)), k1 = static_cast<int>(x1 * two_over_pi + R(0.5));
+  const R hi = P::wide ? static_cast<R>(1.5707963267341256) : static_cast<R>(1.5707962513f);
+  const R lo = P::wide ? static_cast<R>(6.077100506506192e-11) : static_cast<R>(7.5497894159e-08f);
   const R f0 = static_cast<R>(k0), f1 = static_cast<R>(k1);
-  const V r = V::set((x0 - f0 * hi) - f0 * lo, (x1 - f1 * hi) - f1 * lo, R(0), R(0));
-  const V r2 = r * r;
-  auto a = [](double v) { return V::all(static_cast<R>(v)); };
-  V s, c;
-  if constexpr (wide) {  // sin to r^15, cos to r^16: (π/4)^17/17! < 5e-17, (π/4)^18/18! < 3e-18
-    s = ((((((a(-1.0 / 1307674368000.0) * r2 + a(1.0 / 6227020800.0)) * r2 + a(-1.0 / 39916800.0)) * r2 + a(1.0 / 362880.0)) * r2 +
-           a(-1.0 / 5040.0)) * r2 + a(1.0 / 120.0)) * r2 + a(-1.0 / 6.0)) * r2 + a(1.0);
-    c = (((((((a(1.0 / 20922789888000.0) * r2 + a(-1.0 / 87178291200.0)) * r2 + a(1.0 / 479001600.0)) * r2 + a(-1.0 / 3628800.0)) * r2 +
-            a(1.0 / 40320.0)) * r2 + a(-1.0 / 720.0)) * r2 + a(1.0 / 24.0)) * r2 + a(-0.5)) * r2 + a(1.0);
-  } else {  // sin to r^11, cos to r^12: below 1e-11
-    s = ((((a(-1.0 / 39916800.0) * r2 + a(1.0 / 362880.0)) * r2 + a(-1.0 / 5040.0)) * r2 + a(1.0 / 120.0)) * r2 + a(-1.0 / 6.0)) * r2 + a(1.0);
-    c = (((((a(1.0 / 479001600.0) * r2 + a(-1.0 / 3628800.0)) * r2 + a(1.0 / 40320.0)) * r2 + a(-1.0 / 720.0)) * r2 + a(1.0 / 24.0)) * r2 +
-         a(-0.5)) * r2 + a(1.0);
-  }
-  s = s * r;
-  const R sr0 = s.lane0(), cr0 = c.lane0(), sr1 = s.template lane<1>().lane0(), cr1 = c.template lane<1>().lane0();
+  const R r0 = (x0 - f0 * hi) - f0 * lo, r1 = (x1 - f1 * hi) - f1 * lo;
+  const V r = V::set(r0, r1, r0, r1), r2 = r * r;
+  V v = V::load(P::c[9 - P::terms]);
+  for (int j = 10 - P::terms; j < 9; ++j) v = v * r2 + V::load(P::c[j]);
+  v = v * V::set(r0, r1, R(1), R(1));  // sin r = r · (its polynomial in r²)
+  alignas(16) R out[4];
+  v.store(out);
   // Quadrants 0, 1, 2: (c, s), (−s, c), (−c, −s).
-  c0 = k0 == 0 ? cr0 : k0 == 1 ? -sr0 : -cr0;
-  s0 = k0 == 0 ? sr0 : k0 == 1 ? cr0 : -sr0;
-  c1 = k1 == 0 ? cr1 : k1 == 1 ? -sr1 : -cr1;
-  s1 = k1 == 0 ? sr1 : k1 == 1 ? cr1 : -sr1;
+  c0 = k0 == 0 ? out[2] : k0 == 1 ? -out[0] : -out[2];
+  s0 = k0 == 0 ? out[0] : k0 == 1 ? out[2] : -out[0];
+  c1 = k1 == 0 ? out[3] : k1 == 1 ? -out[1] : -out[3];
+  s1 = k1 == 0 ? out[1] : k1 == 1 ? out[3] : -out[1];
 }
 
 }  // namespace detail
@@ -190,6 +200,25 @@ class FourierNp {
   int summed_terms(R beta) const {
     const int n = (series_terms(beta) + 4) / 4 * 4;
     return n < params_.terms ? n : params_.terms;
+  }
+
+  /// E = ∫N_p dφ = c_0 F at σa, θd (the series' mean times 2π; the residual's energy for its table),
+  /// with the same folds and clamps as a lookup, not clamped at 0; NaN for a NaN argument.
+  R energy(R sigma_a, R theta_d) const {
+    if (!(sigma_a == sigma_a) || !(theta_d == theta_d) || !eval_) return std::numeric_limits<R>::quiet_NaN();
+    const R pi = static_cast<R>(3.14159265358979323846);
+    R th = std::fabs(theta_d);
+    if (th > pi) th = std::fabs(std::remainder(th, R(2) * pi));
+    if (!(th == th)) return th;
+    th = th < theta_lo_ ? theta_lo_ : th > theta_hi_ ? theta_hi_ : th;
+    const R sg = sigma_a < sigma_lo_ ? sigma_lo_ : sigma_a > sigma_hi_ ? sigma_hi_ : sigma_a;
+    const R cos_t = std::cos(th);
+    const FixedTaps<R> tt = theta_.taps(theta_cos_ ? -cos_t : th), ts = sigma_.taps(sigma_sqrt_ ? std::sqrt(sg) : sg);
+    const int nt = theta_.cubic() ? 4 : 2, ns = sigma_.cubic() ? 4 : 2;
+    R c0 = R(0);
+    for (int i = 0; i < nt; ++i)
+      for (int j = 0; j < ns; ++j) c0 += tt.w[i] * ts.w[j] * static_cast<R>(data_[tt.off[i] + ts.off[j]]);
+    return c0 * fourier_absorption(params_, sg, cos_t);
   }
 
   /// N_p [1/rad] at β, σa, θd, φ (radians; any sign of θd and φ); the residual's uniform value for a
