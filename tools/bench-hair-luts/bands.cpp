@@ -33,14 +33,6 @@ namespace {
 
 using namespace hairlut;
 
-// The 1-, 5- and 15-minute load averages (/proc/loadavg), or "" where there is none.
-std::string load_average() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  if (!(f >> a >> b >> c)) return "";
-  return a + " " + b + " " + c;
-}
-
 // N_p over the generic domain in four β bands (2–3°, 3–5°, 5–10°, 10–30°): the shape N_p / E_p,
 // cubic on every axis, √σa mirrored at 0; 3.73 M N_p entries per lobe over the bands and energy
 // tables of 200 √σa × 283 cos θd nodes (tables/configs/generic-1e-3.json before it took the

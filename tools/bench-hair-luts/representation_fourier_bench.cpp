@@ -31,14 +31,6 @@ namespace {
 
 using namespace hairlut;
 
-// The 1-, 5- and 15-minute load averages (/proc/loadavg), or "" where there is none.
-std::string load_average() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  if (!(f >> a >> b >> c)) return "";
-  return a + " " + b + " " + c;
-}
-
 // The config of one case over the generic domain (β 2°–30°, σa 0–10, θd 0–89°; R, TT, TRT, TRRT).
 json fourier_tables_json(const FourierCase& fc) {
   json sigma = {{"count", fc.sigma}, {"range", {0, 10}}, {"spacing", "sqrt"}, {"interpolation", fc.sigma_interpolation}};

@@ -15,6 +15,23 @@ namespace hairlut::detail::config_parse {
 
 namespace {
 
+// tables.np.energy_axes: sigma_a and theta_d of the energy and residual tables (each defaults to the
+// N_p axis), covering the N_p axes' ranges.
+std::vector<GridAxis> energy_axes(const json& ea, const GridAxis& sigma, const GridAxis& theta) {
+  const std::string eq = "tables.np.energy_axes.";
+  GridAxis es = sigma, et = theta;
+  if (ea.contains("sigma_a"))
+    es = make_axis(ea.at("sigma_a"), eq + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
+  if (ea.contains("theta_d"))
+    et = make_axis(ea.at("theta_d"), eq + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                   "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+  if (es.lo > sigma.lo || es.hi < sigma.hi) fail(eq + "sigma_a", "must cover the N_p axis's range (the energies multiply every N_p value)");
+  if (et.lo > theta.lo || et.hi < theta.hi) fail(eq + "theta_d", "must cover the N_p axis's range (the energies multiply every N_p value)");
+  std::vector<GridAxis> axes{es, et};
+  checked([&] { validate_interpolation(axes, "tables.np.energy_axes"); });
+  return axes;
+}
+
 // tables.np with representation "fourier": the β range (no nodes: β is exact), the σa and θd axes
 // of the coefficients, the truncation tolerance; no φ axis (φ is exact), no bands or shape.
 void parse_fourier_np(const json& doc, const json& np, BakeConfig& c) {
@@ -51,17 +68,7 @@ void parse_fourier_np(const json& doc, const json& np, BakeConfig& c) {
   f.tolerance = get_number(fj, "tolerance", 1e-4);
   if (!(f.tolerance > 0.0 && f.tolerance <= 0.1)) fail("tables.np.fourier.tolerance", "must lie in (0, 0.1] (got " + json(f.tolerance).dump() + ")");
   c.np_fourier = f;
-  if (np.contains("energy_axes")) {
-    const json& ea = np.at("energy_axes");
-    const std::string eq = "tables.np.energy_axes.";
-    GridAxis es = sigma, et = theta;
-    if (ea.contains("sigma_a"))
-      es = make_axis(ea.at("sigma_a"), eq + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
-    if (ea.contains("theta_d"))
-      et = make_axis(ea.at("theta_d"), eq + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad", "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
-    c.np_energy_axes = std::vector<GridAxis>{es, et};
-    checked([&] { validate_interpolation(*c.np_energy_axes, "tables.np.energy_axes"); });
-  }
+  if (np.contains("energy_axes")) c.np_energy_axes = energy_axes(np.at("energy_axes"), sigma, theta);
 }
 
 }  // namespace
@@ -125,20 +132,7 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
   }
   if (np.contains("energy_axes")) {
     if (c.marschner || per_material) fail("tables.np.energy_axes", "applies to generic deon2011 N_p tables only");
-    const json& ea = np.at("energy_axes");
-    const std::string eq = "tables.np.energy_axes.";
-    GridAxis es = sigma_axis, et = theta_axis;
-    if (ea.contains("sigma_a"))
-      es = make_axis(ea.at("sigma_a"), eq + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
-    if (ea.contains("theta_d"))
-      et = make_axis(ea.at("theta_d"), eq + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
-                     "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
-    if (es.lo > sigma_axis.lo || es.hi < sigma_axis.hi)
-      fail(eq + "sigma_a", "must cover the N_p axis's range (the energies multiply every N_p value)");
-    if (et.lo > theta_axis.lo || et.hi < theta_axis.hi)
-      fail(eq + "theta_d", "must cover the N_p axis's range (the energies multiply every N_p value)");
-    c.np_energy_axes = std::vector<GridAxis>{es, et};
-    checked([&] { validate_interpolation(*c.np_energy_axes, "tables.np.energy_axes"); });
+    c.np_energy_axes = energy_axes(np.at("energy_axes"), sigma_axis, theta_axis);
   }
   if (np.contains("beta_bands")) {  // β bands (beta_bands.cpp): band 0 becomes the N_p axes
     if (c.marschner || doc.contains("scene") || c.np_target_error)
