@@ -253,11 +253,10 @@ class FourierNp {
     detail::sincos_0_pi(th, ph, cos_t, sin_t, cos_p, sin_p);
     // The taps of both axes, each weight broadcast once.
     FixedTaps<R> tt, ts;
-    locate<KT, KS>(theta_cos_ ? -cos_t : th, sigma_sqrt_ ? std::sqrt(sg) : sg, tt, ts);
     V wt[KT], ws[KS];
+    locate<KT, KS>(theta_cos_ ? -cos_t : th, sigma_sqrt_ ? std::sqrt(sg) : sg, tt, ts, wt, ws);
     const T* row[KT];
-    for (int i = 0; i < KT; ++i) wt[i] = V::all(tt.w[i]), row[i] = data_ + tt.off[i];
-    for (int j = 0; j < KS; ++j) ws[j] = V::all(ts.w[j]);
+    for (int i = 0; i < KT; ++i) row[i] = data_ + tt.off[i];
     // Four terms per register: lanes n = 4g … 4g + 3. Weights (2 − δ_n0) e^{−n²b}, b = β²/2, by
     // the recurrence g ← g q, q ← q e^{−32b}; cosines as the real part of e^{inφ} rotated by e^{i4φ}.
     const R e1 = std::exp(R(-0.5) * bt * bt), e2 = e1 * e1, e4 = e2 * e2, e8 = e4 * e4, e16 = e8 * e8, e32 = e16 * e16;
@@ -270,14 +269,17 @@ class FourierNp {
     const int count = lookup_terms(bt);
     const int full = count / 4;
     V acc = V::all(R(0));
-    const V twice_n0 = V::set(R(2), R(1), R(1), R(1));  // from n = 4 on, lane 0 carries the factor 2 too
-    for (int k = 0; k < full; ++k) {
+    auto step = [&](int k) {  // group k, then the recurrences to group k + 1
       acc = acc + blend<KT, KS>(row, ts.off, wt, ws, static_cast<std::size_t>(4 * k)) * (g * c);
       const V cn = c * c4 - s * s4;
       s = c * s4 + s * c4, c = cn;
       g = g * q, q = q * r;
-      if (k == 0) g = g * twice_n0;
+    };
+    if (full > 0) {
+      step(0);
+      g = g * V::set(R(2), R(1), R(1), R(1));  // from n = 4 on, lane 0 carries the factor 2 too
     }
+    for (int k = 1; k < full; ++k) step(k);
     if (count % 4) {  // a stored count that is not a multiple of 4: the last group in part
       T tail[KT][KS][4] = {};
       const T* trow[KT];
@@ -313,7 +315,7 @@ class FourierNp {
   // both cells are interior and no snap to a node applies (the same operations as
   // FixedAxis::locate per lane), else each by FixedAxis::taps (ends, snaps). Linear axes fill two.
   template <int KT, int KS>
-  HAIRLUT_SAMPLER_INLINE void locate(R xt, R xs, FixedTaps<R>& tt, FixedTaps<R>& ts) const {
+  HAIRLUT_SAMPLER_INLINE void locate(R xt, R xs, FixedTaps<R>& tt, FixedTaps<R>& ts, detail::Vec4<R>* wt, detail::Vec4<R>* ws) const {
     using V = detail::Vec4<R>;
     V sv = (V::set(xt, xs, R(0), R(0)) - lane_t0_) * lane_scale_ + lane_offset_;
     sv = V::max(V::min(sv, lane_top_), V::all(R(0)));
@@ -322,22 +324,17 @@ class FourierNp {
     // Interior: first ≤ s < last (cubic: 1 ≤ i ≤ count − 3; linear: i ≤ count − 2); no snap.
     if (((V::greater(lane_first_, sv) | (V::greater(lane_last_, sv) ^ 15) | V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_)) & 3) != 0) {
       tt = theta_.taps(xt), ts = sigma_.taps(xs);
+      for (int k = 0; k < KT; ++k) wt[k] = V::all(tt.w[k]);
+      for (int k = 0; k < KS; ++k) ws[k] = V::all(ts.w[k]);
       return;
     }
+    // Catmull–Rom (FixedAxis::catmull_rom) or linear weights, each lane's broadcast from its register.
     const V f2 = f * f, f3 = f2 * f, h = V::all(R(0.5));
     const V w[4] = {h * ((V::all(R(2)) * f2 - f3) - f), h * ((V::all(R(3)) * f3 - V::all(R(5)) * f2) + V::all(R(2))),
                     h * ((V::all(R(-3)) * f3 + V::all(R(4)) * f2) + f), h * (f3 - f2)};
-    fill<KT, 0>(tt, w, f, i[0], theta_.stride());
-    fill<KS, 1>(ts, w, f, i[1], sigma_.stride());
-  }
-  template <int K, int L>
-  static HAIRLUT_SAMPLER_INLINE void fill(FixedTaps<R>& t, const detail::Vec4<R>* w, const detail::Vec4<R>& f, int i, std::size_t stride) {
-    if constexpr (K == 4) {
-      for (int k = 0; k < 4; ++k) t.w[k] = w[k].template lane<L>().lane0(), t.off[k] = static_cast<std::size_t>(i - 1 + k) * stride;
-    } else {
-      const R x = f.template lane<L>().lane0();
-      t.w[0] = R(1) - x, t.w[1] = x, t.off[0] = static_cast<std::size_t>(i) * stride, t.off[1] = static_cast<std::size_t>(i + 1) * stride;
-    }
+    const V lin[2] = {V::all(R(1)) - f, f};
+    for (int k = 0; k < KT; ++k) wt[k] = (KT == 4 ? w[k] : lin[k]).template lane<0>(), tt.off[k] = static_cast<std::size_t>(i[0] - (KT == 4) + k) * theta_.stride();
+    for (int k = 0; k < KS; ++k) ws[k] = (KS == 4 ? w[k] : lin[k]).template lane<1>(), ts.off[k] = static_cast<std::size_t>(i[1] - (KS == 4) + k) * sigma_.stride();
   }
 
   // The terms a lookup at β sums (β ≥ β_min): from bins of u = β_min/β, each holding the count of
