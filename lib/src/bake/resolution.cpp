@@ -228,6 +228,10 @@ ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta,
   return plan;
 }
 
+// Probe slabs of the Fourier plan: its axis errors are those of the narrowest detectors on the
+// caustics, which few random slabs miss (and a Fourier table is cheap to probe: two axes).
+constexpr int kFourierProbes = 96;
+
 FourierResolutionPlan plan_fourier_resolution(const FourierNpConfig& bounds, double eta, AbsorptionPath path, int lobes, double target,
                                               std::size_t max_entries) {
   if (!(target > 0.0 && target < 0.5)) throw_domain_error("tables.np.target_error", "must lie in (0, 0.5)", target);
@@ -244,7 +248,7 @@ FourierResolutionPlan plan_fourier_resolution(const FourierNpConfig& bounds, dou
   phi.name = "phi", phi.units = "rad", phi.wrap = Wrap::even, phi.lo = 0.0, phi.hi = kPi, phi.count = 2;
   GridAxis& theta = f.axes[0];
   GridAxis& sigma = f.axes[1];
-  const AxisErrorProbe probe({beta, sigma, theta, phi}, eta, path, lobes, 24, AxisErrorProbe::Nodes::over_least_absorption);
+  const AxisErrorProbe probe({beta, sigma, theta, phi}, eta, path, lobes, kFourierProbes, AxisErrorProbe::Nodes::over_least_absorption);
   std::map<std::string, double> slopes;
   plan.axis_error["theta_d"] = choose_count(theta, [&](int count) { return probe.error(2, count); }, share, slopes);
   plan.axis_error["sigma_a"] = sigma.count > 1 || sigma.lo < sigma.hi ? choose_count(sigma, [&](int count) { return probe.error(1, count); }, share, slopes)
