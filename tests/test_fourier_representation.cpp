@@ -411,5 +411,5 @@ TEST_CASE("Fourier: target_error chooses the Fourier tables where they are the f
   CHECK(t->axes[1].count == r["counts"]["sigma_a"].get<int>());
   CHECK(t->axes[2].count == r["counts"]["terms"].get<int>());
   CHECK(t->size() == r["entries_per_lobe"].get<std::size_t>());
-  CHECK(set.metadata["resolution"]["achieved_error"] == r["achieved_error"]);
+  CHECK(set.metadata["resolution"]["achieved_error"].get<double>() == r["achieved_error"].get<double>());
 }
