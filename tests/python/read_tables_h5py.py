@@ -44,7 +44,7 @@ with h5py.File(h5_path, "r") as f:
         data = ds[()]
         assert np.all(np.isfinite(data)), table["path"]
         # Shifts (dual scattering) are signed; spectral transmittance is negative out of the sRGB gamut; sampling
-        # prefix integrals integrate an unclamped interpolant.
-        assert table["quantity"] in ("shift", "transmittance", "sampling_cdf") or np.all(data >= 0), table["path"]
+        # prefix integrals integrate an unclamped interpolant; cosine-series coefficients are signed.
+        assert table["quantity"] in ("shift", "transmittance", "sampling_cdf", "fourier_coefficient") or np.all(data >= 0), table["path"]
         count += 1
 print(f"h5py {h5py.__version__}: {count} tables with dimension scales read from {h5_path}")

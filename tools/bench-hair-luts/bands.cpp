@@ -1,5 +1,6 @@
-// Section "bands": the lookup cost of N_p baked in β bands (tables/configs/generic-1e-3.json,
-// beta_bands.hpp) against a plain multilinear 4D lookup in the same sampler. The banded lookup is
+// Section "bands": the lookup cost of N_p baked in β bands (beta_bands.hpp; the banded layout below,
+// shipped as tables/configs/generic-1e-3.json until the Fourier representation replaced it there)
+// against a plain multilinear 4D lookup in the same sampler. The banded lookup is
 // what a renderer does per call: pick the band of β, the band table's cubic reconstruction on every
 // axis (4^4 taps), times the energy factor's 2D lookup (sampler::HairTables::np_value). The plain
 // lookup reads the same band-0 table with every axis linear (2^4 taps) and no factor. Both in float
@@ -32,12 +33,34 @@ namespace {
 
 using namespace hairlut;
 
-// The 1-, 5- and 15-minute load averages (/proc/loadavg), or "" where there is none.
-std::string load_average() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  if (!(f >> a >> b >> c)) return "";
-  return a + " " + b + " " + c;
+// N_p over the generic domain in four β bands (2–3°, 3–5°, 5–10°, 10–30°): the shape N_p / E_p,
+// cubic on every axis, √σa mirrored at 0; 3.73 M N_p entries per lobe over the bands and energy
+// tables of 200 √σa × 283 cos θd nodes (tables/configs/generic-1e-3.json before it took the
+// Fourier representation).
+nlohmann::json banded_config() {
+  return nlohmann::json::parse(R"({
+    "name": "generic-1e-3-bands",
+    "model": "deon2011",
+    "fiber": { "eta": 1.55 },
+    "lobes": { "explicit": ["R", "TT", "TRT", "TRRT"], "residual": true },
+    "quadrature": { "method": "fourier", "tolerance": 1e-12 },
+    "tables": { "np": {
+      "normalize": "energy",
+      "axes": {
+        "beta": {"count": 4, "range_deg": [2, 30], "spacing": "log", "interpolation": "cubic"},
+        "sigma_a": {"count": 10, "range": [0, 10], "spacing": "sqrt", "interpolation": "cubic", "lo_end": "mirror"},
+        "theta_d": {"count": 224, "range_deg": [0, 89], "spacing": "uniform", "interpolation": "cubic"},
+        "phi": {"count": 232, "interpolation": "cubic"} },
+      "beta_bands": [
+        {"beta": {"count": 4, "range_deg": [2, 3], "spacing": "log", "interpolation": "cubic"}, "theta_d": {"count": 224}, "phi": {"count": 232}},
+        {"beta": {"count": 4, "range_deg": [3, 5], "spacing": "log", "interpolation": "cubic"}, "theta_d": {"count": 140}, "phi": {"count": 154}},
+        {"beta": {"count": 5, "range_deg": [5, 10], "spacing": "log", "interpolation": "cubic"}, "theta_d": {"count": 84}, "phi": {"count": 112}},
+        {"beta": {"count": 9, "range_deg": [10, 30], "spacing": "log", "interpolation": "cubic"}, "theta_d": {"count": 56}, "phi": {"count": 64}} ],
+      "energy_axes": {
+        "sigma_a": {"count": 200, "range": [0, 10], "spacing": "sqrt", "interpolation": "cubic", "lo_end": "mirror"},
+        "theta_d": {"count": 283, "range_deg": [0, 89], "spacing": "cos", "interpolation": "cubic"} } } },
+    "output": { "directory": ".", "basename": "generic-1e-3-bands", "formats": ["hdf5"] }
+  })");
 }
 
 struct Points {
@@ -146,9 +169,9 @@ json band_errors(TableSet& set, std::size_t points, int threads) {
 }  // namespace
 
 json bench_bands(const Settings& s) {
-  const std::string config = s.source_dir + "/tables/configs/generic-1e-3.json";
+  const std::string config = "the banded generic-domain layout of bands.cpp";
   log(s.quiet, "bands: baking %s in memory\n", config.c_str());
-  const BakeConfig c = load_config(config);
+  const BakeConfig c = parse_config(banded_config(), "bands", s.out_dir.empty() ? "." : s.out_dir);
   BakeOptions opt;
   const auto t0 = clock_type::now();
   BakeReport report;
@@ -179,7 +202,7 @@ json bench_bands(const Settings& s) {
   const json errors = band_errors(set, error_points, s.max_threads);
   const double error_s = seconds_since(te);
   const std::size_t energy_entries = set.find("np/energy_TRT")->size();
-  json out = {{"config", "tables/configs/generic-1e-3.json"}, {"bake_seconds", bake_s}, {"threads", s.max_threads},
+  json out = {{"config", config}, {"bake_seconds", bake_s}, {"threads", s.max_threads},
               {"entries_per_lobe", entries}, {"energy_factor_entries_per_lobe", energy_entries}, {"bands", bands}, {"lookups", rows},
               {"load_average_before", load_before}, {"load_average_after", load_after}, {"timing", "thread CPU time, best of repeats, one thread"},
               {"sampled_error", errors}, {"sampled_error_seconds", error_s},
@@ -189,7 +212,7 @@ json bench_bands(const Settings& s) {
   std::ostringstream md;
   md << "# N_p in beta bands: lookup cost\n\n";
   if (!load_before.empty()) md << "Load average (1, 5, 15 min) before the timings: " << load_before << "; after: " << load_after << ". Thread CPU time, best of repeats, one thread.\n\n";
-  md << config.substr(s.source_dir.size() + 1) << ": " << entries << " N_p entries per lobe in "
+  md << "The banded layout (bands.cpp): " << entries << " N_p entries per lobe in "
      << bands.size() << " bands (and " << energy_entries << " in the lobe's energy factor table), baked in " << fmt(bake_s) << " s on " << s.max_threads << " threads.\n\n"
      << "| points | arithmetic | banded cubic x factor | ratio | banded, linear along beta and sigma_a, x factor | ratio | plain multilinear |\n"
      << "|---|---|---|---|---|---|---|\n";

@@ -56,6 +56,9 @@ void log(bool quiet, const char* fmt, Args... args) {
 
 std::string fmt(double v, int digits = 3);
 std::string cpu_model();
+/// The 1-, 5- and 15-minute load averages (/proc/loadavg), or "" where there is none: the machine
+/// may be shared, and thread CPU time still grows with what other processes take from the caches.
+std::string load_average();
 
 /// A child process's exit status, wall time, CPU time (user + system) and peak resident memory.
 struct ChildResult {

@@ -140,15 +140,6 @@ std::vector<PbrtVec3> directions(std::size_t n, std::uint64_t seed) {
   return d;
 }
 
-// The 1-, 5- and 15-minute load averages (/proc/loadavg), or "" where there is none: the machine
-// may be shared, and thread CPU time still grows with what other processes take from the caches.
-std::string load_average() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  if (!(f >> a >> b >> c)) return "";
-  return a + " " + b + " " + c;
-}
-
 }  // namespace
 
 json bench_lookup(const Settings& st) {

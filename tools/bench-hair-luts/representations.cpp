@@ -286,7 +286,9 @@ json np_config(const NpCase& c, std::vector<double> beta_deg, double sigma_max, 
   return np;
 }
 
-TableSet bake_json(const json& tables, const std::string& name) {
+}  // namespace
+
+TableSet bake_tables(const json& tables, const std::string& name) {
   json doc = {{"name", name},
               {"model", "deon2011"},
               {"fiber", {{"eta", 1.55}}},
@@ -296,8 +298,6 @@ TableSet bake_json(const json& tables, const std::string& name) {
   const BakeConfig c = parse_config(doc, name, ".");
   return bake(c);
 }
-
-}  // namespace
 
 json bench_representations(bool quick, bool quiet) {
   json rows = json::array();
@@ -325,10 +325,11 @@ json bench_representations(bool quick, bool quiet) {
                                 {"shape-linear", "hairlut shape + multilinear, budget allocated", 12, 1, 128, 170}};
   std::vector<GridAxis> generic_axes;
   std::vector<std::string> generic_lobes;
+  TableSet plain;  // the plain multilinear table of the generic domain: the Fourier lookups' reference
   auto run_np = [&](const NpCase& c, const std::string& domain, std::vector<double> beta_deg, double sigma_max) {
     say(domain + ": " + c.label + " " + std::to_string(c.beta) + "x" + std::to_string(c.sigma) + "x" + std::to_string(c.theta) + "x" +
         std::to_string(c.phi));
-    const TableSet set = bake_json({{"np", np_config(c, beta_deg, sigma_max, quick)}}, "repr");
+    TableSet set = bake_tables({{"np", np_config(c, beta_deg, sigma_max, quick)}}, "repr");
     const auto errors = np_errors(set, 1.55, slabs, 17);
     if (domain == "generic" && generic_axes.empty()) {
       generic_axes = set.find("np/R")->axes;
@@ -348,11 +349,12 @@ json bench_representations(bool quick, bool quiet) {
     add_errors(row, errors);
     row["lookup_ns"] = lookup_ns(set, *set.find("np/TRT"), lookups, 3);
     rows.push_back(row);
+    if (domain == "generic" && c.representation == "multilinear" && c.beta == 16 && c.theta == 64) plain = std::move(set);
   };
   for (const NpCase& c : generic) run_np(c, "generic", {2, 30}, 10.0);
   // The detector's Fourier coefficients C_n(θd, σa) tabulated, β and φ exact, at the same points.
   for (const json& r : fourier_representation_rows(fourier_cases(quick), cached_np_points(generic_axes, generic_lobes, 1.55, slabs, 17),
-                                                   generic_axes, 1.55, lookups, quiet))
+                                                   generic_axes, 1.55, lookups, quiet, plain, quick))
     rows.push_back(r);
   for (const NpCase& c : engine) run_np(c, "engine-np-64^3", {2, 30}, 0.0);
   // Engine budgets: M_p over (β, θi, θr) at HDRP's 64³.
@@ -373,7 +375,7 @@ json bench_representations(bool quick, bool quiet) {
                 {{"beta", axis(c.beta, "range_deg", {2, 30}, rep == "uniform-multilinear" ? "uniform" : "log", cubic ? "cubic" : "")},
                  {"theta_i", axis(c.theta_i, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")},
                  {"theta_r", axis(c.theta_r, "range_deg", {-90, 90}, "uniform", cubic ? "cubic" : "")}}}};
-    const TableSet set = bake_json({{"mp", mp}}, "repr-mp");
+    const TableSet set = bake_tables({{"mp", mp}}, "repr-mp");
     json row = {{"domain", "engine-mp-64^3"},
                 {"representation", rep},
                 {"label", c.label},
@@ -432,14 +434,31 @@ void write_representations(const json& rows, const json& machine, const std::str
   for (const json& r : rows) {
     if (!r.contains("fourier")) continue;
     const json& f4 = r["fourier"];
-    if (!fourier) md << "\nFourier rows (C_n over theta_d x sigma_a, beta and phi exact; terms for beta_min at the tolerance):\n\n";
+    if (!fourier)
+      md << "\nFourier rows (tables.np.representation fourier: C_n / F over theta_d x sigma_a baked by the library, read by "
+            "sampler::FourierNp; beta and phi exact; terms for beta_min = 2 deg at the tolerance, rounded up to 4):\n\n";
     fourier = true;
     const json& tr = f4["truncation_alone"];
     md << "- " << r["label"].get<std::string>() << " " << counts_of(r) << ": stores " << f4["stored"].get<std::string>() << ", "
-       << f4["theta_d_spacing"].get<std::string>() << " theta_d, " << f4["sigma_a_spacing"].get<std::string>() << " sigma_a, "
-       << f4["interpolation"].get<std::string>() << ", tolerance " << f(f4["tolerance"].get<double>()) << "; " << r["bytes"]
-       << " bytes; truncation alone (exact C_n at the point, no table): worst " << f(tr["worst_all"].get<double>()) << ", p99 "
-       << f(tr["p99_all"].get<double>()) << "\n";
+       << f4["theta_d_spacing"].get<std::string>() << " theta_d " << f4["theta_d_interpolation"].get<std::string>() << ", sqrt sigma_a "
+       << f4["sigma_a_interpolation"].get<std::string>() << ", tolerance " << f(f4["tolerance"].get<double>()) << "; " << r["bytes"]
+       << " bytes with the energy tables; truncation alone (exact C_n at the point, no table): worst " << f(tr["worst_all"].get<double>())
+       << ", p99 " << f(tr["p99_all"].get<double>()) << "\n";
+  }
+  for (const json& r : rows) {
+    if (!r.contains("fourier_lookup")) continue;
+    const json& l = r["fourier_lookup"];
+    md << "\nLookup of " << r["label"].get<std::string>() << " " << counts_of(r) << " (np_fourier/TRT, sampler::FourierNp) against a plain "
+       << "multilinear lookup of " << l["multilinear_table"].get<std::string>() << " (sampler::FixedView) in the same run at the same points; "
+       << l["timing"].get<std::string>() << "; load average " << l["load_average_before"].get<std::string>() << " before, "
+       << l["load_average_after"].get<std::string>() << " after:\n\n"
+       << "| points | cache | float: Fourier | float: multilinear | ratio | double: Fourier | double: multilinear | ratio |\n"
+          "|---|---|---|---|---|---|---|---|\n";
+    for (const json& x : l["rows"])
+      md << "| " << x["points"].get<std::string>() << " | " << x["cache"].get<std::string>() << " | " << f(x["float"]["ns_fourier"].get<double>())
+         << " ns | " << f(x["float"]["ns_multilinear"].get<double>()) << " ns | " << f(x["float"]["ratio"].get<double>()) << " | "
+         << f(x["double"]["ns_fourier"].get<double>()) << " ns | " << f(x["double"]["ns_multilinear"].get<double>()) << " ns | "
+         << f(x["double"]["ratio"].get<double>()) << " |\n";
   }
   std::ofstream(out_dir + "/representations.md") << md.str();
   // Pareto plot: entries per lobe against the worst sampled error, one series per representation.

@@ -5,13 +5,12 @@
 #include <cstdint>
 #include <functional>
 #include <hairlut/tables/grid.hpp>
+#include <hairlut/tables/tables.hpp>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
-
-#include "representation_fourier.hpp"
 
 namespace bench {
 
@@ -47,16 +46,26 @@ std::map<std::string, ErrorStats> np_errors(const NpPoints& points, const std::f
 /// Per-lobe worst, p99 and worst point into a result row, and their largest over the lobes.
 void add_errors(nlohmann::ordered_json& row, const std::map<std::string, ErrorStats>& errors);
 
-/// One table of the Fourier representation (representation_fourier.hpp) to measure.
+/// Bakes a d'Eon set of the generic lobes (R, TT, TRT, TRRT, tilts −4°, 2°, 6°, 10°, η 1.55) with the
+/// given "tables" object, in memory.
+hairlut::TableSet bake_tables(const nlohmann::ordered_json& tables, const std::string& name);
+
+/// One table of the Fourier representation (tables.np.representation "fourier") over the generic
+/// domain to measure: counts, each axis's interpolation, θd's spacing, the truncation tolerance.
 struct FourierCase {
   std::string representation, label;
-  FourierTableConfig config;
+  int theta, sigma;
+  std::string theta_interpolation, sigma_interpolation, theta_spacing;
+  double tolerance;
+  bool compare_lookup;  ///< time it against the plain multilinear lookup (float, double; in and out of cache)
 };
 /// The Fourier tables the section measures (quick: one).
 std::vector<FourierCase> fourier_cases(bool quick);
-/// Their rows: errors at `points`, size, lookup ns at random points over `axes` (β, σa, θd, φ), and
-/// the error of the truncation alone (exact C_n at each point, no table).
+/// Their rows: errors at `points`, size, lookup ns at random points over `axes` (β, σa, θd, φ), the
+/// error of the truncation alone (exact C_n at each point, no table), and for the cases that ask,
+/// the lookup against `plain`'s np/TRT read with every axis linear (FixedView) at the same points.
 nlohmann::ordered_json fourier_representation_rows(const std::vector<FourierCase>& cases, const NpPoints& points,
-                                                   const std::vector<hairlut::GridAxis>& axes, double eta, int lookups, bool quiet);
+                                                   const std::vector<hairlut::GridAxis>& axes, double eta, int lookups, bool quiet,
+                                                   const hairlut::TableSet& plain, bool quick);
 
 }  // namespace bench

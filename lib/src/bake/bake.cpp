@@ -85,14 +85,15 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     TableSet set;
     const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
     const bool per_material = c.scene && c.scene->mode == SceneConfig::Mode::per_material;
-    const bool generic_np = c.np_axes && !per_material;
+    const bool generic_np = (c.np_axes || c.np_fourier) && !per_material;
     detail::BakeRun run{&c, opt, precision, slabbed, c.lobe_count, GaussLegendreRule(c.quadrature.energy_order)};
 
     const detail::NpPlan np = detail::plan_np_tables(c, per_material, report, planning_target);  // N_p axes; target_error chooses them
     detail::fold_weak_lobes(run, np, generic_np, report);  // weak lobes join the residual
     report.explicit_lobes = run.lobes;
     describe(c, run, report, precision, set);
-    if (generic_np) detail::bake_generic_np(run, np, set, report);     // N_p over (β, σa, θd, φ), energies, residual
+    if (generic_np && np.fourier) detail::bake_fourier_np(run, np, set, report);  // C_n / F over (θd, σa, n), energies, residual
+    else if (generic_np) detail::bake_generic_np(run, np, set, report);           // N_p over (β, σa, θd, φ), energies, residual
     if (per_material) detail::bake_material_np(run, np, set, report);  // N_p over (channel, θd, φ) per material
     if (c.mp_axes) detail::bake_mp_tables(run, per_material, set, report);
     detail::append_melanin_tables(c, precision, set, report);

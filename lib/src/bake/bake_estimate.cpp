@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/physics/azimuthal_fourier.hpp"
+
 namespace hairlut {
 namespace {
 
@@ -39,6 +41,13 @@ BakeEstimate estimate_bake(const BakeConfig& c) {
       row = std::max(row, grid(*c.np_axes, {"beta"}));
     }
     values = add(values, mul(grid(*c.np_axes, {"phi", "phi_h"}), lobes + (c.residual ? 1 : 0)));  // energies, residual
+  }
+  if (c.np_fourier) {  // the coefficients per explicit lobe; the residual's, the energy and residual tables (energy axes)
+    const FourierNpConfig& f = *c.np_fourier;
+    const auto terms = static_cast<std::uint64_t>((fourier_terms(f.beta_lo, f.tolerance) + 4) / 4 * 4);
+    values = add(values, mul(mul(grid(f.axes), terms), static_cast<std::uint64_t>(std::max(c.lobe_count, 0))));
+    const std::uint64_t energy = c.np_energy_axes ? grid(*c.np_energy_axes) : grid(f.axes);
+    values = add(values, mul(energy, lobes + (c.residual ? 2 : 0)));
   }
   if (c.mp_axes) {
     values = add(values, mul(grid(*c.mp_axes), lobes));

@@ -1,6 +1,6 @@
 // The generic N_p tables: N_p (or its shape N_p / E_p) of every explicit lobe over (β, σa, θd, φ),
-// lobe energies and the residual over (σa, θd); the axes target_error chooses, the lobes folded
-// into the residual, and the grid baker every N_p table shares (bake_np_grid).
+// lobe energies and the residual over (σa, θd), and the grid baker every N_p table shares
+// (bake_np_grid). Their layout (the axes target_error chooses, the folded lobes) is np_plan.cpp's.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -39,18 +39,6 @@ void bake_energies(const BakeRun& s, LobeSet lobes, const std::vector<double>& s
     const std::size_t k = item / thetas.size(), t = item % thetas.size();
     out(k, t, lobe_energies(AttenuationSlice(c.eta, thetas[t], sigmas[k], c.path), lobes, s.energy_rule));
   });
-}
-
-// Largest energy of each explicit lobe over the σa values and θd nodes that will be baked.
-std::vector<double> max_lobe_energies(const BakeConfig& c, const std::vector<double>& sigmas, const std::vector<double>& thetas,
-                                      const GaussLegendreRule& rule) {
-  std::vector<double> best(static_cast<std::size_t>(c.lobe_count), 0.0);
-  for (double s : sigmas)
-    for (double t : thetas) {
-      const auto e = lobe_energies(AttenuationSlice(c.eta, t, s, c.path), {c.lobe_count, false}, rule);
-      for (std::size_t p = 0; p < e.size(); ++p) best[p] = std::max(best[p], e[p]);
-    }
-  return best;
 }
 
 // N_p stored as its shape N_p / E_p when `energy` holds the lobe energies at the (σa, θd) nodes
@@ -261,131 +249,50 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
 
 namespace detail {
 
-NpPlan plan_np_tables(const BakeConfig& c, bool per_material, BakeReport& report, double planning_target) {
-  NpPlan chosen;
-  std::vector<GridAxis>& np_axes = chosen.axes;
-  bool& normalize_energy = chosen.normalize_energy;
-  std::optional<std::vector<GridAxis>>& energy_axes = chosen.energy_axes;
-  if (c.np_axes) np_axes = restricted_np_axes(c, &report.notes);
-  normalize_energy = c.np_normalize_energy;
-  energy_axes = c.np_energy_axes;
-  chosen.bands = c.np_beta_bands;
-  if (c.np_axes && c.np_target_error && !per_material) {
-    const double target = planning_target > 0.0 ? planning_target : *c.np_target_error;
-    // Three representations compete and the fewest entries per lobe win: the axes as configured;
-    // the shape N_p / E_p with cubic interpolation on every axis, σa uniform, and dense energy
-    // tables; and that shape table split into β bands of at most an octave each (beta_bands.hpp),
-    // each band with counts of its own (N_p's θd and φ detail scales as 1/β, so one tensor table
-    // pays the smallest β's density at every β node).
-    std::optional<ResolutionPlan> configured, shape;
-    std::vector<ResolutionPlan> banded;
-    std::size_t banded_entries = 0;
-    try {
-      configured = plan_np_resolution(np_axes, c.eta, c.path, c.lobe_count, target, std::size_t{1} << 31, normalize_energy);
-    } catch (const DomainError&) {
-    }
-    std::vector<GridAxis> cubic = np_axes;
-    for (GridAxis& a : cubic) {
-      if (a.spacing == Spacing::explicit_values) continue;
-      if (a.name == "sigma_a") a.spacing = Spacing::uniform;
-      a.interpolation = Interpolation::cubic;
-    }
-    try {
-      shape = plan_np_resolution(cubic, c.eta, c.path, c.lobe_count, target, std::size_t{1} << 31, true);
-    } catch (const DomainError&) {
-      if (!configured) throw;
-    }
-    const GridAxis& beta = cubic[0];
-    const int band_count = beta.spacing != Spacing::explicit_values && beta.lo > 0.0 && beta.hi > 2.5 * beta.lo && c.np_beta_bands.empty()
-                               ? static_cast<int>(std::ceil(std::log(beta.hi / beta.lo) / std::log(2.0) - 1e-9))
-                               : 0;
-    if (band_count > 1) {
-      try {
-        for (int k = 0; k < band_count; ++k) {
-          std::vector<GridAxis> axes = cubic;
-          for (GridAxis& a : axes)
-            if (a.spacing != Spacing::explicit_values && a.count > 1) a.count = 2;  // the planner raises each count as needed
-          axes[0].placement = Placement::edges;
-          axes[0].lo = k == 0 ? beta.lo : beta.lo * std::pow(beta.hi / beta.lo, static_cast<double>(k) / band_count);
-          axes[0].hi = k + 1 == band_count ? beta.hi : beta.lo * std::pow(beta.hi / beta.lo, static_cast<double>(k + 1) / band_count);
-          banded.push_back(plan_np_resolution(axes, c.eta, c.path, c.lobe_count, target, std::size_t{1} << 31, true));
-          banded_entries += banded.back().entries;
-        }
-      } catch (const DomainError&) {
-        banded.clear();
-      }
-    }
-    const std::size_t none = std::numeric_limits<std::size_t>::max();
-    const std::size_t e_configured = configured ? configured->entries : none, e_shape = shape ? shape->entries : none,
-                      e_banded = banded.empty() ? none : banded_entries;
-    const bool use_bands = e_banded < e_shape && e_banded < e_configured;
-    const bool use_shape = !use_bands && e_shape < e_configured;
-    const ResolutionPlan& plan = use_bands ? banded.front() : use_shape ? *shape : *configured;
-    if ((use_shape || use_bands) && !normalize_energy) {
-      normalize_energy = true;
-      if (!energy_axes) {
-        GridAxis es = axis_named(np_axes, "sigma_a"), et = axis_named(np_axes, "theta_d");
-        es.spacing = Spacing::uniform, es.count = std::max(es.count, 128), es.interpolation = Interpolation::geometric;
-        et.count = std::max(et.count, 512), et.interpolation = Interpolation::cubic;
-        if (es.lo == es.hi) es.count = 1, es.interpolation = Interpolation::linear;
-        energy_axes = std::vector<GridAxis>{es, et};
-      }
-    }
-    np_axes = plan.axes;
-    const std::size_t entries = use_bands ? banded_entries : plan.entries;
-    double predicted = plan.predicted_error;
-    if (use_bands)
-      for (const ResolutionPlan& b : banded) predicted = std::max(predicted, b.predicted_error);
-    report.resolution = {{"target_error", *c.np_target_error},
-                         {"predicted_error", predicted},
-                         {"entries_per_lobe", entries},
-                         {"representation", use_bands    ? "shape N_p / E_p, cubic, " + std::to_string(band_count) + " beta bands"
-                                            : use_shape ? std::string("shape N_p / E_p, cubic")
-                                                        : std::string("as configured")},
-                         {"planned_for", target}};
-    if (configured) report.resolution["entries_as_configured"] = configured->entries;
-    if (shape) report.resolution["entries_shape_cubic"] = shape->entries;
-    if (!banded.empty()) report.resolution["entries_beta_bands"] = banded_entries;
-    for (const GridAxis& a : np_axes) {
-      report.resolution["counts"][a.name] = a.count;
-      report.resolution["predicted_axis_error"][a.name] = plan.axis_error.at(a.name);
-    }
-    std::string counts;
-    if (use_bands) {
-      report.resolution["bands"] = json::array();
-      for (const ResolutionPlan& b : banded) {
-        chosen.bands.push_back(BetaBand{b.axes});
-        json band = {{"range_deg", {b.axes[0].lo * 180.0 / kPi, b.axes[0].hi * 180.0 / kPi}}, {"entries_per_lobe", b.entries}};
-        for (const GridAxis& a : b.axes) band["counts"][a.name] = a.count;
-        report.resolution["bands"].push_back(band);
-        counts += (counts.empty() ? "" : "; ") + std::to_string(b.axes[0].count) + " x " + std::to_string(b.axes[1].count) + " x " +
-                  std::to_string(b.axes[2].count) + " x " + std::to_string(b.axes[3].count);
-      }
-    } else {
-      counts = "beta " + std::to_string(np_axes[0].count) + ", sigma_a " + std::to_string(np_axes[1].count) + ", theta_d " +
-               std::to_string(np_axes[2].count) + ", phi " + std::to_string(np_axes[3].count);
-    }
-    report.notes.push_back("target_error " + std::to_string(*c.np_target_error) + ": " + report.resolution["representation"].get<std::string>() +
-                           ", counts " + counts + " (" + std::to_string(entries) + " entries per lobe)");
+namespace {
+
+// The energy and residual tables over `axes` (σa, θd), without values.
+void append_energy_tables(const BakeRun& s, const std::vector<GridAxis>& axes, TableSet& set) {
+  const BakeConfig& c = *s.config;
+  const LobeSet lobe_set{s.lobes, c.residual};
+  for (int p = 0; p < lobe_set.size(); ++p) {
+    const bool res = p == s.lobes;
+    const std::string lobe = res ? "residual" : lobe_name(p);
+    Table t = make_table("np", "energy_" + lobe, "energy", "1",
+                         "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : ""),
+                         axes, s.precision);
+    t.attributes = {{"lobe", lobe}, {"p", p}};
+    set.tables.push_back(std::move(t));
   }
-  return chosen;
+  if (c.residual) {
+    Table t = make_table("np", "residual", "N_p", "1/rad",
+                         "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)",
+                         axes, s.precision);
+    t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
+    set.tables.push_back(std::move(t));
+  }
 }
 
-void fold_weak_lobes(BakeRun& s, const NpPlan& plan, bool generic_np, BakeReport& report) {
+// The values of the energy and residual tables that start at set.tables[first].
+void bake_energy_values(const BakeRun& s, std::size_t first, TableSet& set, BakeReport& report) {
   const BakeConfig& c = *s.config;
-  const std::vector<GridAxis>& np_axes = plan.axes;
-  if (c.np_axes && c.fold_below > 0.0) {
-    std::vector<double> sigmas;
-    if (generic_np) sigmas = axis_named(np_axes, "sigma_a").nodes();
-    else
-      for (const MaterialConfig& m : c.scene->materials) sigmas.insert(sigmas.end(), m.sigma_a.begin(), m.sigma_a.end());
-    const auto best = max_lobe_energies(c, sigmas, axis_named(np_axes, "theta_d").nodes(), s.energy_rule);
-    while (s.lobes > 1 && best[static_cast<std::size_t>(s.lobes - 1)] < c.fold_below) {
-      report.folded.push_back({lobe_name(s.lobes - 1), best[static_cast<std::size_t>(s.lobes - 1)]});
-      --s.lobes;
-    }
-    std::reverse(report.folded.begin(), report.folded.end());
-  }
+  const LobeSet lobe_set{s.lobes, c.residual};
+  const std::vector<GridAxis>& axes = set.tables[first].axes;
+  const std::vector<double> sigmas = axes[0].nodes(), thetas = axes[1].nodes();
+  const std::size_t nt = thetas.size(), residual_index = first + static_cast<std::size_t>(lobe_set.size());
+  bake_energies(s, lobe_set, sigmas, thetas, s.options, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
+    for (std::size_t p = 0; p < e.size(); ++p) set.tables[first + p].set(is * nt + it, e[p]);
+    if (c.residual) set.tables[residual_index].set(is * nt + it, e.back() / kTwoPi);
+  });
+  report.entries += static_cast<std::size_t>(lobe_set.size()) * sigmas.size() * nt;
+}
+
+}  // namespace
+
+void bake_energy_tables(const BakeRun& run, const std::vector<GridAxis>& axes, TableSet& set, BakeReport& report) {
+  const std::size_t first = set.tables.size();
+  append_energy_tables(run, axes, set);
+  bake_energy_values(run, first, set, report);
 }
 
 void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report) {
@@ -397,7 +304,6 @@ void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
   const std::vector<GridAxis>& np_axes = plan.axes;
   const bool normalize_energy = plan.normalize_energy;
   const std::optional<std::vector<GridAxis>>& energy_axes = plan.energy_axes;
-  const LobeSet lobe_set{s.lobes, c.residual};
   const std::shared_ptr<GaussLegendreCache>& rules = run.rules;
   std::size_t& unconverged = run.unconverged;
   const std::vector<double> betas = axis_named(np_axes, "beta").nodes(), sigmas = axis_named(np_axes, "sigma_a").nodes(),
@@ -406,7 +312,6 @@ void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
   // (they are small, so they may be denser than N_p's).
   std::vector<GridAxis> st_axes = {axis_named(np_axes, "sigma_a"), axis_named(np_axes, "theta_d")};
   if (energy_axes) st_axes = *energy_axes;
-  const std::vector<double> energy_sigmas = st_axes[0].nodes(), energy_thetas = st_axes[1].nodes();
   const std::size_t first = set.tables.size();
   for (int p = 0; p < s.lobes; ++p) {
     const std::string lobe = lobe_name(p);
@@ -428,25 +333,9 @@ void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
       for (int p = 0; p < s.lobes; ++p) node_energy[(static_cast<std::size_t>(p) * ns + is) * nt + it] = e[static_cast<std::size_t>(p)];
     });
   }
+  // The energy and residual tables follow the N_p tables in the set (their values are baked below).
   const std::size_t energy_first = set.tables.size();
-  for (int p = 0; p < lobe_set.size(); ++p) {
-    const bool res = p == s.lobes;
-    const std::string lobe = res ? "residual" : lobe_name(p);
-    Table t = make_table("np", "energy_" + lobe, "energy", "1",
-                         "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : ""),
-                         st_axes, precision);
-    t.attributes = {{"lobe", lobe}, {"p", p}};
-    set.tables.push_back(std::move(t));
-  }
-  std::size_t residual_index = 0;
-  if (c.residual) {
-    Table t = make_table("np", "residual", "N_p", "1/rad",
-                         "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)",
-                         st_axes, precision);
-    t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
-    residual_index = set.tables.size();
-    set.tables.push_back(std::move(t));
-  }
+  append_energy_tables(run, st_axes, set);
   const std::size_t nb = betas.size(), nphi = phis.size();
   if (c.quadrature.method == NpQuadratureConfig::Method::fourier && !PeriodicGrid::why_not(phis).empty())
     report.notes.push_back("N_p: " + PeriodicGrid::why_not(phis));
@@ -463,12 +352,8 @@ void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
                                                                                       np_shape(node_energy, p, ns, nt, is, it, v));
                                 });
   }
-  const std::size_t ent = energy_thetas.size();
-  bake_energies(s, lobe_set, energy_sigmas, energy_thetas, opt, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
-    for (std::size_t p = 0; p < e.size(); ++p) set.tables[energy_first + p].set(is * ent + it, e[p]);
-    if (c.residual) set.tables[residual_index].set(is * ent + it, e.back() / kTwoPi);
-  });
-  report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt + static_cast<std::size_t>(lobe_set.size()) * energy_sigmas.size() * ent;
+  report.entries += nb * nphi * static_cast<std::size_t>(s.lobes) * ns * nt;
+  bake_energy_values(run, energy_first, set, report);
   // β bands 1 … n − 1 (beta_bands.cpp); the tables above are band 0.
   if (!plan.bands.empty()) append_beta_band_tables(c, plan.bands, s.lobes, normalize_energy, precision, opt, set, report);
 }

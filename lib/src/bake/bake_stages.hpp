@@ -33,6 +33,9 @@ struct NpPlan {
   bool normalize_energy = false;
   std::optional<std::vector<GridAxis>> energy_axes;
   std::vector<BetaBand> bands;  ///< β bands (the config's, or target_error's choice); empty: none
+  /// Set when N_p is baked in the Fourier representation (the config's, or target_error's choice);
+  /// axes is then empty and energy_axes (if unset) defaults to the coefficients' σa and θd axes.
+  std::optional<FourierNpConfig> fourier;
 };
 
 // target_error plans for `planning_target` (the config's target, or a smaller one when a first bake
@@ -42,6 +45,12 @@ NpPlan plan_np_tables(const BakeConfig& config, bool per_material, BakeReport& r
 // the residual (run.lobes decreases; report.folded lists them).
 void fold_weak_lobes(BakeRun& run, const NpPlan& plan, bool generic_np, BakeReport& report);
 void bake_generic_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report);
+// The Fourier N_p tables np_fourier/<lobe> and np_fourier/residual (bake_fourier.cpp), with the
+// energy and residual tables of the tensor representation.
+void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report);
+// The lobe energies np/energy_<lobe>, np/energy_residual and the residual np/residual over (σa, θd)
+// (bake_np.cpp): the tables both representations share.
+void bake_energy_tables(const BakeRun& run, const std::vector<GridAxis>& axes, TableSet& set, BakeReport& report);
 void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report);
 void bake_mp_tables(const BakeRun& run, bool per_material, TableSet& set, BakeReport& report);
 

@@ -30,6 +30,8 @@ std::string_view to_string(NpQuadratureConfig::Method method) {
   }
 }
 
+std::string_view to_string(NpRepresentation r) { return r == NpRepresentation::fourier ? "fourier" : "tensor"; }
+
 namespace {
 
 using nlohmann::json;
@@ -96,7 +98,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   if (tables.contains("engine")) c.engine = parse_engine(tables.at("engine"), names);
 
   if (doc.contains("scene")) parse_scene(doc, c);
-  if (!c.np_axes && !c.mp_axes && !c.melanin_axes && !c.dual_scattering && !c.engine)
+  if (!c.np_axes && !c.np_fourier && !c.mp_axes && !c.melanin_axes && !c.dual_scattering && !c.engine)
     fail("tables", "must ask for at least one table (np, mp, melanin, dual_scattering or engine)");
 
   if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", json::object());
@@ -111,6 +113,9 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   const json exr = out.value("exr", json::object());
   c.output.exr_half = exr.value("precision", std::string("float")) == "half";
   c.output.exr_compression = exr.value("compression", std::string("zip"));
+  if (c.np_fourier && c.output.exr)
+    fail("output.formats", "exr: the Fourier N_p tables (tables.np.representation fourier) are written to HDF5 only (OpenEXR has no "
+                           "layout for them); remove \"exr\"");
   if (out.contains("sampling_data")) {
     if (!out.at("sampling_data").is_boolean()) fail("output.sampling_data", "must be true or false");
     c.output.sampling_data = out.at("sampling_data").get<bool>();
@@ -137,8 +142,18 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
                        {"energy_order", c.quadrature.energy_order}};
   }
   json t = json::object();
+  if (c.np_fourier) {
+    const FourierNpConfig& f = *c.np_fourier;
+    t["np"] = {{"representation", "fourier"},
+               {"axes", axes_json(f.axes)},
+               {"fourier", {{"beta_range", {f.beta_lo, f.beta_hi}}, {"tolerance", f.tolerance}}}};
+    if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
+    if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);
+  }
   if (c.np_axes) {
     t["np"] = {{"axes", axes_json(*c.np_axes)}};
+    // Recorded only when given, so that configs without it keep their hash.
+    if (c.np_representation) t["np"]["representation"] = to_string(*c.np_representation);
     if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
     if (c.np_normalize_energy) t["np"]["normalize"] = "energy";
     if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);

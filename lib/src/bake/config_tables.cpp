@@ -13,7 +13,77 @@
 
 namespace hairlut::detail::config_parse {
 
+namespace {
+
+// tables.np.energy_axes: sigma_a and theta_d of the energy and residual tables (each defaults to the
+// N_p axis), covering the N_p axes' ranges.
+std::vector<GridAxis> energy_axes(const json& ea, const GridAxis& sigma, const GridAxis& theta) {
+  const std::string eq = "tables.np.energy_axes.";
+  GridAxis es = sigma, et = theta;
+  if (ea.contains("sigma_a"))
+    es = make_axis(ea.at("sigma_a"), eq + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
+  if (ea.contains("theta_d"))
+    et = make_axis(ea.at("theta_d"), eq + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                   "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+  if (es.lo > sigma.lo || es.hi < sigma.hi) fail(eq + "sigma_a", "must cover the N_p axis's range (the energies multiply every N_p value)");
+  if (et.lo > theta.lo || et.hi < theta.hi) fail(eq + "theta_d", "must cover the N_p axis's range (the energies multiply every N_p value)");
+  std::vector<GridAxis> axes{es, et};
+  checked([&] { validate_interpolation(axes, "tables.np.energy_axes"); });
+  return axes;
+}
+
+// tables.np with representation "fourier": the β range (no nodes: β is exact), the σa and θd axes
+// of the coefficients, the truncation tolerance; no φ axis (φ is exact), no bands or shape.
+void parse_fourier_np(const json& doc, const json& np, BakeConfig& c) {
+  const json& ax = np.at("axes");
+  const std::string p = "tables.np.axes.";
+  const std::string r = "tables.np.representation";
+  if (c.marschner) fail(r, "fourier applies to model deon2011 only");
+  if (doc.contains("scene")) fail(r, "fourier applies to generic tables (not to a scene)");
+  for (const char* key : {"beta_bands", "normalize"})
+    if (np.contains(key)) fail(std::string("tables.np.") + key, "does not apply to representation fourier (beta and phi are exact)");
+  if (ax.contains("phi")) fail(p + "phi", "does not apply to representation fourier (phi is exact): remove this axis");
+  for (const char* key : {"beta", "sigma_a", "theta_d"})
+    if (!ax.contains(key)) fail("tables.np.axes", std::string("missing required key \"") + key + "\" (representation fourier)");
+  if (c.quadrature.method != NpQuadratureConfig::Method::fourier)
+    fail("quadrature.method", "must be fourier for tables.np.representation fourier (its coefficients are the Fourier method's C_n)");
+  FourierNpConfig f;
+  // β: a range only; its lower end fixes the terms stored, the range is what the tables are validated over.
+  const json& b = ax.at("beta");
+  const bool deg = b.contains("range_deg");
+  const auto range = b.at(deg ? "range_deg" : "range").get<std::vector<double>>();
+  json bj = {{deg ? "range_deg" : "range", range}, {"count", range[0] == range[1] ? 1 : 2}, {"spacing", "log"}};
+  const GridAxis beta = make_axis(bj, p + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)");
+  f.beta_lo = beta.lo, f.beta_hi = beta.hi;
+  const GridAxis sigma = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
+  const GridAxis theta = make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                                   "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+  if (sigma.spacing != Spacing::uniform && sigma.spacing != Spacing::sqrt) fail(p + "sigma_a.spacing", "must be uniform or sqrt for representation fourier");
+  if (theta.spacing != Spacing::uniform && theta.spacing != Spacing::cos) fail(p + "theta_d.spacing", "must be uniform or cos for representation fourier");
+  if (sigma.interpolation == Interpolation::geometric || theta.interpolation == Interpolation::geometric)
+    fail(p + (sigma.interpolation == Interpolation::geometric ? "sigma_a" : "theta_d") + ".interpolation",
+         "must be linear or cubic for representation fourier (the coefficients change sign)");
+  f.axes = {theta, sigma};
+  const json fj = np.value("fourier", json::object());
+  f.tolerance = get_number(fj, "tolerance", 1e-4);
+  if (!(f.tolerance > 0.0 && f.tolerance <= 0.1)) fail("tables.np.fourier.tolerance", "must lie in (0, 0.1] (got " + json(f.tolerance).dump() + ")");
+  c.np_fourier = f;
+  if (np.contains("energy_axes")) c.np_energy_axes = energy_axes(np.at("energy_axes"), sigma, theta);
+}
+
+}  // namespace
+
 void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
+  const json& np_json = tables.at("np");
+  if (np_json.contains("representation"))
+    c.np_representation = np_json.at("representation").get<std::string>() == "fourier" ? NpRepresentation::fourier : NpRepresentation::tensor;
+  if (np_json.contains("fourier") && c.np_representation != NpRepresentation::fourier)
+    fail("tables.np.fourier", "applies to representation fourier only (set tables.np.representation to \"fourier\")");
+  if (np_json.contains("target_error")) {
+    if (c.marschner) fail("tables.np.target_error", "applies to model deon2011 only");
+    c.np_target_error = np_json.at("target_error").get<double>();
+  }
+  if (c.np_representation == NpRepresentation::fourier) return parse_fourier_np(doc, np_json, c);
   const json& ax = tables.at("np").at("axes");
   const std::string p = "tables.np.axes.";
   // Per-material scenes take sigma_a and beta from their materials; generic tables need them.
@@ -32,10 +102,6 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
   if (ax.contains("sigma_a"))
     sigma_axis = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius",
                            "absorption coefficient per unit fiber radius");
-  if (tables.at("np").contains("target_error")) {
-    if (c.marschner) fail("tables.np.target_error", "applies to model deon2011 only");
-    c.np_target_error = tables.at("np").at("target_error").get<double>();
-  }
   const GridAxis theta_axis = make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
                                         "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
   if (c.marschner) {
@@ -66,20 +132,7 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
   }
   if (np.contains("energy_axes")) {
     if (c.marschner || per_material) fail("tables.np.energy_axes", "applies to generic deon2011 N_p tables only");
-    const json& ea = np.at("energy_axes");
-    const std::string eq = "tables.np.energy_axes.";
-    GridAxis es = sigma_axis, et = theta_axis;
-    if (ea.contains("sigma_a"))
-      es = make_axis(ea.at("sigma_a"), eq + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
-    if (ea.contains("theta_d"))
-      et = make_axis(ea.at("theta_d"), eq + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
-                     "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
-    if (es.lo > sigma_axis.lo || es.hi < sigma_axis.hi)
-      fail(eq + "sigma_a", "must cover the N_p axis's range (the energies multiply every N_p value)");
-    if (et.lo > theta_axis.lo || et.hi < theta_axis.hi)
-      fail(eq + "theta_d", "must cover the N_p axis's range (the energies multiply every N_p value)");
-    c.np_energy_axes = std::vector<GridAxis>{es, et};
-    checked([&] { validate_interpolation(*c.np_energy_axes, "tables.np.energy_axes"); });
+    c.np_energy_axes = energy_axes(np.at("energy_axes"), sigma_axis, theta_axis);
   }
   if (np.contains("beta_bands")) {  // β bands (beta_bands.cpp): band 0 becomes the N_p axes
     if (c.marschner || doc.contains("scene") || c.np_target_error)

@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "hairlut/util/angles.hpp"
+#include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/bake/bake.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
 #include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/bake/table_truth.hpp"
+#include "hairlut/tables/fourier_tables.hpp"
 
 namespace hairlut {
 namespace {
@@ -38,7 +41,10 @@ double draw(const GridAxis& a, std::uint64_t& state) {
 }  // namespace
 
 AxisErrorProbe::AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes, bool normalize_energy)
-    : axes_(std::move(axes)), eta_(eta), path_(path), lobes_(std::min(lobes, 4)), normalize_(normalize_energy),
+    : AxisErrorProbe(std::move(axes), eta, path, lobes, probes, normalize_energy ? Nodes::shape : Nodes::n_p) {}
+
+AxisErrorProbe::AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes, Nodes nodes)
+    : axes_(std::move(axes)), eta_(eta), path_(path), lobes_(std::min(lobes, 4)), nodes_(nodes),
       rules_(std::make_shared<GaussLegendreCache>()), energy_rule_(std::make_shared<GaussLegendreRule>(128)) {
   if (axes_.size() != 4 || axes_[0].name != "beta" || axes_[1].name != "sigma_a" || axes_[2].name != "theta_d" || axes_[3].name != "phi")
     throw DomainError("the N_p resolution needs the axes beta, sigma_a, theta_d, phi");
@@ -67,7 +73,7 @@ AxisErrorProbe::AxisErrorProbe(std::vector<GridAxis> axes, double eta, Absorptio
         sl.scale[static_cast<std::size_t>(p)][b] = std::max(peak, 1e-3 * white);
         for (std::size_t j = 0; j < kPhis; ++j) sl.truth[static_cast<std::size_t>(p)][b][j] = v[index(p, 0, 0, b, j, 2, 1, kBetas, np)];
       }
-    if (normalize_) sl.energy = energies(sl.sigma, sl.theta);
+    if (nodes_ != Nodes::n_p) sl.energy = divisors(sl.sigma, sl.theta);
     slabs_.push_back(sl);
   }
 }
@@ -94,8 +100,12 @@ std::vector<double> AxisErrorProbe::exact_lists(const std::vector<double>& betas
   return out;
 }
 
-std::vector<double> AxisErrorProbe::energies(double sigma, double theta) const {
-  return lobe_energies(AttenuationSlice(eta_, theta, sigma, path_), LobeSet{lobes_, false}, *energy_rule_);
+std::vector<double> AxisErrorProbe::divisors(double sigma, double theta) const {
+  const AttenuationSlice slice(eta_, theta, sigma, path_);
+  if (nodes_ == Nodes::shape) return lobe_energies(slice, LobeSet{lobes_, false}, *energy_rule_);
+  std::vector<double> f;
+  for (int p = 0; p < lobes_; ++p) f.push_back(least_absorption(slice, p));
+  return f;
 }
 
 double AxisErrorProbe::error(std::size_t k, int count) const {
@@ -119,10 +129,12 @@ double AxisErrorProbe::error(std::size_t k, int count) const {
     std::vector<double> betas(sl.betas.begin(), sl.betas.end()), sigmas = {sl.sigma}, thetas = {sl.theta}, phis(sl.phis.begin(), sl.phis.end());
     (k == 0 ? betas : k == 1 ? sigmas : k == 2 ? thetas : phis) = nodes;
     const auto v = exact_lists(betas, sigmas, thetas, phis);
-    // Energies at the nodes (normalized tables interpolate N_p / E_p, then multiply by E_p here).
+    // Divisors at the nodes (a shape table interpolates N_p / E_p, the Fourier coefficients N_p / F;
+    // then multiplied by E_p or F at the point here).
+    const bool normalize = nodes_ != Nodes::n_p;
     std::vector<std::vector<double>> node_energy;
-    if (normalize_)
-      for (double x : nodes) node_energy.push_back(k == 1 ? energies(x, sl.theta) : k == 2 ? energies(sl.sigma, x) : sl.energy);
+    if (normalize)
+      for (double x : nodes) node_energy.push_back(k == 1 ? divisors(x, sl.theta) : k == 2 ? divisors(sl.sigma, x) : sl.energy);
     for (int p = 0; p < lobes_; ++p)
       for (std::size_t b = 0; b < kBetas; ++b)
         for (std::size_t j = 0; j < kPhis; ++j) {
@@ -134,7 +146,7 @@ double AxisErrorProbe::error(std::size_t k, int count) const {
             const std::size_t node = first + static_cast<std::size_t>(m);
             const std::size_t bi = k == 0 ? node : b, ji = k == 3 ? node : j, si = k == 1 ? node : 0, ti = k == 2 ? node : 0;
             double val = v[index(p, si, ti, bi, ji, sigmas.size(), thetas.size(), betas.size(), phis.size())];
-            if (normalize_) {
+            if (normalize) {
               const double e = node_energy[node][static_cast<std::size_t>(p)];
               val = e > 1e-300 ? val / e : 0.0;
             }
@@ -145,7 +157,7 @@ double AxisErrorProbe::error(std::size_t k, int count) const {
             est = std::exp(taps[q].w[0] * std::log(vals[0]) + taps[q].w[1] * std::log(vals[1]));
           else
             for (int m = 0; m < taps[q].n; ++m) est += taps[q].w[m] * vals[m];
-          if (normalize_) est *= sl.energy[static_cast<std::size_t>(p)];
+          if (normalize) est *= sl.energy[static_cast<std::size_t>(p)];
           est = std::max(est, 0.0);
           worst = std::max(worst, std::abs(est - sl.truth[static_cast<std::size_t>(p)][b][j]) / sl.scale[static_cast<std::size_t>(p)][b]);
         }
@@ -153,51 +165,59 @@ double AxisErrorProbe::error(std::size_t k, int count) const {
   return worst;
 }
 
+namespace {
+
+// The count of axis `a` for an error share: doubled from 8 until the measured error is within the
+// share, then interpolated in log–log between the last two counts (error ∝ n^−s locally); an axis
+// within its share at 8 nodes halves its count while it stays within. The axis's own count is a
+// lower bound. Returns the error at the chosen count; records the local slope.
+double choose_count(GridAxis& a, const std::function<double(int)>& axis_error, double share, std::map<std::string, double>& slopes) {
+  int lo = 8;
+  double e_lo = axis_error(lo);
+  int n = lo;
+  double e = e_lo;
+  while (e > share && n < (1 << 14)) {
+    lo = n, e_lo = e;
+    n *= 2;
+    e = axis_error(n);
+  }
+  // Already within the share at 8 nodes (a narrow range, e.g. one β band): halve while it stays so.
+  while (n == lo && n > 2 && e <= share) {
+    const double half = axis_error(n / 2);
+    if (half > share) break;
+    n /= 2, lo = n, e = e_lo = half;
+  }
+  int need = n;
+  if (n > lo && e < share && e_lo > share && e > 0.0) {
+    const double slope = std::log(e_lo / e) / std::log(static_cast<double>(n) / lo);
+    slopes[a.name] = slope;
+    need = std::min(n, static_cast<int>(std::ceil(lo * std::pow(e_lo / share, 1.0 / std::max(slope, 0.5)))));
+    e = axis_error(need);
+    if (e > share) need = n, e = axis_error(n);
+  }
+  a.count = std::max(a.count, std::max(need, 2));
+  return a.count == need ? e : axis_error(a.count);
+}
+
+}  // namespace
+
 ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
                                   std::size_t max_entries, bool normalize_energy) {
   if (!(target > 0.0 && target < 0.5)) throw_domain_error("tables.np.target_error", "must lie in (0, 0.5)", target);
   const AxisErrorProbe probe(axes, eta, path, lobes, 24, normalize_energy);
-  auto axis_error = [&](std::size_t k, int count) { return probe.error(k, count); };
   ResolutionPlan plan;
   plan.axes = axes;
   plan.entries = 1;
   plan.predicted_error = 0.0;
   // Each axis gets an equal share of the target (second-order interpolation on every axis makes
-  // the Lagrange shares equal). Its count doubles from 8 until the measured error is within the
-  // share, then is interpolated in log–log between the last two counts (error ∝ n^−s locally);
-  // an axis within its share at 8 nodes halves its count while it stays within.
+  // the Lagrange shares equal).
   const double share = target / 4.0;
   for (std::size_t k = 0; k < 4; ++k) {
     GridAxis& a = plan.axes[k];
-    if (a.spacing != Spacing::explicit_values) {
-      int lo = 8;
-      double e_lo = axis_error(k, lo);
-      int n = lo;
-      double e = e_lo;
-      while (e > share && n < (1 << 14)) {
-        lo = n, e_lo = e;
-        n *= 2;
-        e = axis_error(k, n);
-      }
-      // Already within the share at 8 nodes (a narrow range, e.g. one β band): halve while it stays so.
-      while (n == lo && n > 2 && e <= share) {
-        const double half = axis_error(k, n / 2);
-        if (half > share) break;
-        n /= 2, lo = n, e = e_lo = half;
-      }
-      int need = n;
-      if (n > lo && e < share && e_lo > share && e > 0.0) {
-        const double slope = std::log(e_lo / e) / std::log(static_cast<double>(n) / lo);
-        plan.slope[a.name] = slope;
-        need = std::min(n, static_cast<int>(std::ceil(lo * std::pow(e_lo / share, 1.0 / std::max(slope, 0.5)))));
-        e = axis_error(k, need);
-        if (e > share) need = n, e = axis_error(k, n);
-      }
-      a.count = std::max(a.count, std::max(need, 2));
-      plan.axis_error[a.name] = a.count == need ? e : axis_error(k, a.count);
-    } else {
+    if (a.spacing != Spacing::explicit_values)
+      plan.axis_error[a.name] = choose_count(a, [&](int count) { return probe.error(k, count); }, share, plan.slope);
+    else
       plan.axis_error[a.name] = 0.0;
-    }
     plan.predicted_error += plan.axis_error[a.name];
     plan.entries *= static_cast<std::size_t>(a.count);
     if (plan.entries > max_entries)
@@ -205,6 +225,42 @@ ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta,
                         " entries per lobe over these ranges; raise the target or narrow the ranges");
     a.validate("tables.np.axes." + a.name);
   }
+  return plan;
+}
+
+// Probe slabs of the Fourier plan: its axis errors are those of the narrowest detectors on the
+// caustics, which few random slabs miss (and a Fourier table is cheap to probe: two axes).
+constexpr int kFourierProbes = 96;
+
+FourierResolutionPlan plan_fourier_resolution(const FourierNpConfig& bounds, double eta, AbsorptionPath path, int lobes, double target,
+                                              std::size_t max_entries) {
+  if (!(target > 0.0 && target < 0.5)) throw_domain_error("tables.np.target_error", "must lie in (0, 0.5)", target);
+  FourierResolutionPlan plan;
+  plan.config = bounds;
+  FourierNpConfig& f = plan.config;
+  // The truncation takes a tenth of the target (its bound, relative to the lobe's mean height);
+  // θd and σa share the rest (β and φ are exact).
+  f.tolerance = std::min(0.1, 0.1 * target);
+  const double share = 0.45 * target;
+  GridAxis beta, phi;
+  beta.name = "beta", beta.units = "rad", beta.spacing = f.beta_hi > f.beta_lo ? Spacing::log : Spacing::uniform;
+  beta.lo = f.beta_lo, beta.hi = f.beta_hi, beta.count = f.beta_hi > f.beta_lo ? 2 : 1;
+  phi.name = "phi", phi.units = "rad", phi.wrap = Wrap::even, phi.lo = 0.0, phi.hi = kPi, phi.count = 2;
+  GridAxis& theta = f.axes[0];
+  GridAxis& sigma = f.axes[1];
+  const AxisErrorProbe probe({beta, sigma, theta, phi}, eta, path, lobes, kFourierProbes, AxisErrorProbe::Nodes::over_least_absorption);
+  std::map<std::string, double> slopes;
+  plan.axis_error["theta_d"] = choose_count(theta, [&](int count) { return probe.error(2, count); }, share, slopes);
+  plan.axis_error["sigma_a"] = sigma.count > 1 || sigma.lo < sigma.hi ? choose_count(sigma, [&](int count) { return probe.error(1, count); }, share, slopes)
+                                                                      : 0.0;
+  plan.terms = (fourier_terms(f.beta_lo, f.tolerance) + 4) / 4 * 4;
+  plan.entries = static_cast<std::size_t>(plan.terms) * static_cast<std::size_t>(theta.count) * static_cast<std::size_t>(sigma.count);
+  plan.predicted_error = plan.axis_error["theta_d"] + plan.axis_error["sigma_a"] + f.tolerance;
+  if (plan.entries > max_entries)
+    throw DomainError("tables.np.target_error " + std::to_string(target) + " needs more than " + std::to_string(max_entries) +
+                      " Fourier coefficients per lobe over these ranges; raise the target or narrow the ranges");
+  theta.validate("tables.np.axes.theta_d");
+  sigma.validate("tables.np.axes.sigma_a");
   return plan;
 }
 
@@ -216,14 +272,18 @@ AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath p
   const auto rule = std::make_shared<const GaussLegendreRule>(1024);
   AchievedError a;
   for (const Table& t : set.tables) {
-    if (t.group != "np" || t.quantity != "N_p" || t.attributes.value("lobe", std::string()) == "residual") continue;
-    const auto truth = table_truth(t, model, rule);
+    const bool fourier = is_fourier_table(t);
+    if ((t.group != "np" || t.quantity != "N_p") && !fourier) continue;
+    if (t.attributes.value("lobe", std::string()) == "residual") continue;
+    // A Fourier table is measured over the (β, σa, θd, φ) it defines, read through its evaluator.
+    const Table domain = fourier ? fourier_domain_table(t) : Table();
+    const auto truth = table_truth(fourier ? domain : t, model, rule);
     if (!truth) continue;
     SampledErrorOptions o;
     o.points = samples;
     o.seed = 0x5eed0000ULL + static_cast<std::uint64_t>(t.attributes.value("p", 0));
     o.threads = threads;
-    const SampledError r = measure_sampled_error(set, t, *truth, o);
+    const SampledError r = fourier ? measure_sampled_error(domain, fourier_point_function(t), *truth, o) : measure_sampled_error(set, t, *truth, o);
     a.points += r.error.points;
     a.per_table[t.path()] = {r.error.worst, r.error.p99};
     if (r.error.worst > a.worst || a.worst_table.empty()) a.worst = std::max(a.worst, r.error.worst), a.worst_table = t.path();

@@ -119,21 +119,17 @@ int cell_of(const GridAxis& a, double x) {
   return std::clamp(c, 0, a.count - 2);
 }
 
-SampledError measure_sampled_error(const TableSet& set, const Table& t, const TableTruth& truth, const SampledErrorOptions& opt) {
+namespace {
+
+// The measure of `sampled` (and `half`, when set) over the axes of t (its path names it).
+SampledError measure(const Table& t, const PointFunction& sampled, const PointFunction& half, const TableTruth& truth, const SampledErrorOptions& opt) {
   const std::size_t dims = t.axes.size();
   std::vector<int> line_axes;
   std::vector<bool> is_slab(dims, false);
   for (int k : truth.slab_axes) is_slab[static_cast<std::size_t>(k)] = true;
   for (int k = 0; k < static_cast<int>(dims); ++k)
     if (!is_slab[static_cast<std::size_t>(k)] && k != truth.peak_axis) line_axes.push_back(k);
-  // The half-float copy of the table and of its factor table.
-  TableSet half_set;
-  const Table* half_t = nullptr;
-  if (opt.half_float) {
-    half_set.tables.push_back(rounded_to_half(t));
-    if (const Table* f = set.find(t.factor()); f && !t.factor().empty()) half_set.tables.push_back(rounded_to_half(*f));
-    half_t = &half_set.tables.front();
-  }
+  const bool half_t = static_cast<bool>(half);
   const std::size_t slabs = std::max<std::size_t>(1, (opt.points + kPointsPerSlab - 1) / kPointsPerSlab);
   std::vector<std::vector<Sample>> parts(slabs);
   const bool white = truth.white_floor > 0.0 && static_cast<bool>(truth.make_white);
@@ -161,14 +157,14 @@ SampledError measure_sampled_error(const TableSet& set, const Table& t, const Ta
         Sample p;
         p.x = x;
         p.exact = f(x);
-        p.sampled = set.sample_value(t, x);
+        p.sampled = sampled(x);
         p.denominator = denominator;
         if (truth.peak_axis < 0) {
           p.denominator = std::max(std::abs(p.exact), truth.absolute_floor);
           if (white) p.denominator = std::max(p.denominator, truth.white_floor * std::abs(fw(x)));
         }
         p.rel = std::abs(p.sampled - p.exact) / p.denominator;
-        p.rel_half = half_t ? std::abs(half_set.sample_value(*half_t, x) - p.exact) / p.denominator : 0.0;
+        p.rel_half = half_t ? std::abs(half(x) - p.exact) / p.denominator : 0.0;
         parts[s].push_back(std::move(p));
       };
       if (truth.peak_axis >= 0) {
@@ -219,6 +215,24 @@ SampledError measure_sampled_error(const TableSet& set, const Table& t, const Ta
     if (opt.keep_points) r.x.push_back(p.x), r.rel.push_back(p.rel);
   }
   return r;
+}
+
+}  // namespace
+
+SampledError measure_sampled_error(const TableSet& set, const Table& t, const TableTruth& truth, const SampledErrorOptions& opt) {
+  // The half-float copy of the table and of its factor table.
+  TableSet half_set;
+  PointFunction half;
+  if (opt.half_float) {
+    half_set.tables.push_back(rounded_to_half(t));
+    if (const Table* f = set.find(t.factor()); f && !t.factor().empty()) half_set.tables.push_back(rounded_to_half(*f));
+    half = [&half_set](const std::vector<double>& x) { return half_set.sample_value(half_set.tables.front(), x); };
+  }
+  return measure(t, [&](const std::vector<double>& x) { return set.sample_value(t, x); }, half, truth, opt);
+}
+
+SampledError measure_sampled_error(const Table& domain, const PointFunction& sampled, const TableTruth& truth, const SampledErrorOptions& options) {
+  return measure(domain, sampled, PointFunction(), truth, options);
 }
 
 }  // namespace hairlut

@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "hairlut/util/error.hpp"
+#include "hairlut/tables/fourier_tables.hpp"
 
 namespace hairlut {
 namespace {
@@ -251,6 +252,7 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
   const std::string fname = file.string();
   auto fail = [&](const std::string& what) { throw IoError(fname + ": " + what); };
   if (set.tables.empty()) fail("no tables to write");
+  if (has_fourier_np(set)) fail("the Fourier N_p tables (np_fourier) are written to HDF5 only; OpenEXR has no layout for them");
   const auto plan = exr_part_plan(set);
   // One part per plan entry: its tables, layout and channel names.
   struct Part {
@@ -303,7 +305,7 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
       h.insert("hairlut.axis." + a.name + ".nodes", Imf::FloatVectorAttribute(nodes));
     }
     if (p == 0) {
-      h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text()));
+      h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text(format_version_minor(set))));
       h.insert("hairlut.metadata", Imf::StringAttribute(set.metadata.dump()));
       h.insert("hairlut.version", Imf::StringAttribute(set.metadata.value("hairlut_version", std::string("?"))));
       h.insert("hairlut.checksum",

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "hairlut/io/engine_exr.hpp"
+#include "hairlut/tables/fourier_tables.hpp"
 #include "hdf5_bytes.hpp"
 #include "table_text.hpp"
 #include "hairlut/util/error.hpp"
@@ -204,6 +205,8 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   if (slabbed && !slabbed->empty() && c.output.exr)
     throw DomainError("output.exr: tables larger than the memory budget are baked slab by slab into HDF5 only (EXR files hold "
                       "engine-sized textures); set output.exr to false or raise --memory-budget");
+  if (c.output.exr && has_fourier_np(set))
+    throw IoError(output_paths(c).exr.string() + ": the Fourier N_p tables (np_fourier) are written to HDF5 only; OpenEXR has no layout for them");
   const std::vector<EngineOutput> engines = engine_outputs(c);
   if ((c.output.exr && !codec.write_exr) || (!engines.empty() && !codec.write_engine_texture))
     throw IoError(c.output.directory.string() + ": the OpenEXR writer is not available to this program");

@@ -70,3 +70,19 @@ PathPoint AttenuationSlice::evaluate(double h, double gamma_i, double cos_gamma_
 }
 
 }  // namespace hairlut
+
+namespace hairlut {
+
+double edge_segment_length(const FiberGeometry& g, AbsorptionPath path) {
+  const double a = g.inv_eta_prime;  // sin γt at h = 1, as AttenuationSlice::at_h(1) evaluates it
+  const double ct = std::sqrt((1.0 - a) * (1.0 + a));
+  return path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;
+}
+
+double least_absorption(const AttenuationSlice& slice, int p) {
+  if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
+  if (p == 0 || slice.sigma_a() == 0.0) return 1.0;
+  return std::pow(slice.at_h(1.0).T, p);  // T(−1) = T(1): the segment length depends on |h|
+}
+
+}  // namespace hairlut

@@ -79,7 +79,7 @@ double fresnel_factor(const FiberNodes& n, std::size_t i, int p) {
 }  // namespace
 
 void fourier_coefficients(const FiberNodes& nodes, const FiberGeometry& g, int p, std::span<const double> sigmas, int terms,
-                          std::vector<double>& out) {
+                          std::vector<double>& out, double length_offset) {
   if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
   if (terms < 0) throw_domain_error("terms", "must be >= 0", static_cast<long long>(terms));
   const std::size_t K = sigmas.size();
@@ -98,11 +98,12 @@ void fourier_coefficients(const FiberNodes& nodes, const FiberGeometry& g, int p
     const double base = nodes.weight[i] * fresnel_factor(nodes, i, p);
     if (base == 0.0) continue;
     bool any = false;
-    for (std::size_t k = 0; k < K; ++k) any |= (p == 0 ? base : base * std::exp(-static_cast<double>(p) * sigma_prime[k] * nodes.length[i])) != 0.0;
+    const double length = nodes.length[i] - length_offset;  // ℓ − ℓ_min for C_n / F
+    for (std::size_t k = 0; k < K; ++k) any |= (p == 0 ? base : base * std::exp(-static_cast<double>(p) * sigma_prime[k] * length)) != 0.0;
     if (!any) continue;
     phase.push_back(exit_azimuth(p, nodes.gamma_i[i], nodes.gamma_t[i]));
     for (std::size_t k = 0; k < K; ++k)
-      weight[k].push_back(p == 0 ? base : base * std::exp(-static_cast<double>(p) * sigma_prime[k] * nodes.length[i]));
+      weight[k].push_back(p == 0 ? base : base * std::exp(-static_cast<double>(p) * sigma_prime[k] * length));
   }
   const std::size_t m = phase.size();
   if (m == 0) return;

@@ -26,6 +26,7 @@
 #include "hairlut/physics/melanin.hpp"
 #include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/bake/table_truth.hpp"
+#include "hairlut/tables/fourier_tables.hpp"
 #include "validate_sections.hpp"
 namespace hairlut {
 
@@ -157,7 +158,7 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
       const double v = t.get(i);
       if (std::isnan(v)) ++tn;
       else if (std::isinf(v)) ++ti;
-      else if (v < 0.0 && t.quantity != "shift" && t.quantity != "transmittance" && t.quantity != "sampling_cdf") ++tneg;  // shifts are signed; spectral transmittance is negative out of gamut; a sampling prefix integrates an unclamped interpolant
+      else if (v < 0.0 && t.quantity != "shift" && t.quantity != "transmittance" && t.quantity != "sampling_cdf" && !is_fourier_table(t)) ++tneg;  // shifts are signed; spectral transmittance is negative out of gamut; a sampling prefix integrates an unclamped interpolant; cosine-series coefficients are signed
     }
     nan += tn, inf += ti, neg += tneg;
     per_table.push_back({{"path", t.path()}, {"values", t.size()}, {"nan", tn}, {"inf", ti}, {"negative", tneg}});
@@ -178,7 +179,10 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
   if (info.residual) lobes.push_back("residual");
   for (const std::string& l : lobes) {
     if (has_np) {
-      if (l != "residual" && !set.find("np/" + l)) missing.push_back("np/" + l);
+      // N_p of a lobe: its tensor table, or its Fourier table (the representation the set records).
+      const bool fourier = set.metadata.value("np_representation", std::string()) == "fourier";
+      const std::string n_p = (fourier ? std::string(kFourierGroup) + "/" : std::string("np/")) + l;
+      if ((l != "residual" || fourier) && !set.find(n_p)) missing.push_back(n_p);
       if (!set.find("np/energy_" + l)) missing.push_back("np/energy_" + l);
       if (l == "residual" && !set.find("np/residual")) missing.push_back("np/residual");
     }

@@ -11,6 +11,7 @@
 
 #include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/bake/table_truth.hpp"
+#include "hairlut/tables/fourier_tables.hpp"
 #include "hairlut/util/error.hpp"
 #include "validate_sections.hpp"
 
@@ -24,7 +25,7 @@ namespace {
 // material), "energy" (energies, and the residual's N_p: its energy / 2π, uniform in φ and β),
 // "mp", "melanin", or "" (no check).
 std::string accuracy_kind(const Table& t) {
-  if (t.quantity == "N_p") return t.attributes.value("lobe", std::string()) == "residual" ? "energy" : "np";
+  if (t.quantity == "N_p" || is_fourier_table(t)) return t.attributes.value("lobe", std::string()) == "residual" ? "energy" : "np";
   if (t.quantity == "energy") return "energy";
   if (t.quantity == "M_p") return "mp";
   if (t.quantity == "sigma_a" || t.quantity == "transmittance") return "melanin";
@@ -86,7 +87,11 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
     ++done;
     check_cancel(opt);
     std::string kind = accuracy_kind(t);
-    auto truth = kind.empty() ? std::nullopt : table_truth(t, model, rule);
+    // A Fourier table is judged as N_p over the (β, σa, θd, φ) it defines, read through its evaluator.
+    const bool fourier = is_fourier_table(t);
+    const Table domain = fourier ? fourier_domain_table(t) : Table();
+    const Table& d = fourier ? domain : t;
+    auto truth = kind.empty() ? std::nullopt : table_truth(d, model, rule);
     if (!truth && (truth = dual_scattering_truth(set, t, ds_memo))) kind = "ds";
     if (!truth) continue;
     SampledErrorOptions so;
@@ -95,35 +100,36 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
     so.points = std::max<std::size_t>(kind == "ds" ? std::min(opt.max_points, kDualScatteringPoints) : opt.max_points, 1);
     so.seed = kind == "ds" ? seed_of("dual_scattering") : seed_of(t.path());
     so.threads = opt.threads;
-    so.half_float = true;
+    so.half_float = !fourier;  // a Fourier table is HDF5 only (float32 or float64)
     so.keep_points = true;
     so.cancel = opt.cancel;
-    const SampledError r = measure_sampled_error(set, t, *truth, so);
+    const SampledError r = fourier ? measure_sampled_error(d, fourier_point_function(t), *truth, so) : measure_sampled_error(set, t, *truth, so);
     check_cancel(opt);
     json tj = {{"path", t.path()}, {"quantity", t.quantity}, {"kind", kind}, {"denominator", r.denominator}, {"dims", json::array()}};
-    for (const GridAxis& a : t.axes) tj["dims"].push_back(a.name);
+    for (const GridAxis& a : d.axes) tj["dims"].push_back(a.name);
+    if (fourier) tj["representation"] = "fourier: N_p over (" + std::string(kind == "np" ? "beta, sigma_a, theta_d, phi" : "sigma_a, theta_d") + ") from the coefficients";
     if (t.attributes.contains("beta_band")) tj["beta_band"] = t.attributes["beta_band"];  // N_p in β bands (beta_bands.hpp)
     tj["off_node"] = error_stats(r.error);
     tj["off_node_half"] = error_stats(r.half);
     json at = json::object();
-    for (std::size_t k = 0; k < t.axes.size(); ++k) at[t.axes[k].name] = r.worst_at[k];
-    tj["worst"] = {{"at", at}, {"where", point_text(t, r.worst_at)}, {"sampled", r.worst_sampled}, {"exact", r.worst_exact},
+    for (std::size_t k = 0; k < d.axes.size(); ++k) at[d.axes[k].name] = r.worst_at[k];
+    tj["worst"] = {{"at", at}, {"where", point_text(d, r.worst_at)}, {"sampled", r.worst_sampled}, {"exact", r.worst_exact},
                    {"denominator", r.worst_denominator}};
     // Per axis: the worst error among the points in each cell of the axis.
     json per_axis = json::array();
-    for (std::size_t k = 0; k < t.axes.size(); ++k) {
-      if (t.axes[k].count < 2 || t.axes[k].name == "channel") continue;
+    for (std::size_t k = 0; k < d.axes.size(); ++k) {
+      if (d.axes[k].count < 2 || d.axes[k].name == "channel") continue;
       const auto& cells = r.per_axis_cells[k];
       const auto mx = std::max_element(cells.begin(), cells.end());
-      per_axis.push_back({{"axis", t.axes[k].name}, {"count", t.axes[k].count}, {"max_rel", *mx},
+      per_axis.push_back({{"axis", d.axes[k].name}, {"count", d.axes[k].count}, {"max_rel", *mx},
                           {"worst_cell", static_cast<int>(mx - cells.begin())}, {"cells_max_rel", cells}});
     }
     tj["per_axis"] = per_axis;
     // Heat maps of the largest relative error per pair of axes (cells of the table).
     json heat = json::array();
-    for (std::size_t i = 0; i < t.axes.size(); ++i)
-      for (std::size_t j = i + 1; j < t.axes.size(); ++j) {
-        const GridAxis &ai = t.axes[i], &aj = t.axes[j];
+    for (std::size_t i = 0; i < d.axes.size(); ++i)
+      for (std::size_t j = i + 1; j < d.axes.size(); ++j) {
+        const GridAxis &ai = d.axes[i], &aj = d.axes[j];
         if (ai.count < 2 || aj.count < 2 || ai.name == "channel" || aj.name == "channel") continue;
         const auto ni = static_cast<std::size_t>(ai.count - 1), nj = static_cast<std::size_t>(aj.count - 1);
         std::vector<std::vector<double>> grid(ni, std::vector<double>(nj, NAN));  // NaN: no point in this cell
@@ -138,7 +144,7 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
       }
     tj["heatmaps"] = heat;
     out.push_back(tj);
-    worst_max[kind].update(r.error.worst, t.path() + " at " + point_text(t, r.worst_at) + ": sampled " + fmt(r.worst_sampled, 4) + ", exact " +
+    worst_max[kind].update(r.error.worst, t.path() + " at " + point_text(d, r.worst_at) + ": sampled " + fmt(r.worst_sampled, 4) + ", exact " +
                                               fmt(r.worst_exact, 4) + ", denominator " + fmt(r.worst_denominator, 4));
     worst_p99[kind].update(r.error.p99, t.path());
     denominators[kind] = r.denominator;

@@ -16,6 +16,7 @@
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/marschner.hpp"
 #include "hairlut/physics/melanin.hpp"
+#include "hairlut/tables/fourier_tables.hpp"
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
 #include "validate_sections.hpp"
@@ -79,13 +80,27 @@ json furnace_section(const TableSet& set, const ModelInfo& info, const Validatio
   out["theta_i_deg"] = thetas;
   std::vector<double> betas;
   const Table* first = set.find("np/" + info.lobes[0]);
+  // A set in the Fourier representation: the energies are its c_0 F (∫N_p dφ of the series).
+  const Table* fourier = set.find(std::string(kFourierGroup) + "/" + info.lobes[0]);
   if (first && first->axes.size() == 4) betas = representative(first->axes[0]);
+  else if (fourier && is_fourier_table(*fourier)) betas = representative(fourier_domain(*fourier)[0]);
   else betas = {radians(2.0), radians(10.0), radians(30.0)};
   double worst_direct = 0.0, worst_direct_theta = 0.0, worst_direct_beta = 0.0;
   double worst_table = 0.0, worst_table_theta = 0.0, worst_table_beta = 0.0;
-  bool have_table = first && first->axes.size() == 4 && first->group == "np";
+  const bool tensor_table = first && first->axes.size() == 4 && first->group == "np";
+  const bool fourier_table = !tensor_table && fourier && is_fourier_table(*fourier);
+  bool have_table = tensor_table || fourier_table;
   double table_sigma = 0.0;
-  if (have_table) table_sigma = first->axes[1].nodes().front();
+  if (tensor_table) table_sigma = first->axes[1].nodes().front();
+  if (fourier_table) table_sigma = fourier->axes[1].nodes().front();
+  std::vector<FourierNpReference> fourier_lobes;
+  if (fourier_table) {
+    for (const auto& l : info.lobes)
+      if (const Table* t = set.find(std::string(kFourierGroup) + "/" + l)) fourier_lobes.emplace_back(*t);
+    if (info.residual)
+      if (const Table* t = set.find(std::string(kFourierGroup) + "/residual")) fourier_lobes.emplace_back(*t);
+    have_table = fourier_lobes.size() == info.lobes.size() + (info.residual ? 1u : 0u);
+  }
   out["table_sigma_a"] = table_sigma;
   json curves = json::array();
   for (double beta : betas) {
@@ -111,15 +126,16 @@ json furnace_section(const TableSet& set, const ModelInfo& info, const Validatio
       std::vector<const Table*> tables;
       for (const auto& l : info.lobes) tables.push_back(set.find("np/" + l));
       const Table* res = info.residual ? set.find("np/residual") : nullptr;
-      const std::size_t m = tables.size() + (res ? 1 : 0);
+      const std::size_t m = fourier_table ? fourier_lobes.size() : tables.size() + (res ? 1 : 0);
       std::vector<double> direct_at_sigma;
       std::vector<EnergyCurve> curves_e(m);
       for (std::size_t p = 0; p < m; ++p) {
         curves_e[p].values.resize(2001);
         for (std::size_t k = 0; k <= 2000; ++k) {
           const double thd = kHalfPi * static_cast<double>(k) / 2000.0;
-          curves_e[p].values[k] = p < tables.size() ? (tables[p] ? table_energy(set, *tables[p], beta, table_sigma, thd) : 0.0)
-                                                    : kTwoPi * res->sample({table_sigma, thd});
+          curves_e[p].values[k] = fourier_table       ? fourier_lobes[p].energy(table_sigma, thd)
+                                  : p < tables.size() ? (tables[p] ? table_energy(set, *tables[p], beta, table_sigma, thd) : 0.0)
+                                                      : kTwoPi * res->sample({table_sigma, thd});
         }
       }
       for (double td : thetas) {

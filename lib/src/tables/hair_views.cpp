@@ -7,6 +7,7 @@
 #include "hairlut/util/error.hpp"
 #include "hairlut/physics/melanin.hpp"
 #include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/tables/fourier_tables.hpp"
 
 namespace hairlut {
 namespace {
@@ -107,6 +108,23 @@ template sampler::HairTables<float, float> hair_tables<float, float>(const Table
 template sampler::HairTables<float, double> hair_tables<float, double>(const TableSet&);
 template sampler::HairTables<double, float> hair_tables<double, float>(const TableSet&);
 template sampler::HairTables<double, double> hair_tables<double, double>(const TableSet&);
+
+template <class T, class R>
+sampler::FourierNp<T, R> fourier_np(const TableSet& set, std::string_view lobe) {
+  const std::string path = std::string(kFourierGroup) + "/" + std::string(lobe);
+  const Table* t = set.find(path);
+  if (!t) throw DomainError("table " + path + ": missing (the set has no Fourier N_p of lobe " + std::string(lobe) + ")");
+  const FourierTableInfo info = fourier_table_info(*t);
+  const Table& checked = require<T>(set, path, {"theta_d", "sigma_a", "n"});
+  const sampler::FourierNp<T, R> view(values<T>(checked), checked.axes[0].view(), checked.axes[1].view(), info.params);
+  if (!view.valid()) throw DomainError("table " + path + ": the sampler cannot read its axes or attributes");
+  return view;
+}
+
+template sampler::FourierNp<float, float> fourier_np<float, float>(const TableSet&, std::string_view);
+template sampler::FourierNp<float, double> fourier_np<float, double>(const TableSet&, std::string_view);
+template sampler::FourierNp<double, float> fourier_np<double, float>(const TableSet&, std::string_view);
+template sampler::FourierNp<double, double> fourier_np<double, double>(const TableSet&, std::string_view);
 
 int lobe_index(const TableSet& set, std::string_view lobe) {
   const auto it = set.metadata.find("lobes");

@@ -44,6 +44,20 @@ struct NpQuadratureConfig {
 
 std::string_view to_string(NpQuadratureConfig::Method method);
 
+/// tables.np.representation: how the generic N_p tables store N_p.
+enum class NpRepresentation {
+  tensor,   ///< N_p (or its shape N_p / E_p) over (β, σa, θd, φ), optionally in β bands
+  fourier   ///< the detector's cosine-series coefficients C_n / F over (θd, σa), β and φ exact (fourier_tables.hpp)
+};
+std::string_view to_string(NpRepresentation r);
+
+/// tables.np with representation "fourier": what the Fourier N_p tables are baked over.
+struct FourierNpConfig {
+  double beta_lo = 0.0, beta_hi = 0.0;  ///< the β range [rad]: beta_lo fixes the stored terms, [lo, hi] is the validated domain
+  double tolerance = 1e-4;              ///< truncation of the series per lookup (sampler/fourier_np.hpp)
+  std::vector<GridAxis> axes;           ///< theta_d, sigma_a: the coefficients' axes (storage order; n is fastest)
+};
+
 /// One hair material of a scene.
 struct MaterialConfig {
   std::string name;
@@ -107,6 +121,11 @@ struct BakeConfig {
   /// phi_h (marschner2003: TRT over sigma_a, theta_d, phi_h, phi)
   std::optional<std::vector<GridAxis>> np_axes;
   std::optional<double> np_target_error;              ///< choose the N_p counts for this off-node error
+  /// tables.np.representation as given (absent: tensor tables; with target_error every
+  /// representation competes, and a given one restricts the choice to it).
+  std::optional<NpRepresentation> np_representation;
+  /// Set exactly when the representation is fourier (np_axes is then unset).
+  std::optional<FourierNpConfig> np_fourier;
   /// tables.np.normalize "energy": N_p tables store N_p / E_p with np/energy_<lobe> as their factor.
   bool np_normalize_energy = false;
   /// tables.np.energy_axes: sigma_a, theta_d of the energy and residual tables (default: the N_p axes).

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/bake/config.hpp"
 #include "hairlut/physics/attenuation.hpp"
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/util/quadrature.hpp"
@@ -35,9 +36,15 @@ struct ResolutionPlan {
 /// Lobes R, TT, TRT and TRRT (as many as `lobes`).
 class AxisErrorProbe {
  public:
+  /// What the nodes hold besides N_p: N_p itself; its shape N_p / E_p (times the exact E_p at the
+  /// point); or N_p / F with F the lobe's least absorption (least_absorption, attenuation.hpp; times
+  /// F at the point): the Fourier representation's coefficients, whose interpolation along one axis
+  /// is that of N_p / F (the series is linear in them, with weights that depend on β and φ only).
+  enum class Nodes { n_p, shape, over_least_absorption };
   /// axes: beta, sigma_a, theta_d, phi (ranges, spacing, placement, interpolation used; counts
   /// ignored); probes: (σa, θd) slabs, each with 4 β and 16 φ.
   AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes = 24, bool normalize_energy = false);
+  AxisErrorProbe(std::vector<GridAxis> axes, double eta, AbsorptionPath path, int lobes, int probes, Nodes nodes);
   /// Largest error relative to the local peak of axis k (0 … 3) with `count` nodes.
   double error(std::size_t k, int count) const;
 
@@ -49,17 +56,17 @@ class AxisErrorProbe {
     std::array<double, kPhis> phis{};
     std::array<std::array<std::array<double, kPhis>, kBetas>, 4> truth{};
     std::array<std::array<double, kBetas>, 4> scale{};
-    std::vector<double> energy;  ///< E_p at (σa, θd) (normalize_energy)
+    std::vector<double> energy;  ///< E_p or F_p at (σa, θd) (the nodes' divisor at the probe)
   };
   std::vector<double> exact_lists(const std::vector<double>& betas, const std::vector<double>& sigmas, const std::vector<double>& thetas,
                                   const std::vector<double>& phis) const;
-  std::vector<double> energies(double sigma, double theta) const;
+  std::vector<double> divisors(double sigma, double theta) const;  ///< E_p or F_p per lobe at (σa, θd)
 
   std::vector<GridAxis> axes_;
   double eta_;
   AbsorptionPath path_;
   int lobes_;
-  bool normalize_;
+  Nodes nodes_;
   std::vector<Slab> slabs_;
   std::shared_ptr<GaussLegendreCache> rules_;
   std::shared_ptr<const GaussLegendreRule> energy_rule_;
@@ -76,6 +83,23 @@ class AxisErrorProbe {
 ResolutionPlan plan_np_resolution(const std::vector<GridAxis>& axes, double eta, AbsorptionPath path, int lobes, double target,
                                   std::size_t max_entries = std::size_t{1} << 31, bool normalize_energy = false);
 
+/// The Fourier representation's counts for a target (tables.np.representation fourier).
+struct FourierResolutionPlan {
+  FourierNpConfig config;                     ///< the coefficients' axes with the chosen counts, β range, tolerance
+  std::map<std::string, double> axis_error;   ///< predicted interpolation error along theta_d and sigma_a
+  double predicted_error = 0.0;               ///< their sum plus the truncation bound (the tolerance)
+  int terms = 0;                              ///< stored coefficients per node
+  std::size_t entries = 0;                    ///< entries per lobe: terms × θd × σa
+};
+
+/// Chooses the θd and σa counts of Fourier tables (given counts are lower bounds; ranges, spacing
+/// and interpolation as given) so that the predicted off-node error is at most `target`: the
+/// truncation tolerance is a tenth of the target, and θd and σa share the rest equally, each count
+/// found as plan_np_resolution finds one, by AxisErrorProbe with Nodes::over_least_absorption.
+/// Throws DomainError when the table would exceed max_entries per lobe.
+FourierResolutionPlan plan_fourier_resolution(const FourierNpConfig& bounds, double eta, AbsorptionPath path, int lobes, double target,
+                                              std::size_t max_entries = std::size_t{1} << 31);
+
 /// The error a baked table achieves where a renderer samples (sampled_error.hpp).
 struct AchievedError {
   double worst = 0.0;          ///< largest over the N_p tables
@@ -87,7 +111,8 @@ struct AchievedError {
 };
 
 /// The error of every lobe's N_p table of group "np" (R, TT, TRT, TRRT, ...; not the residual,
-/// which the validator judges with the energies) at `samples` random points per table over its
+/// which the validator judges with the energies), or of group "np_fourier" read through
+/// sampler::FourierNp in double (over its domain, fourier_domain), at `samples` random points per table over its
 /// declared domain, relative to the peak over φ of the same (β, σa, θd) slice floored at 1e−3 × the
 /// white fibre's: measure_sampled_error with table_truth, as validate-hair-luts's
 /// accuracy_max_rel / accuracy_p99_rel. Deterministic for any thread count.

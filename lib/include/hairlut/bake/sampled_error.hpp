@@ -62,5 +62,10 @@ int cell_of(const GridAxis& a, double x);
 /// Throws DomainError (naming the table) when an evaluation throws; on options.cancel it returns
 /// early with the points measured so far.
 SampledError measure_sampled_error(const TableSet& set, const Table& t, const TableTruth& truth, const SampledErrorOptions& options = {});
+/// The same measure of a function that is not one table of a set (N_p of a Fourier table through
+/// its evaluator, fourier_tables.hpp): the points are drawn over `domain`'s axes (their ranges and
+/// spacings; the counts only delimit the cells of per_axis_cells), `sampled` is called at each,
+/// from several threads at once, and its path names it. No half-float figures (half.points = 0).
+SampledError measure_sampled_error(const Table& domain, const PointFunction& sampled, const TableTruth& truth, const SampledErrorOptions& options = {});
 
 }  // namespace hairlut

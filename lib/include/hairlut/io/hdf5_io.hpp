@@ -32,9 +32,18 @@ class IoError : public std::runtime_error {
 /// adds (attributes, tables, optional keys) and older readers of the same major version read the
 /// file; a major change may alter or remove what a reader relies on, and readers refuse a newer
 /// major version (docs/table-format.md, "Format version and compatibility").
+/// A file records the lowest minor version whose additions it holds: 1.2 (N_p in the Fourier
+/// representation, group np_fourier) where it has Fourier tables, else 1.1, so that the files of
+/// sets without them are byte for byte those of earlier releases.
 inline constexpr int kFormatVersionMajor = 1;
-inline constexpr int kFormatVersionMinor = 1;
+inline constexpr int kFormatVersionMinor = 2;         ///< the newest minor version this hairlut reads and writes
+inline constexpr int kFormatVersionMinorFourier = 2;  ///< the minor version that added the Fourier N_p tables
+inline constexpr int kFormatVersionMinorBase = 1;     ///< the minor version of a file without them
+/// "MAJOR.MINOR" of this hairlut (the newest), or with the given minor version.
 std::string format_version_text();
+std::string format_version_text(int minor);
+/// The minor version a file of `set` records (see above).
+int format_version_minor(const TableSet& set);
 
 /// Throws IoError("<name>: ...") unless `text` is "MAJOR.MINOR" (decimal) with MAJOR equal to
 /// kFormatVersionMajor; a newer major version is refused with a message that says so.

@@ -66,4 +66,13 @@ class AttenuationSlice {
   AbsorptionPath path_;
 };
 
+/// ℓ_min: the length of the shortest internal segment, at the fiber's edge h = ±1 where
+/// sin γt = 1/η' (2 cos γt for the chord, 4 cos²γt for the papers' form). Exact.
+double edge_segment_length(const FiberGeometry& geometry, AbsorptionPath path);
+
+/// F = T(h = ±1)^p: lobe p's least absorption, along its shortest internal segments (at the fiber's
+/// edge, where cos γt is smallest), so that A(p, h) / F ≤ (1 − f)² f^{p−1} at every h (and the
+/// residual's A_{≥P} / T(±1)^P likewise). Exact; 1 for p = 0 or σa = 0. Domain p ≥ 0.
+double least_absorption(const AttenuationSlice& slice, int p);
+
 }  // namespace hairlut

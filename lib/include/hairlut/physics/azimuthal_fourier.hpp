@@ -37,9 +37,12 @@ int fourier_nodes(int terms, int p, const FiberGeometry& geometry, double tolera
 void fourier_coefficients(const FiberGeometry& geometry, AbsorptionPath path, int p, std::span<const double> sigmas, int terms,
                           const GaussLegendreRule& rule, std::vector<double>& out);
 struct FiberNodes;
-/// The same from precomputed node factors.
+/// The same from precomputed node factors. With length_offset = ℓ_min (edge_segment_length,
+/// attenuation.hpp) the result is C_n / F, F = e^{−p σa′ ℓ_min} the lobe's least absorption, taken
+/// inside the integral (each node's T^p as e^{−p σa′ (ℓ − ℓ_min)}), so that it keeps its digits
+/// where C_n and F underflow.
 void fourier_coefficients(const FiberNodes& nodes, const FiberGeometry& geometry, int p, std::span<const double> sigmas, int terms,
-                          std::vector<double>& out);
+                          std::vector<double>& out, double length_offset = 0.0);
 
 /// Σ_{n=0}^{N} v_n cos(n φ_j) on a fixed grid of φ_j, for any N up to max_terms. On a uniform
 /// grid whose step divides 2π (every hairlut φ axis) terms beyond the grid's period are folded

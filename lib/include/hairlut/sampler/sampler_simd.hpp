@@ -107,6 +107,8 @@ struct Vec4 {
     return {{(a.v[0] + a.v[2]) + (a.v[1] + a.v[3]), (b.v[0] + b.v[2]) + (b.v[1] + b.v[3]), (c.v[0] + c.v[2]) + (c.v[1] + c.v[3]), R(0)}};
   }
   HAIRLUT_SAMPLER_INLINE void store3(R* out) const { out[0] = v[0], out[1] = v[1], out[2] = v[2]; }
+  /// The four lanes to out[0 … 3].
+  HAIRLUT_SAMPLER_INLINE void store(R* out) const { out[0] = v[0], out[1] = v[1], out[2] = v[2], out[3] = v[3]; }
 };
 #if HAIRLUT_SAMPLER_SSE2
 template <>
@@ -162,6 +164,7 @@ struct Vec4<float, true> {
     const __m128 x2 = _mm_movelh_ps(ab23, c23), x3 = _mm_movehl_ps(c23, ab23);
     return {_mm_add_ps(_mm_add_ps(x0, x2), _mm_add_ps(x1, x3))};
   }
+  HAIRLUT_SAMPLER_INLINE void store(float* out) const { _mm_storeu_ps(out, v); }
   HAIRLUT_SAMPLER_INLINE void store3(float* out) const {
     alignas(16) float t[4];
     _mm_store_ps(t, v);
@@ -177,8 +180,9 @@ struct Vec4<double, true> {
     if constexpr (std::is_same_v<T, double>) {
       return {_mm_loadu_pd(p), _mm_loadu_pd(p + 2)};
     } else if constexpr (std::is_same_v<T, float>) {
-      const __m128 v = _mm_loadu_ps(p);
-      return {_mm_cvtps_pd(v), _mm_cvtps_pd(_mm_movehl_ps(v, v))};
+      // Two pairs, each loaded and converted by one cvtps2pd (the 64-bit load folds into it).
+      return {_mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p)))),
+              _mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p + 2))))};
     } else {
       return {_mm_set_pd(static_cast<double>(p[1]), static_cast<double>(p[0])), _mm_set_pd(static_cast<double>(p[3]), static_cast<double>(p[2]))};
     }
@@ -231,6 +235,7 @@ struct Vec4<double, true> {
     const __m128d cz = _mm_add_pd(_mm_unpacklo_pd(sc, _mm_setzero_pd()), _mm_unpackhi_pd(sc, _mm_setzero_pd()));
     return {ab, cz};
   }
+  HAIRLUT_SAMPLER_INLINE void store(double* out) const { _mm_storeu_pd(out, lo), _mm_storeu_pd(out + 2, hi); }
   HAIRLUT_SAMPLER_INLINE void store3(double* out) const {
     _mm_storeu_pd(out, lo);
     out[2] = _mm_cvtsd_f64(hi);

@@ -5,6 +5,7 @@
 
 #include <string_view>
 
+#include "hairlut/sampler/fourier_np.hpp"
 #include "hairlut/sampler/sampler_fibre.hpp"
 #include "hairlut/tables/tables.hpp"
 
@@ -20,6 +21,15 @@ namespace hairlut {
 /// tables are not stored as T.
 template <class T, class R>
 sampler::HairTables<T, R> hair_tables(const TableSet& set);
+
+/// N_p of one lobe of a set baked in the Fourier representation (tables.np.representation
+/// "fourier"; fourier_tables.hpp): the view of np_fourier/<lobe> ("R", "TT", ..., or "residual",
+/// whose one coefficient gives its uniform N), N_p = view(β, σa, θd, φ). T is the stored type, R
+/// the arithmetic type; the view points into `set`, which must outlive it. Throws DomainError
+/// (naming the table) when the set has no such table, its attributes or axes are malformed, or it
+/// is not stored as T.
+template <class T, class R>
+sampler::FourierNp<T, R> fourier_np(const TableSet& set, std::string_view lobe);
 
 /// The index p of a lobe in hair_tables(set).np / .mp ("R" → 0, ... as the set's metadata lists
 /// them). Throws DomainError naming the lobes the set has.
