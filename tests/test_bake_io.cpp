@@ -12,6 +12,7 @@
 #include <hairlut/bake/config.hpp>
 #include <hairlut/physics/melanin.hpp>
 #include <hairlut/io/table_io.hpp>
+#include <hairlut/report/validate.hpp>
 #include <random>
 #include <sstream>
 #include <tuple>
@@ -156,6 +157,7 @@ TEST_CASE("A target error picks the N_p resolution and the baked table reaches i
   j["tables"].erase("mp");
   j["tables"].erase("melanin");
   j["tables"]["np"]["target_error"] = 0.03;
+  j["tables"]["np"]["target_points"] = 4000;  // the validator's default is 40,000 (slower)
   const BakeConfig c = config_in(temp_dir("target"), j);
   BakeReport report;
   const TableSet set = bake(c, {}, &report);
@@ -167,6 +169,15 @@ TEST_CASE("A target error picks the N_p resolution and the baked table reaches i
   CHECK(set.metadata["resolution"]["counts"]["phi"].get<int>() >= 9);
   // The chosen counts are in the table, and a smaller target needs more nodes.
   CHECK(set.find("np/TT")->axes[3].count == set.metadata["resolution"]["counts"]["phi"].get<int>());
+  // What target_error reports is the validator's figure for the same tables (same points, same seeds).
+  ValidationOptions vo;
+  vo.max_points = 4000;
+  const auto v = validate_tables(set, "target", vo);
+  double validator_worst = 0.0;
+  for (const auto& acc : v["accuracy"]) {
+    if (acc["kind"] == "np") validator_worst = std::max(validator_worst, acc["off_node"]["max_rel"].get<double>());
+  }
+  CHECK(validator_worst == Approx(achieved).epsilon(1e-12));
   j["tables"]["np"]["target_error"] = 0.01;
   BakeReport finer;
   bake(config_in(temp_dir("target2"), j), {}, &finer);
@@ -179,6 +190,7 @@ TEST_CASE("A target error weighs beta bands against one table and keeps the fewe
   j["tables"].erase("mp");
   j["tables"].erase("melanin");
   j["tables"]["np"]["target_error"] = 0.02;
+  j["tables"]["np"]["target_points"] = 4000;
   BakeReport report;
   const TableSet set = bake(config_in(temp_dir("target_bands"), j), {}, &report);
   const json& r = report.resolution;

@@ -383,7 +383,7 @@ TEST_CASE("Fourier: target_error chooses the Fourier tables where they are the f
   json j = json::parse(R"({
     "name": "target-fourier",
     "lobes": { "explicit": ["R", "TT", "TRT", "TRRT"], "residual": true },
-    "tables": { "np": { "target_error": 0.02, "axes": {
+    "tables": { "np": { "target_error": 0.02, "target_points": 4000, "axes": {
       "theta_d": { "count": 5, "range_deg": [0, 60], "spacing": "cos" },
       "phi": { "count": 9, "symmetry": "even" },
       "sigma_a": { "count": 3, "range": [0, 4], "spacing": "sqrt" },

@@ -41,7 +41,7 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   std::vector<std::string> thresholds;
   bool quiet = false;
   int threads = 0;
-  std::size_t max_points = 40000;
+  std::size_t max_points = hairlut::kSampledErrorPoints;
   app.add_option("file", file, "table file written by bake-hair-luts (.h5 or .exr)");
   app.add_option("--config", config_path, "validate the tables of this config (its outputs if up to date, else baked in memory)");
   app.add_option("--out", out_dir, "report directory")->capture_default_str();

@@ -102,7 +102,9 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
 
     if (run.unconverged) report.notes.push_back(std::to_string(run.unconverged) + " adaptive N_p entries did not reach the tolerance");
     if (!report.resolution.is_null() && generic_np) {
-      const AchievedError achieved = measure_np_error(set, c.eta, c.path, 4096, opt.threads);
+      // The validator's measure (its points, its seeds): what target_error reports is what
+      // validate-hair-luts finds on the same table.
+      const AchievedError achieved = measure_np_error(set, c.eta, c.path, c.np_target_points.value_or(kSampledErrorPoints), opt.threads);
       report.resolution["achieved_error"] = achieved.worst;
       report.resolution["achieved_p99"] = achieved.p99;
       report.resolution["attempts"] = attempt;

@@ -102,6 +102,10 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     fail("tables", "must ask for at least one table (np, mp, melanin, dual_scattering or engine)");
 
   if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", json::object());
+  // A bake for a target error is judged by that target unless the config says otherwise: the
+  // validator's accuracy_max_rel for the N_p tables is the target (target_error accepts the
+  // bake by the validator's measure).
+  if (c.np_target_error && !c.validate_thresholds.contains("accuracy_max_rel")) c.validate_thresholds["accuracy_max_rel"] = *c.np_target_error;
   const json& out = doc.at("output");
   std::filesystem::path dir = out.value("directory", std::string("."));
   c.output.directory = dir.is_absolute() ? dir : (base_dir / dir).lexically_normal();
@@ -148,6 +152,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
                {"axes", axes_json(f.axes)},
                {"fourier", {{"beta_range", {f.beta_lo, f.beta_hi}}, {"tolerance", f.tolerance}}}};
     if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
+    if (c.np_target_points) t["np"]["target_points"] = *c.np_target_points;
     if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);
   }
   if (c.np_axes) {
@@ -155,6 +160,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     // Recorded only when given, so that configs without it keep their hash.
     if (c.np_representation) t["np"]["representation"] = to_string(*c.np_representation);
     if (c.np_target_error) t["np"]["target_error"] = *c.np_target_error;
+    if (c.np_target_points) t["np"]["target_points"] = *c.np_target_points;
     if (c.np_normalize_energy) t["np"]["normalize"] = "energy";
     if (c.np_energy_axes) t["np"]["energy_axes"] = axes_json(*c.np_energy_axes);
     if (!c.np_beta_bands.empty()) t["np"]["beta_bands"] = beta_bands_json(c.np_beta_bands);

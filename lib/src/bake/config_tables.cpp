@@ -83,6 +83,12 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
     if (c.marschner) fail("tables.np.target_error", "applies to model deon2011 only");
     c.np_target_error = np_json.at("target_error").get<double>();
   }
+  if (np_json.contains("target_points")) {
+    if (!c.np_target_error) fail("tables.np.target_points", "applies with tables.np.target_error only");
+    const long long n = np_json.at("target_points").get<long long>();
+    if (n < 256 || n > 10000000) fail("tables.np.target_points", "must lie in [256, 10000000]");
+    c.np_target_points = static_cast<std::size_t>(n);
+  }
   if (c.np_representation == NpRepresentation::fourier) return parse_fourier_np(doc, np_json, c);
   const json& ax = tables.at("np").at("axes");
   const std::string p = "tables.np.axes.";

@@ -281,7 +281,7 @@ AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath p
     if (!truth) continue;
     SampledErrorOptions o;
     o.points = samples;
-    o.seed = 0x5eed0000ULL + static_cast<std::uint64_t>(t.attributes.value("p", 0));
+    o.seed = sampled_error_seed(t.path());  // the validator's points for this table
     o.threads = threads;
     const SampledError r = fourier ? measure_sampled_error(domain, fourier_point_function(t), *truth, o) : measure_sampled_error(set, t, *truth, o);
     a.points += r.error.points;

@@ -235,4 +235,10 @@ SampledError measure_sampled_error(const Table& domain, const PointFunction& sam
   return measure(domain, sampled, PointFunction(), truth, options);
 }
 
+std::uint64_t sampled_error_seed(const std::string& table_path) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : table_path) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
 }  // namespace hairlut

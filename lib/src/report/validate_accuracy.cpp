@@ -55,12 +55,6 @@ double cell_centre(const GridAxis& a, int i) {
   return sampler::unmapped(a.spacing, 0.5 * (t0 + t1));
 }
 
-std::uint64_t seed_of(const std::string& path) {  // FNV-1a: the same points for a table in every run
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : path) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
-
 constexpr std::size_t kDualScatteringPoints = 256;
 
 }  // namespace
@@ -98,7 +92,7 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
     // Dual-scattering references are slow (adaptive θr integrals of half-range energies): at most
     // kDualScatteringPoints points, the same for every table of the groups (one evaluation each).
     so.points = std::max<std::size_t>(kind == "ds" ? std::min(opt.max_points, kDualScatteringPoints) : opt.max_points, 1);
-    so.seed = kind == "ds" ? seed_of("dual_scattering") : seed_of(t.path());
+    so.seed = sampled_error_seed(kind == "ds" ? "dual_scattering" : t.path());
     so.threads = opt.threads;
     so.half_float = !fourier;  // a Fourier table is HDF5 only (float32 or float64)
     so.keep_points = true;

@@ -121,6 +121,9 @@ struct BakeConfig {
   /// phi_h (marschner2003: TRT over sigma_a, theta_d, phi_h, phi)
   std::optional<std::vector<GridAxis>> np_axes;
   std::optional<double> np_target_error;              ///< choose the N_p counts for this off-node error
+  /// tables.np.target_points: random points per N_p table by which target_error accepts a bake
+  /// (unset: kSampledErrorPoints, the validator's default, so that both report the same figures).
+  std::optional<std::size_t> np_target_points;
   /// tables.np.representation as given (absent: tensor tables; with target_error every
   /// representation competes, and a given one restricts the choice to it).
   std::optional<NpRepresentation> np_representation;

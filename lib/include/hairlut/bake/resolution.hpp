@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "hairlut/bake/config.hpp"
+#include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/physics/attenuation.hpp"
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/util/quadrature.hpp"
@@ -112,10 +113,11 @@ struct AchievedError {
 
 /// The error of every lobe's N_p table of group "np" (R, TT, TRT, TRRT, ...; not the residual,
 /// which the validator judges with the energies), or of group "np_fourier" read through
-/// sampler::FourierNp in double (over its domain, fourier_domain), at `samples` random points per table over its
+/// sampler::FourierNp in double (over its domain, fourier_domain), at `samples` random points per table (by
+/// default the validator's, with its seeds: the same points and figures as validate-hair-luts) over its
 /// declared domain, relative to the peak over φ of the same (β, σa, θd) slice floored at 1e−3 × the
 /// white fibre's: measure_sampled_error with table_truth, as validate-hair-luts's
 /// accuracy_max_rel / accuracy_p99_rel. Deterministic for any thread count.
-AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = 4096, int threads = 0);
+AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = kSampledErrorPoints, int threads = 0);
 
 }  // namespace hairlut

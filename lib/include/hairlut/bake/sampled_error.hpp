@@ -16,6 +16,13 @@
 
 namespace hairlut {
 
+/// Random points per table of the validator's default run, by which target_error also accepts a
+/// bake: both report the same figures for the same table.
+inline constexpr std::size_t kSampledErrorPoints = 40000;
+/// The seed of a table's random points (FNV-1a 64 of its path): the same points for a table in
+/// every run, in the validator and in target_error.
+std::uint64_t sampled_error_seed(const std::string& table_path);
+
 struct SampledErrorOptions {
   std::size_t points = 20000;  ///< random points (rounded up to whole groups of 32 sharing a slab)
   std::uint64_t seed = 1;      ///< same seed, same points and figures, for any thread count

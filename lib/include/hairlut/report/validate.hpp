@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
@@ -43,7 +44,7 @@ struct ValidationThresholds {
 
 struct ValidationOptions {
   ValidationThresholds thresholds;
-  std::size_t max_points = 40000;  ///< random points per table (deterministic: a fixed seed per table path)
+  std::size_t max_points = kSampledErrorPoints;  ///< random points per table (deterministic: sampled_error_seed of the table's path)
   int threads = 0;                 ///< OpenMP threads for direct evaluation (0: all)
   std::function<void(std::string_view stage, std::size_t done, std::size_t total)> progress;
   const std::atomic<bool>* cancel = nullptr;
