@@ -146,7 +146,8 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     write_json_attrs(f, ds.get(), t.attributes);
     write_fixed_string_attr(f, ds.get(), "hairlut_table", described[i]);
   }
-  for (const auto& [path, s] : scale_refs) {
+  for (const auto& [scale_path, s] : scale_refs) {
+    const std::string& path = scale_path;  // clang before 16 cannot capture a structured binding
     Handle scale(quiet([&] { return H5Dopen2(file, path.c_str(), H5P_DEFAULT); }), H5Dclose);
     f.check(scale.get(), "cannot open dimension scale " + path);
     write_reference_list(f, scale.get(), s.uses);
