@@ -12,6 +12,7 @@ packages=(
   catch2                                   # tests
   libboost-dev libboost-math-dev           # Bessel functions, quadrature, multiprecision
   nlohmann-json3-dev                       # configs and metadata
+  libxxhash-dev                            # XXH3-64, the table files' checksums (header only)
   libpng-dev                               # render-hair-luts pictures
   libomp-dev                               # OpenMP runtime headers (GCC uses libgomp)
   python3 python3-numpy python3-h5py python3-jsonschema   # independent checks in tests

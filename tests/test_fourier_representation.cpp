@@ -305,7 +305,7 @@ TEST_CASE("Fourier: NaN, signs, periods and clamps", "[fourier-representation]")
   CHECK(std::isnan(bad(0.1, 1.0, 0.4, 0.7)));
 }
 
-TEST_CASE("Fourier: a written and read file holds the tables baked, and records format 1.2", "[fourier-representation][io]") {
+TEST_CASE("Fourier: a written and read file holds the tables baked, and records the format version of Fourier tables", "[fourier-representation][io]") {
   const fs::path dir = temp_dir("io");
   const BakeConfig c = config_in(dir, fourier_config(8, 4));
   BakeReport report;

@@ -145,6 +145,81 @@ TEST_CASE("Written files carry the format version and loaders check it", "[robus
   fs::remove_all(dir);
 }
 
+TEST_CASE("Files of format 1.x (FNV-1a 64 checksums, no algorithm named) are still read and verified", "[robustness][io]") {
+  const fs::path dir = temp_dir("format1");
+  const BakeConfig c = parse_config(tiny_config(), "t.json", dir);
+  BakeReport report;
+  const TableSet set = bake(c, {}, &report);
+  write_outputs(set, c, report);
+  const fs::path h5 = output_paths(c).hdf5;
+  // The file as format 1.1 wrote it: version 1.1, FNV-1a 64 content checksum, no algorithm attribute.
+  auto set_root_string = [](hid_t f, const char* key, const std::string& value) {
+    if (H5Aexists(f, key) > 0) H5Adelete(f, key);
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, value.size());
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t attr = H5Acreate2(f, key, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(attr, type, value.c_str());
+    H5Aclose(attr);
+    H5Sclose(space);
+    H5Tclose(type);
+  };
+  auto as_format_1 = [&](const fs::path& p, const std::string& checksum) {
+    fs::copy_file(h5, p, fs::copy_options::overwrite_existing);
+    const hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Adelete(f, "hairlut_checksum_algorithm");
+    set_root_string(f, "hairlut_format_version", "1.1");
+    set_root_string(f, "hairlut_checksum", checksum);
+    H5Fclose(f);
+  };
+  const std::string fnv = content_checksum(set, ChecksumRounding::as_stored, HashAlgorithm::fnv1a64);
+  CHECK(fnv != content_checksum(set));
+  as_format_1(dir / "old.h5", fnv);
+  TableSet got;
+  REQUIRE_NOTHROW(got = load_tables(dir / "old.h5"));
+  CHECK(content_checksum(got) == content_checksum(set));
+  // A format 1.x file is verified with FNV-1a: an XXH3-64 checksum there is a mismatch.
+  as_format_1(dir / "mixed.h5", content_checksum(set));
+  CHECK(load_error(dir / "mixed.h5").find("content checksum mismatch") != std::string::npos);
+  // A format 2.x file must name its algorithm, and a known one.
+  fs::copy_file(h5, dir / "unnamed.h5");
+  {
+    const hid_t f = H5Fopen((dir / "unnamed.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Adelete(f, "hairlut_checksum_algorithm");
+    H5Fclose(f);
+  }
+  CHECK(load_error(dir / "unnamed.h5").find("missing attribute hairlut_checksum_algorithm") != std::string::npos);
+  fs::copy_file(h5, dir / "unknown.h5");
+  {
+    const hid_t f = H5Fopen((dir / "unknown.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    set_root_string(f, "hairlut_checksum_algorithm", "md5");
+    H5Fclose(f);
+  }
+  CHECK(load_error(dir / "unknown.h5").find("unknown checksum algorithm \"md5\"") != std::string::npos);
+  // A sidecar of format 1 records FNV-1a 64 under "fnv1a64": the loader checks the file with it.
+  {
+    std::ifstream in(output_paths(c).sidecar);
+    json side = json::parse(in);
+    for (json& f : side["files"]) {
+      std::ifstream bytes(dir / f["path"].get<std::string>(), std::ios::binary);
+      const std::string data((std::istreambuf_iterator<char>(bytes)), std::istreambuf_iterator<char>());
+      f.erase("xxh3_64");
+      f["fnv1a64"] = fnv1a64_hex(data);
+    }
+    side["format_version"] = 1;
+    std::ofstream(output_paths(c).sidecar) << side.dump(2);
+  }
+  REQUIRE_NOTHROW(load_tables(h5));
+  {
+    std::ifstream in(output_paths(c).sidecar);
+    json side = json::parse(in);
+    for (json& f : side["files"]) f["fnv1a64"] = "0000000000000000";
+    std::ofstream(output_paths(c).sidecar) << side.dump(2);
+  }
+  CHECK(load_error(h5).find("fnv1a-64 differ") != std::string::npos);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("Visible HDF5 metadata altered behind the checksum is refused, naming the attribute", "[robustness][io]") {
   const fs::path dir = temp_dir("attrs");
   const BakeConfig c = parse_config(tiny_config(), "t.json", dir);

@@ -11,7 +11,7 @@ the documented exit code, and no file left where none may be. Probes:
   corrupt-files  truncated and byte-flipped .h5 and .exr, loaded by the validator
   metadata       HDF5 attributes altered or deleted with h5py: the validator refuses, naming them
   exr-metadata   OpenEXR header text attributes altered in place: refused, naming them
-  format-version a newer major format version is refused; a newer minor one is read
+  format-version a newer major format version is refused; an older major (1.x) or a newer minor one is read
   disk-full      a bake under a file-size limit (ulimit -f): one-line I/O error, exit 1
   max-points     validate --max-points 0 and 1: refused with exit 2
   signals        SIGINT/SIGTERM/SIGHUP stop bake, validate, bench and compare within a second
@@ -203,7 +203,7 @@ def probe_metadata():
         ("np/TT DIMENSION_LIST deleted", lambda f: f["np/TT"].attrs.__delitem__("DIMENSION_LIST"), "DIMENSION_LIST"),
         ("np/phi units changed", lambda f: f["np/phi"].attrs.__setitem__("units", "degree"), "units"),
         ("np/phi range changed", lambda f: f["np/phi"].attrs.__setitem__("range", np.array([0.0, 1.0])), "range"),
-        ("hairlut_format_version = 2.0", lambda f: set_fixed(f, "hairlut_format_version", b"2.0"), "newer"),
+        ("hairlut_format_version = 3.0", lambda f: set_fixed(f, "hairlut_format_version", b"3.0"), "newer"),
         ("hairlut_format_version deleted", lambda f: f.attrs.__delitem__("hairlut_format_version"), "hairlut_format_version"),
     ]
     # The unaltered copy passes the same loader (so that a refusal below is the mutation's doing).
@@ -251,7 +251,8 @@ def set_fixed(f, key, value):
 
 def probe_format_version():
     import h5py
-    for version, ok in (("1.0", True), ("1.7", True), ("2.0", False), ("10.3", False), ("1", False), ("x.y", False)):
+    for version, ok in (("1.0", True), ("1.7", True), ("2.0", True), ("2.7", True), ("3.0", False), ("0.9", False), ("10.3", False),
+                        ("1", False), ("x.y", False)):
         path = h5_copy()
         with h5py.File(path, "r+") as f:
             set_fixed(f, "hairlut_format_version", version.encode())

@@ -112,6 +112,7 @@ class MemoryStream : public Imf::IStream {
 TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
   auto fail = [&](const std::string& what) -> void { throw IoError(name + ": " + what); };
   TableSet set;
+  HashAlgorithm algorithm = HashAlgorithm::fnv1a64;  // files of format 1.x; from 2.0 on the file names it
   const int parts = in.parts();
   if (parts < 1 || parts > 100000) fail("has no image parts");
   for (int p = 0; p < parts; ++p) {
@@ -123,7 +124,14 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
       const auto* version = h.findTypedAttribute<Imf::StringAttribute>("hairlut.format_version");
       if (!version)
         fail(pname + ": missing header attribute hairlut.format_version (not a hairlut table file, or written before the format was versioned)");
-      check_format_version(version->value(), name);
+      const int major = check_format_version(version->value(), name);
+      const auto* named = h.findTypedAttribute<Imf::StringAttribute>("hairlut.checksum_algorithm");
+      if (!named && major >= 2) fail(pname + ": missing header attribute hairlut.checksum_algorithm");
+      if (named) {
+        const std::optional<HashAlgorithm> known = hash_algorithm_from_name(named->value());
+        if (!known) fail(pname + ": unknown checksum algorithm \"" + named->value().substr(0, 40) + "\" (header attribute hairlut.checksum_algorithm)");
+        algorithm = *known;
+      }
       const auto* meta = h.findTypedAttribute<Imf::StringAttribute>("hairlut.metadata");
       if (!meta) fail(pname + ": missing header attribute hairlut.metadata (not a hairlut table file?)");
       try {
@@ -242,7 +250,7 @@ TableSet read_parts(Imf::MultiPartInputFile& in, const std::string& name) {
   }
   const auto* sum = in.header(0).findTypedAttribute<Imf::StringAttribute>("hairlut.checksum");
   if (!sum) fail("missing header attribute hairlut.checksum (not a hairlut table file?)");
-  if (sum->value() != content_checksum(set)) fail("content checksum mismatch: the file is corrupted");
+  if (sum->value() != content_checksum(set, ChecksumRounding::as_stored, algorithm)) fail("content checksum mismatch: the file is corrupted");
   return set;
 }
 
@@ -308,8 +316,9 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
       h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text(format_version_minor(set))));
       h.insert("hairlut.metadata", Imf::StringAttribute(set.metadata.dump()));
       h.insert("hairlut.version", Imf::StringAttribute(set.metadata.value("hairlut_version", std::string("?"))));
+      h.insert("hairlut.checksum_algorithm", Imf::StringAttribute(hash_algorithm_name(kFileHash)));
       h.insert("hairlut.checksum",
-               Imf::StringAttribute(content_checksum(set, options.half ? ChecksumRounding::half : ChecksumRounding::float32)));
+               Imf::StringAttribute(content_checksum(set, options.half ? ChecksumRounding::half : ChecksumRounding::float32, kFileHash)));
     }
     headers.push_back(h);
     parts.push_back(std::move(part));

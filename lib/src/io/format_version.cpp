@@ -14,7 +14,7 @@ std::string format_version_text(int minor) { return std::to_string(kFormatVersio
 
 int format_version_minor(const TableSet& set) { return has_fourier_np(set) ? kFormatVersionMinorFourier : kFormatVersionMinorBase; }
 
-void check_format_version(const std::string& text, const std::string& name) {
+int check_format_version(const std::string& text, const std::string& name) {
   const auto dot = text.find('.');
   auto digits = [](const std::string& d) {
     return !d.empty() && d.size() <= 6 && std::all_of(d.begin(), d.end(), [](char c) { return c >= '0' && c <= '9'; });
@@ -25,9 +25,10 @@ void check_format_version(const std::string& text, const std::string& name) {
   if (major > kFormatVersionMajor)
     throw IoError(name + ": written in table format " + text + ", newer than this hairlut reads (format " + format_version_text() +
                   ", major version " + std::to_string(kFormatVersionMajor) + "); use a newer hairlut");
-  if (major < kFormatVersionMajor)
-    throw IoError(name + ": written in table format " + text + ", older than this hairlut reads (major version " +
-                  std::to_string(kFormatVersionMajor) + "); bake the tables again");
+  if (major < kFormatVersionMajorOldest)
+    throw IoError(name + ": written in table format " + text + ", older than this hairlut reads (major versions " +
+                  std::to_string(kFormatVersionMajorOldest) + " to " + std::to_string(kFormatVersionMajor) + "); bake the tables again");
+  return major;
 }
 
 }  // namespace hairlut

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "hairlut/io/hdf5_io.hpp"
+#include "hairlut/util/hash.hpp"
 
 namespace hairlut::detail {
 
@@ -35,10 +36,11 @@ void fix_superblock_checksum(std::span<char> image);
 /// file-size limit, I/O) becomes an IoError naming the file and the reason.
 void write_file_bytes(const std::filesystem::path& path, std::span<const char> bytes);
 
-/// What the sidecar records of a written file: its size and FNV-1a 64 (16 hex digits).
+/// What the sidecar records of a written file: its size and hash (16 hex digits; empty: not known).
 struct FileDigest {
   std::uintmax_t bytes = 0;
-  std::string fnv1a64;
+  HashAlgorithm algorithm = kFileHash;
+  std::string hash;
 };
 
 /// write_hdf5 that also returns the digest of the bytes it wrote, hashed from the in-memory image

@@ -63,7 +63,15 @@ TableSet read_open_file(const File& f, hid_t file_id) {
     (void)read_string_attr(f, root.get(), "hairlut_metadata", "/");  // no hairlut metadata at all: says so
     f.fail("missing attribute hairlut_format_version (written before the table format was versioned; bake the tables again)");
   }
-  check_format_version(read_string_attr(f, root.get(), "hairlut_format_version", "/"), f.name);
+  const int major = check_format_version(read_string_attr(f, root.get(), "hairlut_format_version", "/"), f.name);
+  // The content checksum's algorithm: named from format 2.0 on; files of format 1.x use FNV-1a 64.
+  HashAlgorithm algorithm = HashAlgorithm::fnv1a64;
+  if (major >= 2 || quiet([&] { return H5Aexists(root.get(), "hairlut_checksum_algorithm"); }) > 0) {
+    const std::string name = read_string_attr(f, root.get(), "hairlut_checksum_algorithm", "/");
+    const std::optional<HashAlgorithm> known = hash_algorithm_from_name(name);
+    if (!known) f.fail("unknown checksum algorithm \"" + name.substr(0, 40) + "\" (root attribute hairlut_checksum_algorithm)");
+    algorithm = *known;
+  }
 
   TableSet set;
   json index;
@@ -160,7 +168,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
     set.tables.push_back(std::move(t));
   }
   // The content checksum covers everything read above; HDF5 checksums only part of it.
-  if (read_string_attr(f, root.get(), "hairlut_checksum", "/") != content_checksum(set))
+  if (read_string_attr(f, root.get(), "hairlut_checksum", "/") != content_checksum(set, ChecksumRounding::as_stored, algorithm))
     f.fail("content checksum mismatch: the file is corrupted");
   // The visible copies of the metadata (what h5py shows) must agree with the checksummed ones.
   verify_json_attrs(f, root.get(), set.metadata, "/");

@@ -55,7 +55,9 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
   json index = json::array();
   for (const Table& t : set.tables) index.push_back(t.path());
   write_fixed_string_attr(f, root.get(), "hairlut_tables", index.dump());
-  Fnv1a64 hash;
+  // The checksum's algorithm (format 2.0 on; files of format 1.x name none and use FNV-1a 64).
+  write_fixed_string_attr(f, root.get(), "hairlut_checksum_algorithm", hash_algorithm_name(kFileHash));
+  Hasher hash(kFileHash);
   // Each table's description, dumped once for the checksum and its hairlut_table attribute.
   std::vector<std::string> described;
   detail::TableText text;
@@ -340,9 +342,9 @@ detail::FileDigest detail::write_hdf5_digest(const TableSet& set, const std::fil
   ImageBuffer image;
   hdf5_image(set, f, options, image);
   detail::write_file_bytes(path, image.bytes());
-  Fnv1a64 h;
+  Hasher h(kFileHash);
   h.update(image.data, image.size);
-  return {image.size, h.hex()};
+  return {image.size, kFileHash, h.hex()};
 }
 
 }  // namespace hairlut

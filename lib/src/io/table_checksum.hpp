@@ -11,9 +11,9 @@
 
 namespace hairlut::detail {
 
-/// content_checksum(set, ChecksumRounding::as_stored), given described[i] == set.tables[i].describe().dump().
+/// content_checksum(set, ChecksumRounding::as_stored, kFileHash), given described[i] == set.tables[i].describe().dump().
 inline std::string content_checksum_of(const TableSet& set, const std::vector<std::string>& described) {
-  Fnv1a64 h;
+  Hasher h(kFileHash);
   h.update(set.metadata.dump());
   for (std::size_t i = 0; i < set.tables.size(); ++i) {
     const Table& t = set.tables[i];

@@ -27,10 +27,10 @@ namespace {
 using json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
-// FNV-1a 64 of a file, read in blocks (no copy of the whole file in memory).
-std::string file_fnv(const fs::path& p) {
+// The hash of a file, read in blocks (no copy of the whole file in memory).
+std::string file_hash(const fs::path& p, HashAlgorithm algorithm = kFileHash) {
   std::ifstream in(p, std::ios::binary);
-  Fnv1a64 h;
+  Hasher h(algorithm);
   std::vector<char> block(1 << 16);
   while (in) {
     in.read(block.data(), static_cast<std::streamsize>(block.size()));
@@ -75,8 +75,9 @@ class DirectoryLock {
 };
 
 // When `file` is listed in the sidecar of its set (same directory, same base name, ".json"), its
-// size and FNV-1a 64 must be the recorded ones: a file of another bake, or one replaced after the
-// set was committed, is refused.
+// size and hash must be the recorded ones (XXH3-64 under "xxh3_64"; sidecars of format 1 record
+// FNV-1a 64 under "fnv1a64"): a file of another bake, or one replaced after the set was
+// committed, is refused.
 void check_against_sidecar(const fs::path& file) {
   const fs::path sidecar = fs::path(file).replace_extension(".json");
   std::error_code ec;
@@ -93,10 +94,13 @@ void check_against_sidecar(const fs::path& file) {
   for (const json& f : side["files"]) {
     if (!f.is_object() || f.value("path", std::string()) != file.filename().string()) continue;
     const std::uintmax_t bytes = fs::file_size(file, ec);
-    const std::string want = f.value("fnv1a64", std::string());
-    if (ec || !f.contains("bytes") || !f["bytes"].is_number_unsigned() || f["bytes"].get<std::uintmax_t>() != bytes || file_fnv(file) != want)
-      throw IoError(file.string() + ": does not match its set's sidecar " + sidecar.filename().string() +
-                    " (size or FNV-1a 64 differ): the file belongs to another bake or was changed after the set was written");
+    const HashAlgorithm algorithm = f.contains("xxh3_64") ? HashAlgorithm::xxh3_64 : HashAlgorithm::fnv1a64;
+    const json& recorded = f.contains(hash_sidecar_key(algorithm)) ? f[hash_sidecar_key(algorithm)] : json();
+    const std::string want = recorded.is_string() ? recorded.get<std::string>() : std::string();
+    if (ec || !f.contains("bytes") || !f["bytes"].is_number_unsigned() || f["bytes"].get<std::uintmax_t>() != bytes ||
+        want.empty() || file_hash(file, algorithm) != want)
+      throw IoError(file.string() + ": does not match its set's sidecar " + sidecar.filename().string() + " (size or " +
+                    hash_algorithm_name(algorithm) + " differ): the file belongs to another bake or was changed after the set was written");
     return;
   }
 }
@@ -139,7 +143,7 @@ json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport
                       detail::TableText* text = nullptr) {
   json s;
   s["format"] = "hairlut-tables";
-  s["format_version"] = 1;
+  s["format_version"] = kFormatVersionMajor;
   s["hairlut_version"] = kVersion;
   s["name"] = c.name;
   s["model"] = c.model;
@@ -147,11 +151,11 @@ json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport
   s["files"] = json::array();
   for (std::size_t i = 0; i < files.size(); ++i) {
     const auto& [format, path] = files[i];
-    const bool known = i < digests.size() && !digests[i].fnv1a64.empty();
+    const bool known = i < digests.size() && !digests[i].hash.empty() && digests[i].algorithm == kFileHash;
     json f = {{"format", format},
               {"path", path.filename().string()},
               {"bytes", known ? digests[i].bytes : fs::file_size(path)},
-              {"fnv1a64", known ? digests[i].fnv1a64 : file_fnv(path)}};
+              {hash_sidecar_key(kFileHash), known ? digests[i].hash : file_hash(path)}};
     if (format == "hdf5") f["precision"] = c.output.hdf5_double ? "float64" : "float32";
     else if (format == "engine-exr") f["precision"] = "half";  // engine textures are RGBA half
     else f["precision"] = c.output.exr_half ? "half" : "float32";

@@ -82,8 +82,8 @@ std::size_t TableSet::bytes() const {
   return b;
 }
 
-std::string content_checksum(const TableSet& set, ChecksumRounding rounding) {
-  Fnv1a64 h;
+std::string content_checksum(const TableSet& set, ChecksumRounding rounding, HashAlgorithm algorithm) {
+  Hasher h(algorithm);
   h.update(set.metadata.dump());
   for (const Table& t : set.tables) {
     h.update(t.describe().dump());
@@ -92,11 +92,13 @@ std::string content_checksum(const TableSet& set, ChecksumRounding rounding) {
     } else if (rounding == ChecksumRounding::as_stored || (rounding == ChecksumRounding::float32 && t.precision == Precision::float32)) {
       h.update(t.f32.data(), t.f32.size() * sizeof(float));
     } else {
+      std::vector<float> rounded(t.size());  // hashed in one piece: the same hash as value by value
       for (std::size_t i = 0; i < t.size(); ++i) {
         float v = static_cast<float>(t.get(i));
         if (rounding == ChecksumRounding::half) v = static_cast<float>(half(v));
-        h.update(&v, sizeof v);
+        rounded[i] = v;
       }
+      h.update(rounded.data(), rounded.size() * sizeof(float));
     }
   }
   return h.hex();

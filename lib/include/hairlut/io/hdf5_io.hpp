@@ -32,22 +32,25 @@ class IoError : public std::runtime_error {
 /// adds (attributes, tables, optional keys) and older readers of the same major version read the
 /// file; a major change may alter or remove what a reader relies on, and readers refuse a newer
 /// major version (docs/table-format.md, "Format version and compatibility").
-/// A file records the lowest minor version whose additions it holds: 1.2 (N_p in the Fourier
-/// representation, group np_fourier) where it has Fourier tables, else 1.1, so that the files of
-/// sets without them are byte for byte those of earlier releases.
-inline constexpr int kFormatVersionMajor = 1;
-inline constexpr int kFormatVersionMinor = 2;         ///< the newest minor version this hairlut reads and writes
-inline constexpr int kFormatVersionMinorFourier = 2;  ///< the minor version that added the Fourier N_p tables
-inline constexpr int kFormatVersionMinorBase = 1;     ///< the minor version of a file without them
+/// Format 2.0 changed the checksums (content checksum and the sidecar's file digests) from FNV-1a
+/// 64 to XXH3-64 and names the algorithm in each file; this hairlut writes 2.0 and still reads
+/// every 1.x file (1.1, and 1.2 with N_p in the Fourier representation), verifying FNV-1a there.
+/// The minor version a file records is the lowest whose additions it holds; 2.0 holds all of 1.2's.
+inline constexpr int kFormatVersionMajor = 2;
+inline constexpr int kFormatVersionMajorOldest = 1;   ///< the oldest major version this hairlut reads
+inline constexpr int kFormatVersionMinor = 0;         ///< the newest minor version this hairlut reads and writes
+inline constexpr int kFormatVersionMinorFourier = 0;  ///< the minor version of a file with Fourier N_p tables
+inline constexpr int kFormatVersionMinorBase = 0;     ///< the minor version of a file without them
 /// "MAJOR.MINOR" of this hairlut (the newest), or with the given minor version.
 std::string format_version_text();
 std::string format_version_text(int minor);
 /// The minor version a file of `set` records (see above).
 int format_version_minor(const TableSet& set);
 
-/// Throws IoError("<name>: ...") unless `text` is "MAJOR.MINOR" (decimal) with MAJOR equal to
-/// kFormatVersionMajor; a newer major version is refused with a message that says so.
-void check_format_version(const std::string& text, const std::string& name);
+/// Returns MAJOR when `text` is "MAJOR.MINOR" (decimal) with kFormatVersionMajorOldest ≤ MAJOR ≤
+/// kFormatVersionMajor; otherwise throws IoError("<name>: ..."), saying whether the file is newer
+/// or older than this hairlut reads.
+int check_format_version(const std::string& text, const std::string& name);
 
 struct Hdf5WriteOptions {
   int deflate = 6;  ///< 0 … 9; 0 stores unfiltered (compact or contiguous; tables written slab by slab stay chunked with shuffle and Fletcher-32)

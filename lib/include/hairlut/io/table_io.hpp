@@ -2,7 +2,7 @@
 // table (schemas/hairlut-tables.schema.json). Files are written to temporary names in the output
 // directory and renamed into place only when complete, so an interrupted bake never leaves a
 // partial file at the destination. The sidecar, renamed last, is the set's manifest: it records
-// each file's size and FNV-1a 64, which load_tables checks. A bake holds an exclusive lock (flock)
+// each file's size and hash (XXH3-64; FNV-1a 64 in sets of format 1.x), which load_tables checks. A bake holds an exclusive lock (flock)
 // on the output directory while it writes and commits, so two bakes never interleave their files.
 #pragma once
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hairlut/tables/grid.hpp"
+#include "hairlut/util/hash.hpp"
 
 namespace hairlut {
 
@@ -68,9 +69,11 @@ struct TableSet {
 /// How values enter content_checksum: as stored in memory, or rounded as a file stores them.
 enum class ChecksumRounding { as_stored, float32, half };
 
-/// FNV-1a 64 (hex) over the set's metadata, each table's description and its values (as float32
-/// bytes, after half rounding if asked, or as stored). Writers record it and loaders verify it, so
-/// a corrupted file is rejected even where the file format has no checksum of its own.
-std::string content_checksum(const TableSet& set, ChecksumRounding rounding = ChecksumRounding::as_stored);
+/// The hash (hex; XXH3-64 as files of format 2.x record it, or FNV-1a 64 as files of format 1.x
+/// do) over the set's metadata, each table's description and its values (as float32 bytes, after
+/// half rounding if asked, or as stored). Writers record it and loaders verify it, so a corrupted
+/// file is rejected even where the file format has no checksum of its own.
+std::string content_checksum(const TableSet& set, ChecksumRounding rounding = ChecksumRounding::as_stored,
+                             HashAlgorithm algorithm = kFileHash);
 
 }  // namespace hairlut
