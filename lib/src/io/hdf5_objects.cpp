@@ -48,12 +48,11 @@ Handle string_type() {
 }
 
 void write_string_attr(const File& f, hid_t obj, const std::string& key, const std::string& value) {
-  Handle type = string_type();
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  const hid_t type = f.string_type_id();
+  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), type, f.scalar_space_id(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
   f.check(attr.get(), "cannot create attribute " + key);
   const char* p = value.c_str();
-  f.check_status(quiet([&] { return H5Awrite(attr.get(), type.get(), &p); }), "cannot write attribute " + key);
+  f.check_status(quiet([&] { return H5Awrite(attr.get(), type, &p); }), "cannot write attribute " + key);
 }
 
 // A fixed-length string attribute, stored inside the (checksummed) object header: hairlut's own
@@ -64,8 +63,7 @@ void write_fixed_string_attr(const File& f, hid_t obj, const std::string& key, c
   H5Tset_size(type.get(), std::max<std::size_t>(value.size(), 1));
   H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
   H5Tset_cset(type.get(), H5T_CSET_UTF8);
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), type.get(), f.scalar_space_id(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
   f.check(attr.get(), "cannot create attribute " + key);
   std::string padded = value;
   if (padded.empty()) padded.push_back('\0');
@@ -74,15 +72,15 @@ void write_fixed_string_attr(const File& f, hid_t obj, const std::string& key, c
 
 void write_doubles_attr(const File& f, hid_t obj, const std::string& key, const std::vector<double>& v) {
   const hsize_t n = v.size();
-  Handle space(v.size() == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose);
-  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  Handle array(v.size() == 1 ? Handle() : Handle(H5Screate_simple(1, &n, nullptr), H5Sclose));
+  const hid_t space = v.size() == 1 ? f.scalar_space_id() : array.get();
+  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
   f.check(attr.get(), "cannot create attribute " + key);
   f.check_status(quiet([&] { return H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, v.data()); }), "cannot write attribute " + key);
 }
 
 void write_int_attr(const File& f, hid_t obj, const std::string& key, long long v) {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
+  Handle attr(quiet([&] { return H5Acreate2(obj, key.c_str(), H5T_STD_I64LE, f.scalar_space_id(), H5P_DEFAULT, H5P_DEFAULT); }), H5Aclose);
   f.check(attr.get(), "cannot create attribute " + key);
   f.check_status(quiet([&] { return H5Awrite(attr.get(), H5T_NATIVE_LLONG, &v); }), "cannot write attribute " + key);
 }
@@ -122,6 +120,9 @@ std::string read_string_attr(const File& f, hid_t obj, const std::string& key, c
 Handle open_or_create_group(const File& f, hid_t root, const std::string& path) {
   Handle gcpl(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
   H5Pset_obj_track_times(gcpl.get(), 0);
+  // Links kept in the group's header up to 64 (HDF5's default moves more than 8, e.g. a
+  // material's 9 datasets, to a fractal heap and a B-tree of their own).
+  f.check_status(H5Pset_link_phase_change(gcpl.get(), 64, 48), "cannot set link storage");
   Handle current(H5Gopen2(root, "/", H5P_DEFAULT), H5Gclose);
   std::size_t start = 0;
   while (start < path.size()) {
@@ -176,7 +177,7 @@ Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std
   return dcpl;
 }
 
-void write_scale(const File& f, hid_t group, const GridAxis& a, const std::string& name, int deflate) {
+Handle write_scale(const File& f, hid_t group, const GridAxis& a, const std::string& name, int deflate) {
   const std::vector<double> nodes = a.nodes();
   const std::vector<hsize_t> dims = {static_cast<hsize_t>(nodes.size())};
   Handle space(H5Screate_simple(1, dims.data(), nullptr), H5Sclose);
@@ -197,6 +198,7 @@ void write_scale(const File& f, hid_t group, const GridAxis& a, const std::strin
     for (const auto& l : a.labels) joined += (joined.empty() ? "" : ",") + l;
     write_string_attr(f, ds.get(), "labels", joined);
   }
+  return ds;
 }
 
 void write_dimension_list(const File& f, hid_t ds, const std::vector<hobj_ref_t>& scales) {

@@ -85,10 +85,26 @@ class ErrorSilencer {
 // the stack.
 std::string hdf5_reason();
 
+// A variable-length UTF-8 string type (h5py reads it as str).
+Handle string_type();
+
 // Context for one file: turns HDF5 failures into one-line IoErrors naming the file and, when HDF5
-// gives one, its innermost reason.
+// gives one, its innermost reason; and holds what the writer's attributes share (created on first
+// use, closed with the File): the variable-length string type and the scalar dataspace. Creating
+// and closing them for each of a file's hundreds of attributes was a tenth of the writer's work.
 struct File {
   std::string name;
+  mutable Handle vlen_string_type{};
+  mutable Handle scalar_space{};
+
+  hid_t string_type_id() const {
+    if (!vlen_string_type.valid()) vlen_string_type = string_type();
+    return vlen_string_type.get();
+  }
+  hid_t scalar_space_id() const {
+    if (!scalar_space.valid()) scalar_space = Handle(H5Screate(H5S_SCALAR), H5Sclose);
+    return scalar_space.get();
+  }
 
   [[noreturn]] void fail(const std::string& what) const {
     const std::string reason = hdf5_reason();
@@ -119,8 +135,6 @@ inline Handle::~Handle() {
   if (id_ >= 0 && close_) quiet([&] { return close_(id_); });
 }
 
-Handle string_type();
-
 void write_string_attr(const File& f, hid_t obj, const std::string& key, const std::string& value);
 
 // A fixed-length string attribute, stored inside the (checksummed) object header: hairlut's own
@@ -149,7 +163,9 @@ std::vector<hsize_t> chunk_dims(const std::vector<hsize_t>& dims, std::size_t el
 // (`whole`), compact or contiguous when small or unfiltered (hdf5_layout.hpp).
 Handle dataset_create_plist(const File& f, const std::vector<hsize_t>& dims, std::size_t element, int deflate, bool whole = true);
 
-void write_scale(const File& f, hid_t group, const GridAxis& a, const std::string& name, int deflate);
+// The axis as a dimension scale named `name` in `group`, left open (the REFERENCE_LIST is written
+// once every table is attached).
+Handle write_scale(const File& f, hid_t group, const GridAxis& a, const std::string& name, int deflate);
 
 // Dimension-scale attachments as HDF5's Dimension Scales specification stores them (what
 // H5DSattach_scale leaves after attaching each scale in turn), each list written once: attaching

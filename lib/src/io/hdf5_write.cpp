@@ -75,13 +75,15 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
   struct ScaleRefs {
     hobj_ref_t ref;
     std::vector<ScaleUse> uses;
+    Handle scale;  // kept open until its REFERENCE_LIST is written
   };
   std::map<std::string, ScaleRefs> scale_refs;  // by group/name
   for (const auto& [group, axes] : scales) {
     Handle g = open_or_create_group(f, file, group);
     for (const auto& [name, axis] : axes) {
-      write_scale(f, g.get(), axis, name, options.deflate);
-      scale_refs[group + "/" + name].ref = object_reference(f, g.get(), name);
+      ScaleRefs& s = scale_refs[group + "/" + name];
+      s.scale = write_scale(f, g.get(), axis, name, options.deflate);
+      s.ref = object_reference(f, s.scale.get(), ".");
     }
   }
   // The group of the tables being written, kept while consecutive tables share the group (a
@@ -135,7 +137,7 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
       }
     }
     std::vector<hobj_ref_t> dims_refs;
-    const hobj_ref_t self = object_reference(f, g.get(), t.name);
+    const hobj_ref_t self = object_reference(f, ds.get(), ".");
     for (std::size_t k = 0; k < t.axes.size(); ++k) {
       ScaleRefs& s = scale_refs.at(t.group + "/" + names.of(t.group, t.axes[k]));
       dims_refs.push_back(s.ref);
@@ -148,11 +150,9 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     write_json_attrs(f, ds.get(), t.attributes);
     write_fixed_string_attr(f, ds.get(), "hairlut_table", described[i]);
   }
-  for (const auto& [scale_path, s] : scale_refs) {
-    const std::string& path = scale_path;  // clang before 16 cannot capture a structured binding
-    Handle scale(quiet([&] { return H5Dopen2(file, path.c_str(), H5P_DEFAULT); }), H5Dclose);
-    f.check(scale.get(), "cannot open dimension scale " + path);
-    write_reference_list(f, scale.get(), s.uses);
+  for (auto& entry : scale_refs) {
+    write_reference_list(f, entry.second.scale.get(), entry.second.uses);
+    f.check_status(entry.second.scale.close_now(), "cannot close dimension scale " + entry.first);
   }
   if (feed) write_fixed_string_attr(f, root.get(), "hairlut_checksum", hash.hex());
 }

@@ -255,8 +255,13 @@ class FourierNp {
     FixedTaps<R> tt, ts;
     V wt[KT], ws[KS];
     locate<KT, KS>(theta_cos_ ? -cos_t : th, sigma_sqrt_ ? std::sqrt(sg) : sg, tt, ts, wt, ws);
-    const T* row[KT];
-    for (int i = 0; i < KT; ++i) row[i] = data_ + tt.off[i];
+    // The KT × KS taps and their weights wt_i ws_j, multiplied once per lookup instead of once per
+    // group of terms.
+    constexpr int K = KT * KS;
+    V w[K];
+    const T* tap[K];
+    for (int i = 0; i < KT; ++i)
+      for (int j = 0; j < KS; ++j) w[i * KS + j] = wt[i] * ws[j], tap[i * KS + j] = data_ + tt.off[i] + ts.off[j];
     // Four terms per register: lanes n = 4g … 4g + 3. Weights (2 − δ_n0) e^{−n²b}, b = β²/2, by
     // the recurrence g ← g q, q ← q e^{−32b}; cosines as the real part of e^{inφ} rotated by e^{i4φ}.
     const R e1 = std::exp(R(-0.5) * bt * bt), e2 = e1 * e1, e4 = e2 * e2, e8 = e4 * e4, e16 = e8 * e8, e32 = e16 * e16;
@@ -269,8 +274,10 @@ class FourierNp {
     const int count = lookup_terms(bt);
     const int full = count / 4;
     V acc = V::all(R(0));
-    auto step = [&](int k) {  // group k, then the recurrences to group k + 1
-      acc = acc + blend<KT, KS>(row, ts.off, wt, ws, static_cast<std::size_t>(4 * k)) * (g * c);
+    // Group k, then the recurrences to group k + 1 (forced inline: as a call, the state of the
+    // recurrences goes through memory at every group, which doubled the cost in double).
+    auto step = [&](int k) HAIRLUT_SAMPLER_LAMBDA_INLINE {
+      acc = acc + blend<K>(tap, w, static_cast<std::size_t>(4 * k)) * (g * c);
       const V cn = c * c4 - s * s4;
       s = c * s4 + s * c4, c = cn;
       g = g * q, q = q * r;
@@ -281,34 +288,29 @@ class FourierNp {
     }
     for (int k = 1; k < full; ++k) step(k);
     if (count % 4) {  // a stored count that is not a multiple of 4: the last group in part
-      T tail[KT][KS][4] = {};
-      const T* trow[KT];
-      std::size_t toff[KS];
-      for (int i = 0; i < KT; ++i) {
-        for (int j = 0; j < KS; ++j)
-          for (int l = 0; l < count % 4; ++l) tail[i][j][l] = row[i][ts.off[j] + static_cast<std::size_t>(4 * full + l)];
-        trow[i] = &tail[i][0][0];
+      T tail[K][4] = {};
+      const T* ttap[K];
+      for (int k = 0; k < K; ++k) {
+        for (int l = 0; l < count % 4; ++l) tail[k][l] = tap[k][4 * full + l];
+        ttap[k] = tail[k];
       }
-      for (int j = 0; j < KS; ++j) toff[j] = static_cast<std::size_t>(4 * j);
-      acc = acc + blend<KT, KS>(trow, toff, wt, ws, 0) * (g * c);
+      acc = acc + blend<K>(ttap, w, 0) * (g * c);
     }
     const R F = fourier_absorption(params_, sg, cos_t);
     const R v = acc.sum() * F * static_cast<R>(0.15915494309189533577);  // 1/2π
     return v < R(0) ? R(0) : v;
   }
 
-  // Σ_i wt_i Σ_j ws_j c(row_i + off_j + n …): the taps of one group of four terms, the σa taps of
-  // each θd row first, each sum pairwise.
-  template <int KT, int KS>
-  static HAIRLUT_SAMPLER_INLINE detail::Vec4<R> blend(const T* const* row, const std::size_t* off, const detail::Vec4<R>* wt,
-                                                      const detail::Vec4<R>* ws, std::size_t n) {
+  // Σ_k w_k c(tap_k + n …): the K = KT × KS taps of one group of four terms, summed pairwise
+  // (a tree of depth log₂ K).
+  template <int K>
+  static HAIRLUT_SAMPLER_INLINE detail::Vec4<R> blend(const T* const* tap, const detail::Vec4<R>* w, std::size_t n) {
     using V = detail::Vec4<R>;
-    auto along_sigma = [&](const T* p) {
-      if constexpr (KS == 2) return ws[0] * V::load_from(p + off[0]) + ws[1] * V::load_from(p + off[1]);
-      else return (ws[0] * V::load_from(p + off[0]) + ws[1] * V::load_from(p + off[1])) + (ws[2] * V::load_from(p + off[2]) + ws[3] * V::load_from(p + off[3]));
-    };
-    if constexpr (KT == 2) return wt[0] * along_sigma(row[0] + n) + wt[1] * along_sigma(row[1] + n);
-    else return (wt[0] * along_sigma(row[0] + n) + wt[1] * along_sigma(row[1] + n)) + (wt[2] * along_sigma(row[2] + n) + wt[3] * along_sigma(row[3] + n));
+    auto term = [&](int k) HAIRLUT_SAMPLER_LAMBDA_INLINE { return w[k] * V::load_from(tap[k] + n); };
+    auto quad = [&](int k) HAIRLUT_SAMPLER_LAMBDA_INLINE { return (term(k) + term(k + 1)) + (term(k + 2) + term(k + 3)); };
+    if constexpr (K == 4) return quad(0);
+    else if constexpr (K == 8) return quad(0) + quad(4);
+    else return (quad(0) + quad(4)) + (quad(8) + quad(12));
   }
 
   // The taps of θd (at its mapped coordinate xt) and σa (xs): both located in one register where

@@ -10,11 +10,13 @@
 //   - the tensor product is a fixed loop nest chosen when the view is built (2 or 4 taps per axis),
 //     reduced along the last (contiguous) axis first; no per-lookup loop over up to 8 axes;
 //   - a table whose axes are all linear over mapped nodes (the common case) takes a shorter path,
-//     inlined into the caller: per axis (unrolled) one fold, the mapping, one clamp and one rarely
-//     taken snapping branch give the cell's first node and the step to the second; then the 2^D
-//     values combined as lerps a + w (b − a), as pairs along the last axis that SSE2 combines in
-//     one register (a scalar path does the same operations in the same order; the same value as
-//     the weighted sum up to rounding);
+//     inlined into the caller: per axis (unrolled) the fold and the mapping (scalar: log, sqrt,
+//     cos or sin of the coordinate), then for all axes at once, in the lanes of one register
+//     (detail::Vec4), the affine step to node units, the clamp to the nodes and the split into
+//     cell and fraction, with one rarely taken branch for a snap to a node; then the 2^D values
+//     combined as lerps a + w (b − a), as pairs along the last axis that SSE2 combines in one
+//     register (a scalar path does the same operations in the same order; the same value as the
+//     weighted sum up to rounding). A periodic axis locates on its own (the step across its end);
 //   - R is the arithmetic type: double (FixedView<T, D>) or float (FixedView<T, D, float>, which
 //     maps, weights and sums in float).
 // With R = double the result equals TableView's up to the order of the sums: a few ulps of
@@ -106,39 +108,15 @@ class FixedAxis {
   /// (PreparedAxis::locate, in R). Not for explicit axes (locate_explicit) nor NaN. Returns
   /// whether the cell crosses a periodic end (i0 = count − 1, its second node 0).
   HAIRLUT_SAMPLER_INLINE bool locate(R x, int& i0, R& w) const {
-    if (fold_ != Fold::none) {
-      if (fold_ == Fold::even) {
-        // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
-        const R pi = static_cast<R>(3.14159265358979323846);
-        x = std::fabs(x);
-        if (x > pi) x = std::fabs(std::remainder(x, R(2) * pi));
-      } else if (fold_ == Fold::reflect) {
-        const R d = x - lo_;
-        if (!(d >= R(0) && d <= hi_ - lo_)) x = lo_ + std::fabs(std::remainder(d, span_));
-      } else if (fold_ == Fold::periodic) {
-        locate_periodic(x, i0, w);
-        return i0 == n_ - 1;
-      } else {  // a single node
+    if (fold_ > Fold::reflect) {  // periodic, or a single node
+      if (fold_ == Fold::single) {
         i0 = 0, w = R(0);
         return false;
       }
+      locate_periodic(x, i0, w);
+      return i0 == n_ - 1;
     }
-    // A uniform axis needs no clamp of x: s is clamped below, and s(lo) = 0, s(hi) = top up to
-    // rounding, which the snapping and the end rule absorb. A mapped one clamps x first (the
-    // mappings are monotonic only on the range; log and sqrt need it positive).
-    R t = x;
-    if (spacing_ != Spacing::uniform) {
-      x = x < lo_ ? lo_ : x;
-      x = x > hi_ ? hi_ : x;
-      switch (spacing_) {
-        case Spacing::log: t = std::log(x); break;
-        case Spacing::sqrt: t = std::sqrt(x); break;
-        case Spacing::cos: t = std::cos(x); break;
-        case Spacing::sin: t = std::sin(x); break;
-        default: t = x; break;
-      }
-    }
-    R s = (t - t0_) * scale_ + offset_;
+    R s = (mapped(x) - t0_) * scale_ + offset_;
     // Clamp to the nodes, upper bound first: a NaN s (an infinite azimuth folded) goes to the
     // last node, as TableView's clamp of x sends it to hi.
     s = s < top_ ? s : top_;
@@ -149,14 +127,47 @@ class FixedAxis {
     // that sampling at a node returns its value; then the last node is the end of the last
     // cell. The same decisions as TableView's snap-then-clamp (the bounds are nodes; s − i is
     // exact). One branch, rarely taken and predicted.
-    if (std::fabs(f - R(0.5)) > unsnapped_) {
-      if (f > R(0.5)) ++i;
-      f = R(0);
-      if (i >= n_ - 1) i = n_ - 2, f = R(1);
-    }
+    if (std::fabs(f - R(0.5)) > unsnapped_) snap(i, f);
     i0 = i;
     w = f;
     return false;
+  }
+  /// The snapping of locate for a cell [i, i + 1] and fraction f within snap of a node.
+  HAIRLUT_SAMPLER_INLINE void snap(int& i, R& f) const {
+    if (f > R(0.5)) ++i;
+    f = R(0);
+    if (i >= n_ - 1) i = n_ - 2, f = R(1);
+  }
+  /// Whether mapped() and the affine step locate x (every fold but periodic; not a single node).
+  bool affine() const { return simple_ && fold_ != Fold::periodic && fold_ != Fold::single; }
+  /// x folded (even, reflect), then on a mapped axis clamped to the range and mapped (log, sqrt,
+  /// cos, sin): the coordinate t whose node index is s = (t − t0()) · scale() + offset(). For
+  /// affine() axes.
+  HAIRLUT_SAMPLER_INLINE R mapped(R x) const {
+    if (fold_ != Fold::none) {
+      if (fold_ == Fold::even) {
+        // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
+        const R pi = static_cast<R>(3.14159265358979323846);
+        x = std::fabs(x);
+        if (x > pi) x = std::fabs(std::remainder(x, R(2) * pi));
+      } else {  // reflect
+        const R d = x - lo_;
+        if (!(d >= R(0) && d <= hi_ - lo_)) x = lo_ + std::fabs(std::remainder(d, span_));
+      }
+    }
+    // A uniform axis needs no clamp of x: s is clamped after the affine step, and s(lo) = 0,
+    // s(hi) = top up to rounding, which the snapping and the end rule absorb. A mapped one
+    // clamps x first (the mappings are monotonic only on the range; log and sqrt need it positive).
+    if (spacing_ == Spacing::uniform) return x;
+    x = x < lo_ ? lo_ : x;
+    x = x > hi_ ? hi_ : x;
+    switch (spacing_) {
+      case Spacing::log: return std::log(x);
+      case Spacing::sqrt: return std::sqrt(x);
+      case Spacing::cos: return std::cos(x);
+      case Spacing::sin: return std::sin(x);
+      default: return x;
+    }
   }
 
   /// The taps at x (NaN excluded by the caller).
@@ -442,6 +453,18 @@ class FixedView {
     kernel_ = detail::pick_kernel<T, R, D>(mask, std::make_index_sequence<(1 << D)>{});
     linear_ = mask == 0 && geometric_ < 0;
     for (int d = 0; d < D; ++d) linear_ = linear_ && axes_[d].direct();
+    // The lanes path: every axis linear and affine() (not periodic, at least two nodes). Unused
+    // lanes (D < 4) locate 0 at node 0 with fraction 0 and never snap.
+    lanes_ = linear_ && D >= 2;
+    R c[5][4] = {{R(0), R(0), R(0), R(0)}, {R(0), R(0), R(0), R(0)}, {R(0), R(0), R(0), R(0)}, {R(0), R(0), R(0), R(0)}, {R(1), R(1), R(1), R(1)}};
+    for (int d = 0; d < D; ++d) {
+      const FixedAxis<R>& a = axes_[d];
+      lanes_ = lanes_ && a.affine();
+      c[0][d] = a.t0(), c[1][d] = a.scale(), c[2][d] = a.offset(), c[3][d] = a.top(), c[4][d] = a.unsnapped();
+      steps_[d] = static_cast<std::ptrdiff_t>(a.stride());
+    }
+    using V = detail::Vec4<R>;
+    lane_t0_ = V::load(c[0]), lane_scale_ = V::load(c[1]), lane_offset_ = V::load(c[2]), lane_top_ = V::load(c[3]), lane_unsnapped_ = V::load(c[4]);
   }
   const FixedAxis<R>& axis(int d) const { return axes_[d]; }
   const T* data() const { return data_; }
@@ -456,7 +479,7 @@ class FixedView {
       // them apart).
       R sum = x[0];
       for (int d = 1; d < D; ++d) sum += x[d];
-      if (sum == sum) return lerp_path(x, std::make_index_sequence<D>{});
+      if (sum == sum) return lanes_ ? lanes_path(x, std::make_index_sequence<D>{}) : lerp_path(x, std::make_index_sequence<D>{});
     }
     return general(x);
   }
@@ -497,10 +520,36 @@ class FixedView {
     return detail::lerp_cell<T, R, D>(data_ + (o[I] + ...), step, w);
   }
 
+  // The nested-lerp path with the axes located together: each axis's mapped coordinate (its fold,
+  // clamp and mapping, scalar), then the affine step, the clamp to the nodes and the split into
+  // cell and fraction for all axes in one register (detail::Vec4: FixedAxis::locate's operations
+  // in the same order, so the same cells and weights), the snap in a rarely taken branch, then
+  // the 2^D values as lerp_path combines them.
+  template <std::size_t... I>
+  HAIRLUT_SAMPLER_INLINE R lanes_path(const R* x, std::index_sequence<I...>) const {
+    using V = detail::Vec4<R>;
+    // The lanes set from registers (a load of values just stored one by one would stall).
+    const R t[4] = {axes_[I].mapped(x[I])...};
+    V s = (V::set(t[0], t[1], t[2], t[3]) - lane_t0_) * lane_scale_ + lane_offset_;
+    s = V::max(V::min(s, lane_top_), V::all(R(0)));  // upper bound first: a NaN s goes to the last node
+    int i[4];
+    const V f = s.split(i);
+    alignas(16) R w[4];
+    f.store(w);
+    if (V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_) != 0)  // within snap of a node, or at the last
+      ((std::fabs(w[I] - R(0.5)) > axes_[I].unsnapped() ? axes_[I].snap(i[I], w[I]) : void()), ...);
+    const std::size_t o = ((static_cast<std::size_t>(i[I]) * static_cast<std::size_t>(steps_[I])) + ...);
+    return detail::lerp_cell<T, R, D>(data_ + o, steps_, w);
+  }
+
   const T* data_ = nullptr;
   FixedAxis<R> axes_[D];
   int geometric_ = -1;
   bool linear_ = false;  // every axis linear and direct(): the nested-lerp path
+  bool lanes_ = false;   // and every axis affine(): the axes located together (lanes_path)
+  std::ptrdiff_t steps_[D] = {};  // each axis's stride, the step to a cell's second node
+  // Per lane (axis d; unused lanes 0, 0, 0, 0, 1): t0, scale, offset, top, unsnapped.
+  detail::Vec4<R> lane_t0_{}, lane_scale_{}, lane_offset_{}, lane_top_{}, lane_unsnapped_{};
   detail::FixedKernel<T, R, D> kernel_ = nullptr;
 };
 

@@ -13,11 +13,14 @@
 
 // The per-axis tap computation is forced inline: a lookup is a handful of them and the call
 // overhead is of the same order as their work.
+// HAIRLUT_SAMPLER_LAMBDA_INLINE does the same for a lambda (after its parameter list).
 #if defined(__GNUC__) || defined(__clang__)
 #define HAIRLUT_SAMPLER_INLINE __attribute__((always_inline)) inline
+#define HAIRLUT_SAMPLER_LAMBDA_INLINE __attribute__((always_inline))
 #define HAIRLUT_SAMPLER_NOINLINE __attribute__((noinline))
 #else
 #define HAIRLUT_SAMPLER_INLINE inline
+#define HAIRLUT_SAMPLER_LAMBDA_INLINE
 #define HAIRLUT_SAMPLER_NOINLINE
 #endif
 
