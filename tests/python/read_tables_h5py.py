@@ -47,4 +47,22 @@ with h5py.File(h5_path, "r") as f:
         # prefix integrals integrate an unclamped interpolant; cosine-series coefficients are signed.
         assert table["quantity"] in ("shift", "transmittance", "sampling_cdf", "fourier_coefficient") or np.all(data >= 0), table["path"]
         count += 1
-print(f"h5py {h5py.__version__}: {count} tables with dimension scales read from {h5_path}")
+    # Sibling groups under a group other than the root (the materials of a scene) share each axis
+    # of the same name and nodes: one dimension scale, hard-linked into every group by the axis's name.
+    first, shared = {}, 0
+    for table in sidecar["tables"]:
+        group = table["group"]
+        if "/" not in group:
+            continue
+        ds = f[table["hdf5"]["dataset"]]
+        for k, axis in enumerate(table["axes"]):
+            key = (group.rsplit("/", 1)[0], axis["name"], tuple(axis["values"]))
+            scale = ds.dims[k][0]
+            if key not in first:
+                first[key] = scale
+                continue
+            assert scale == first[key], (table["path"], axis["name"], "not the siblings' scale")
+            assert f[group + "/" + scale.name.split("/")[-1]] == scale, (table["path"], "the scale is not linked into its group")
+            shared += 1
+print(f"h5py {h5py.__version__}: {count} tables with dimension scales read from {h5_path}"
+      + (f" ({shared} attachments to scales shared by sibling groups)" if shared else ""))

@@ -10,6 +10,8 @@ import xarray as xr
 path = sys.argv[1]
 with h5py.File(path, "r") as f:
     groups = [g for g in f.keys() if isinstance(f[g], h5py.Group) and g != "materials"]
+    if "materials" in f:  # a scene's materials, whose groups share their axes' scales (hard links)
+        groups += ["materials/" + m for m in f["materials"].keys()]
     checked = 0
     for g in groups:
         ds = xr.open_dataset(path, group=g, engine="h5netcdf")

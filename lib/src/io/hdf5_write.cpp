@@ -77,13 +77,41 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     std::vector<ScaleUse> uses;
     Handle scale;  // kept open until its REFERENCE_LIST is written
   };
-  std::map<std::string, ScaleRefs> scale_refs;  // by group/name
+  std::map<std::string, ScaleRefs> scale_objects;  // by the path of the group that holds the dataset
+  std::map<std::string, ScaleRefs*> scale_refs;    // by group/name, for every group that shows it
+  // Sibling groups (the materials of a scene: materials/<name>, under a group other than the root)
+  // share a scale of the same name and axis: one dataset, hard-linked into each group, so every
+  // group still shows its axes by name (readers open group/name as before) and the file holds the
+  // values and attributes once. Keyed by the parent, the name and the axis.
+  struct Shared {
+    GridAxis axis;
+    std::string path;
+  };
+  std::map<std::pair<std::string, std::string>, std::vector<Shared>> siblings;
   for (const auto& [group, axes] : scales) {
     Handle g = open_or_create_group(f, file, group);
+    const auto slash = group.rfind('/');
+    const std::string parent = slash == std::string::npos ? std::string() : group.substr(0, slash);
     for (const auto& [name, axis] : axes) {
-      ScaleRefs& s = scale_refs[group + "/" + name];
+      const std::string path = group + "/" + name;
+      std::vector<Shared>* same_name = parent.empty() ? nullptr : &siblings[{parent, name}];
+      const Shared* shared = nullptr;
+      if (same_name)
+        for (const Shared& c : *same_name)
+          if (same_axis(c.axis, axis)) shared = &c;
+      if (shared) {
+        const std::string& target = shared->path;
+        const std::string& link = name;  // clang before 16 cannot capture a structured binding
+        f.check_status(quiet([&] { return H5Lcreate_hard(file, target.c_str(), g.get(), link.c_str(), H5P_DEFAULT, H5P_DEFAULT); }),
+                       "cannot link dimension scale " + path + " to " + target);
+        scale_refs[path] = &scale_objects.at(target);
+        continue;
+      }
+      ScaleRefs& s = scale_objects[path];
       s.scale = write_scale(f, g.get(), axis, name, options.deflate);
       s.ref = object_reference(f, s.scale.get(), ".");
+      scale_refs[path] = &s;
+      if (same_name) same_name->push_back({axis, path});
     }
   }
   // The group of the tables being written, kept while consecutive tables share the group (a
@@ -139,7 +167,7 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     std::vector<hobj_ref_t> dims_refs;
     const hobj_ref_t self = object_reference(f, ds.get(), ".");
     for (std::size_t k = 0; k < t.axes.size(); ++k) {
-      ScaleRefs& s = scale_refs.at(t.group + "/" + names.of(t.group, t.axes[k]));
+      ScaleRefs& s = *scale_refs.at(t.group + "/" + names.of(t.group, t.axes[k]));
       dims_refs.push_back(s.ref);
       s.uses.push_back({self, static_cast<int>(k)});
     }
@@ -150,7 +178,7 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     write_json_attrs(f, ds.get(), t.attributes);
     write_fixed_string_attr(f, ds.get(), "hairlut_table", described[i]);
   }
-  for (auto& entry : scale_refs) {
+  for (auto& entry : scale_objects) {
     write_reference_list(f, entry.second.scale.get(), entry.second.uses);
     f.check_status(entry.second.scale.close_now(), "cannot close dimension scale " + entry.first);
   }
