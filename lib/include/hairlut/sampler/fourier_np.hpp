@@ -65,13 +65,28 @@ inline bool fourier_tail_within(int N, double beta, double tolerance) {
 /// fibre's edge, sin γt = 1/η′). With q² = η² − sin²θd, σa′ = σa η / q and cos γt = √(η² − 1) / q
 /// there, so the chord 2 cos γt gives F = exp(−2 p η √(η² − 1) σa / q²) and the papers' 4 cos²γt
 /// F = exp(−4 p η (η² − 1) σa / q³). Exact; 1 for p = 0 or σa = 0.
+/// F's factors that do not depend on the point: η² − 1 and the constant k of x = k σa / q² (chord)
+/// or k σa / q³ (papers), F = e^{−x}.
+template <class R>
+struct FourierAbsorption {
+  R e2 = R(0), k = R(0);
+  bool papers = false;
+  explicit FourierAbsorption(const FourierNpParams& f) : papers(f.papers_path) {
+    const R eta = static_cast<R>(f.eta), p = static_cast<R>(f.absorption_p);
+    e2 = eta * eta - R(1);
+    k = papers ? R(4) * p * eta * e2 : R(2) * p * eta * std::sqrt(e2);
+  }
+  FourierAbsorption() = default;
+  /// F at σa and cos θd.
+  R operator()(R sigma_a, R cos_theta_d) const {
+    const R q2 = e2 + cos_theta_d * cos_theta_d;
+    return std::exp(-(papers ? k * sigma_a / (q2 * std::sqrt(q2)) : k * sigma_a / q2));
+  }
+};
+
 template <class R>
 inline R fourier_absorption(const FourierNpParams& f, R sigma_a, R cos_theta_d) {
-  const R eta = static_cast<R>(f.eta), e2 = eta * eta - R(1);
-  const R q2 = e2 + cos_theta_d * cos_theta_d;
-  const R p = static_cast<R>(f.absorption_p);
-  const R x = f.papers_path ? R(4) * p * eta * e2 * sigma_a / (q2 * std::sqrt(q2)) : R(2) * p * eta * std::sqrt(e2) * sigma_a / q2;
-  return std::exp(-x);
+  return FourierAbsorption<R>(f)(sigma_a, cos_theta_d);
 }
 
 namespace detail {
@@ -132,7 +147,8 @@ class FourierNp {
  public:
   FourierNp() = default;
   /// values: c_n = C_n / F over the θd axis, the σa axis and n (fastest), terms per node.
-  FourierNp(const T* values, const Axis& theta_d, const Axis& sigma_a, const FourierNpParams& params) : data_(values), params_(params) {
+  FourierNp(const T* values, const Axis& theta_d, const Axis& sigma_a, const FourierNpParams& params)
+      : data_(values), params_(params), absorption_(params) {
     const bool theta_ok = theta_d.spacing == Spacing::uniform || theta_d.spacing == Spacing::cos;
     const bool sigma_ok = sigma_a.spacing == Spacing::uniform || sigma_a.spacing == Spacing::sqrt;
     if (!values || !theta_ok || !sigma_ok || params.terms < 1 || !(params.beta_min > 0.0) || !(params.tolerance > 0.0) || theta_d.count < 1 ||
@@ -218,7 +234,7 @@ class FourierNp {
     R c0 = R(0);
     for (int i = 0; i < nt; ++i)
       for (int j = 0; j < ns; ++j) c0 += tt.w[i] * ts.w[j] * static_cast<R>(data_[tt.off[i] + ts.off[j]]);
-    return c0 * fourier_absorption(params_, sg, cos_t);
+    return c0 * absorption_(sg, cos_t);
   }
 
   /// N_p [1/rad] at β, σa, θd, φ (radians; any sign of θd and φ); the residual's uniform value for a
@@ -296,7 +312,7 @@ class FourierNp {
       }
       acc = acc + blend<K>(ttap, w, 0) * (g * c);
     }
-    const R F = fourier_absorption(params_, sg, cos_t);
+    const R F = absorption_(sg, cos_t);
     const R v = acc.sum() * F * static_cast<R>(0.15915494309189533577);  // 1/2π
     return v < R(0) ? R(0) : v;
   }
@@ -349,6 +365,7 @@ class FourierNp {
 
   const T* data_ = nullptr;
   FourierNpParams params_;
+  FourierAbsorption<R> absorption_;
   FixedAxis<R> theta_, sigma_;
   R theta_lo_ = R(0), theta_hi_ = R(0), sigma_lo_ = R(0), sigma_hi_ = R(0), beta_min_ = R(0);
   bool theta_cos_ = false, sigma_sqrt_ = false;
