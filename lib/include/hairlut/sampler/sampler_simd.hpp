@@ -183,9 +183,11 @@ struct Vec4<double, true> {
     if constexpr (std::is_same_v<T, double>) {
       return {_mm_loadu_pd(p), _mm_loadu_pd(p + 2)};
     } else if constexpr (std::is_same_v<T, float>) {
-      // Two pairs, each loaded and converted by one cvtps2pd (the 64-bit load folds into it).
-      return {_mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p)))),
-              _mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p + 2))))};
+      // Two pairs, each a 64-bit load and one cvtps2pd. The load goes through __m128i, which may
+      // alias anything (a load through a double* of float storage breaks the aliasing rules, and
+      // GCC then moved it ahead of the stores it reads).
+      return {_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)))),
+              _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p + 2))))};
     } else {
       return {_mm_set_pd(static_cast<double>(p[1]), static_cast<double>(p[0])), _mm_set_pd(static_cast<double>(p[3]), static_cast<double>(p[2]))};
     }
