@@ -77,7 +77,7 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     std::vector<ScaleUse> uses;
     Handle scale;  // kept open until its REFERENCE_LIST is written
   };
-  std::map<std::string, ScaleRefs> scale_objects;  // by the path of the group that holds the dataset
+  std::map<std::string, ScaleRefs> scale_objects;  // by the path of the scale's dataset (the first group that shows it)
   std::map<std::string, ScaleRefs*> scale_refs;    // by group/name, for every group that shows it
   // Sibling groups (the materials of a scene: materials/<name>, under a group other than the root)
   // share a scale of the same name and axis: one dataset, hard-linked into each group, so every
@@ -96,9 +96,10 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
       const std::string path = group + "/" + name;
       std::vector<Shared>* same_name = parent.empty() ? nullptr : &siblings[{parent, name}];
       const Shared* shared = nullptr;
-      if (same_name)
-        for (const Shared& c : *same_name)
-          if (same_axis(c.axis, axis)) shared = &c;
+      if (same_name) {
+        const auto it = std::find_if(same_name->begin(), same_name->end(), [&axis = axis](const Shared& c) { return same_axis(c.axis, axis); });
+        if (it != same_name->end()) shared = &*it;
+      }
       if (shared) {
         const std::string& target = shared->path;
         const std::string& link = name;  // clang before 16 cannot capture a structured binding

@@ -64,9 +64,9 @@ inline bool fourier_tail_within(int N, double beta, double tolerance) {
 /// F = e^{−p σa′ ℓ_min}: the lobe's least absorption, along its shortest internal segment (at the
 /// fibre's edge, sin γt = 1/η′). With q² = η² − sin²θd, σa′ = σa η / q and cos γt = √(η² − 1) / q
 /// there, so the chord 2 cos γt gives F = exp(−2 p η √(η² − 1) σa / q²) and the papers' 4 cos²γt
-/// F = exp(−4 p η (η² − 1) σa / q³). Exact; 1 for p = 0 or σa = 0.
-/// F's factors that do not depend on the point: η² − 1 and the constant k of x = k σa / q² (chord)
-/// or k σa / q³ (papers), F = e^{−x}.
+/// F = exp(−4 p η (η² − 1) σa / q³). Exact; 1 for p = 0 or σa = 0. FourierAbsorption holds the
+/// factors that do not depend on the point (η² − 1 and the constant k of x = k σa / q², or k σa / q³
+/// on the papers' path, F = e^{−x}); fourier_absorption evaluates it once.
 template <class R>
 struct FourierAbsorption {
   R e2 = R(0), k = R(0);
