@@ -352,6 +352,16 @@ void compare_lanes(std::uint64_t seed) {
     const S fs = S::load(pos).split(is);
     const A fa = A::load(pos).split(ia);
     differ += same(bits(fs), bits(fa)) && is[0] == ia[0] && is[1] == ia[1] && is[2] == ia[2] && is[3] == ia[3] ? 0 : 1;
+    // The cell's offset Σ i_k · stride_k, multiplied in registers (32 × 32 → 64 bits) against
+    // the scalar sum, strides up to 2³² − 1 (products beyond 2³²).
+    const std::size_t strides[4] = {static_cast<std::size_t>(k) * 2147483u + 1u, 4294967295u, static_cast<std::size_t>(k % 97), 1u};
+    const detail::Strides4 m(strides);
+    std::size_t os = 0, oa = 0;
+    const S gs = S::load(pos).split_offset(is, m, os);
+    const A ga = A::load(pos).split_offset(ia, m, oa);
+    std::size_t expect = 0;
+    for (int j = 0; j < 4; ++j) expect += static_cast<std::size_t>(static_cast<int>(pos[j])) * strides[j];
+    differ += same(bits(gs), bits(ga)) && os == expect && oa == expect ? 0 : 1;
     const std::size_t off[4] = {3, 0, 2, 2};
     differ += same(bits(S::gather(f, off)), bits(A::gather(f, off))) ? 0 : 1;
   }

@@ -14,7 +14,7 @@
 //     cos or sin of the coordinate), then for all axes at once, in the lanes of one register
 //     (detail::Vec4), the affine step to node units, the clamp to the nodes and the split into
 //     cell and fraction, with one rarely taken branch for a snap to a node; then the 2^D values
-//     combined as lerps a + w (b − a), as pairs along the last axis that SSE2 combines in one
+//     combined as lerps (1 − w) a + w b, as pairs along the last axis that SSE2 combines in one
 //     register (a scalar path does the same operations in the same order; the same value as the
 //     weighted sum up to rounding). A periodic axis locates on its own (the step across its end);
 //   - R is the arithmetic type: double (FixedView<T, D>) or float (FixedView<T, D, float>, which
@@ -279,7 +279,9 @@ inline R fixed_product(const T* p, const FixedTaps<R>* tp) {
 }
 
 // The multilinear interpolation of the cell at p (corner p, step[d] to the second node of axis
-// d), each step a lerp a + w (b − a), in one fixed order: the 2^D values as pairs along the last
+// d), each step a lerp (1 − w) a + w b (its two products independent: one multiply's latency per
+// axis on the path from the loads to the result, where a + w (b − a) has a subtraction and a
+// multiply), in one fixed order: the 2^D values as pairs along the last
 // axis, the pairs combined over axes D − 3 … 0 (nested: T_A(q) = lerp_A(T_A+1(q), T_A+1(q + step
 // A))), then over axis D − 2, then the last pair. lerp_cell_scalar does it one value at a time;
 // lerp_cell below does the same operations on whole pairs in one register where it can (SSE2),
@@ -294,18 +296,20 @@ HAIRLUT_SAMPLER_INLINE LerpPair<R> pair_tree(const T* q, const std::ptrdiff_t* s
     return {static_cast<R>(q[0]), static_cast<R>(q[step[D - 1]])};
   } else {
     const LerpPair<R> u = pair_tree<T, R, D, A + 1>(q, step, w), v = pair_tree<T, R, D, A + 1>(q + step[A], step, w);
-    return {u.a + w[A] * (v.a - u.a), u.b + w[A] * (v.b - u.b)};
+    const R g = R(1) - w[A];
+    return {g * u.a + w[A] * v.a, g * u.b + w[A] * v.b};
   }
 }
 template <class T, class R, int D>
 HAIRLUT_SAMPLER_INLINE R lerp_cell_scalar(const T* p, const std::ptrdiff_t* step, const R* w) {
   if constexpr (D == 1) {
     const R a = static_cast<R>(p[0]), b = static_cast<R>(p[step[0]]);
-    return a + w[0] * (b - a);
+    return (R(1) - w[0]) * a + w[0] * b;
   } else {
     const LerpPair<R> u = pair_tree<T, R, D, 0>(p, step, w), v = pair_tree<T, R, D, 0>(p + step[D - 2], step, w);
-    const R a = u.a + w[D - 2] * (v.a - u.a), b = u.b + w[D - 2] * (v.b - u.b);
-    return a + w[D - 1] * (b - a);
+    const R g = R(1) - w[D - 2];
+    const R a = g * u.a + w[D - 2] * v.a, b = g * u.b + w[D - 2] * v.b;
+    return (R(1) - w[D - 1]) * a + w[D - 1] * b;
   }
 }
 
@@ -321,7 +325,7 @@ HAIRLUT_SAMPLER_INLINE __m128d pair_tree_pd(const T* q, const std::ptrdiff_t* st
     return load_pair(q);
   } else {
     const __m128d u = pair_tree_pd<T, D, A + 1>(q, step, w), v = pair_tree_pd<T, D, A + 1>(q + step[A], step, w);
-    return _mm_add_pd(u, _mm_mul_pd(_mm_set1_pd(w[A]), _mm_sub_pd(v, u)));
+    return _mm_add_pd(_mm_mul_pd(_mm_set1_pd(1.0 - w[A]), u), _mm_mul_pd(_mm_set1_pd(w[A]), v));
   }
 }
 // In float, two pairs per register: T_A(q) and T_A(q + step D − 2), so that the lerp over axis
@@ -333,7 +337,7 @@ HAIRLUT_SAMPLER_INLINE __m128 pair_tree_ps(const float* q, const std::ptrdiff_t*
     return _mm_loadh_pi(lo, reinterpret_cast<const __m64*>(q + step[D - 2]));
   } else {
     const __m128 u = pair_tree_ps<D, A + 1>(q, step, w), v = pair_tree_ps<D, A + 1>(q + step[A], step, w);
-    return _mm_add_ps(u, _mm_mul_ps(_mm_set1_ps(w[A]), _mm_sub_ps(v, u)));
+    return _mm_add_ps(_mm_mul_ps(_mm_set1_ps(1.0f - w[A]), u), _mm_mul_ps(_mm_set1_ps(w[A]), v));
   }
 }
 #endif
@@ -346,16 +350,16 @@ HAIRLUT_SAMPLER_INLINE R lerp_cell(const T* p, const std::ptrdiff_t* step, const
   if constexpr (D >= 2 && std::is_same_v<R, double> && (std::is_same_v<T, float> || std::is_same_v<T, double>)) {
     if (step[D - 1] == 1) {
       const __m128d u = pair_tree_pd<T, D, 0>(p, step, w), v = pair_tree_pd<T, D, 0>(p + step[D - 2], step, w);
-      const __m128d r = _mm_add_pd(u, _mm_mul_pd(_mm_set1_pd(w[D - 2]), _mm_sub_pd(v, u)));
+      const __m128d r = _mm_add_pd(_mm_mul_pd(_mm_set1_pd(1.0 - w[D - 2]), u), _mm_mul_pd(_mm_set1_pd(w[D - 2]), v));
       const double a = _mm_cvtsd_f64(r), b = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
-      return a + w[D - 1] * (b - a);
+      return (1.0 - w[D - 1]) * a + w[D - 1] * b;
     }
   } else if constexpr (D >= 2 && std::is_same_v<R, float> && std::is_same_v<T, float>) {
     if (step[D - 1] == 1) {
       const __m128 u = pair_tree_ps<D, 0>(p, step, w);
-      const __m128 r = _mm_add_ps(u, _mm_mul_ps(_mm_set1_ps(w[D - 2]), _mm_sub_ps(_mm_movehl_ps(u, u), u)));
+      const __m128 r = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(1.0f - w[D - 2]), u), _mm_mul_ps(_mm_set1_ps(w[D - 2]), _mm_movehl_ps(u, u)));
       const float a = _mm_cvtss_f32(r), b = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 1));
-      return a + w[D - 1] * (b - a);
+      return (1.0f - w[D - 1]) * a + w[D - 1] * b;
     }
   }
 #endif
@@ -465,6 +469,10 @@ class FixedView {
     }
     using V = detail::Vec4<R>;
     lane_t0_ = V::load(c[0]), lane_scale_ = V::load(c[1]), lane_offset_ = V::load(c[2]), lane_top_ = V::load(c[3]), lane_unsnapped_ = V::load(c[4]);
+    std::size_t m[4] = {0, 0, 0, 0};
+    for (int d = 0; d < D; ++d) m[d] = axes_[d].stride();
+    lanes_ = lanes_ && detail::Strides4::fits(m);  // the offset multiplied in 32 × 32 → 64 bits
+    lane_strides_ = detail::Strides4(m);
   }
   const FixedAxis<R>& axis(int d) const { return axes_[d]; }
   const T* data() const { return data_; }
@@ -533,12 +541,14 @@ class FixedView {
     V s = (V::set(t[0], t[1], t[2], t[3]) - lane_t0_) * lane_scale_ + lane_offset_;
     s = V::max(V::min(s, lane_top_), V::all(R(0)));  // upper bound first: a NaN s goes to the last node
     int i[4];
-    const V f = s.split(i);
+    std::size_t o;  // Σ i_d · stride_d, multiplied in registers (not through i, stored and reloaded)
+    const V f = s.split_offset(i, lane_strides_, o);
     alignas(16) R w[4];
     f.store(w);
-    if (V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_) != 0)  // within snap of a node, or at the last
+    if (V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_) != 0) {  // within snap of a node, or at the last
       ((std::fabs(w[I] - R(0.5)) > axes_[I].unsnapped() ? axes_[I].snap(i[I], w[I]) : void()), ...);
-    const std::size_t o = ((static_cast<std::size_t>(i[I]) * static_cast<std::size_t>(steps_[I])) + ...);
+      o = ((static_cast<std::size_t>(i[I]) * static_cast<std::size_t>(steps_[I])) + ...);
+    }
     return detail::lerp_cell<T, R, D>(data_ + o, steps_, w);
   }
 
@@ -550,6 +560,7 @@ class FixedView {
   std::ptrdiff_t steps_[D] = {};  // each axis's stride, the step to a cell's second node
   // Per lane (axis d; unused lanes 0, 0, 0, 0, 1): t0, scale, offset, top, unsnapped.
   detail::Vec4<R> lane_t0_{}, lane_scale_{}, lane_offset_{}, lane_top_{}, lane_unsnapped_{};
+  detail::Strides4 lane_strides_;  // the strides again, as the lanes multiply them
   detail::FixedKernel<T, R, D> kernel_ = nullptr;
 };
 

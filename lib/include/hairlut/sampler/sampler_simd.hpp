@@ -38,6 +38,29 @@ namespace hairlut {
 namespace sampler {
 namespace detail {
 
+/// Four multipliers below 2³² (the strides of up to four axes) for Vec4::split_offset, in the
+/// layouts its SSE2 forms multiply by (pmuludq multiplies the low 32 bits of each 64-bit lane).
+struct Strides4 {
+  std::size_t s[4] = {0, 0, 0, 0};
+#if HAIRLUT_SAMPLER_SSE2
+  __m128i m01{}, m23{}, m02{}, m13{};  // (s₀, s₁), (s₂, s₃), (s₀, s₂), (s₁, s₃) as 64-bit lanes
+#endif
+  Strides4() = default;
+  /// Whether every s_k < 2³² (what split_offset needs).
+  static bool fits(const std::size_t* s) {
+    for (int k = 0; k < 4; ++k)
+      if (static_cast<unsigned long long>(s[k]) > 0xffffffffull) return false;
+    return true;
+  }
+  explicit Strides4(const std::size_t* m) {
+    for (int k = 0; k < 4; ++k) s[k] = m[k];
+#if HAIRLUT_SAMPLER_SSE2
+    const auto q = [](std::size_t a, std::size_t b) { return _mm_set_epi64x(static_cast<long long>(b & 0xffffffffu), static_cast<long long>(a & 0xffffffffu)); };
+    m01 = q(m[0], m[1]), m23 = q(m[2], m[3]), m02 = q(m[0], m[2]), m13 = q(m[1], m[3]);
+#endif
+  }
+};
+
 /// Four values of R in one or two SSE2 registers (float: one __m128; double: two __m128d), or an
 /// array where SSE2 is not available (or Simd is false): the same operations in the same order
 /// either way.
@@ -83,6 +106,12 @@ struct Vec4 {
   HAIRLUT_SAMPLER_INLINE Vec4 split(int* i) const {
     Vec4 r;
     for (int k = 0; k < 4; ++k) i[k] = static_cast<int>(v[k]), r.v[k] = v[k] - static_cast<R>(i[k]);
+    return r;
+  }
+  /// split(i) for v_k ≥ 0, and o = Σ i_k · m.s_k (in registers where SSE2 is, not through i).
+  HAIRLUT_SAMPLER_INLINE Vec4 split_offset(int* i, const Strides4& m, std::size_t& o) const {
+    const Vec4 r = split(i);
+    o = static_cast<std::size_t>(i[0]) * m.s[0] + static_cast<std::size_t>(i[1]) * m.s[1] + static_cast<std::size_t>(i[2]) * m.s[2] + static_cast<std::size_t>(i[3]) * m.s[3];
     return r;
   }
   /// |v| per lane.
@@ -142,6 +171,18 @@ struct Vec4<float, true> {
   HAIRLUT_SAMPLER_INLINE Vec4 split(int* i) const {
     const __m128i q = _mm_cvttps_epi32(v);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(i), q);
+    return {_mm_sub_ps(v, _mm_cvtepi32_ps(q))};
+  }
+  HAIRLUT_SAMPLER_INLINE Vec4 split_offset(int* i, const Strides4& m, std::size_t& o) const {
+    const __m128i q = _mm_cvttps_epi32(v);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(i), q);
+    // (i₀ s₀ + i₂ s₂, i₁ s₁ + i₃ s₃) in 64-bit lanes, then their sum: exact integers.
+#if defined(__x86_64__) || defined(_M_X64)
+    const __m128i p = _mm_add_epi64(_mm_mul_epu32(q, m.m02), _mm_mul_epu32(_mm_srli_epi64(q, 32), m.m13));
+    o = static_cast<std::size_t>(_mm_cvtsi128_si64(_mm_add_epi64(p, _mm_unpackhi_epi64(p, p))));
+#else
+    o = static_cast<std::size_t>(i[0]) * m.s[0] + static_cast<std::size_t>(i[1]) * m.s[1] + static_cast<std::size_t>(i[2]) * m.s[2] + static_cast<std::size_t>(i[3]) * m.s[3];
+#endif
     return {_mm_sub_ps(v, _mm_cvtepi32_ps(q))};
   }
   HAIRLUT_SAMPLER_INLINE Vec4 abs() const { return {_mm_and_ps(v, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)))}; }
@@ -215,6 +256,20 @@ struct Vec4<double, true> {
     const __m128i ql = _mm_cvttpd_epi32(lo), qh = _mm_cvttpd_epi32(hi);
     _mm_storel_epi64(reinterpret_cast<__m128i*>(i), ql);
     _mm_storel_epi64(reinterpret_cast<__m128i*>(i + 2), qh);
+    return {_mm_sub_pd(lo, _mm_cvtepi32_pd(ql)), _mm_sub_pd(hi, _mm_cvtepi32_pd(qh))};
+  }
+  HAIRLUT_SAMPLER_INLINE Vec4 split_offset(int* i, const Strides4& m, std::size_t& o) const {
+    const __m128i ql = _mm_cvttpd_epi32(lo), qh = _mm_cvttpd_epi32(hi);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(i), ql);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(i + 2), qh);
+    // (i₀, i₁) and (i₂, i₃) into the low halves of 64-bit lanes, times the strides, summed: exact.
+#if defined(__x86_64__) || defined(_M_X64)
+    const __m128i z = _mm_setzero_si128();
+    const __m128i p = _mm_add_epi64(_mm_mul_epu32(_mm_unpacklo_epi32(ql, z), m.m01), _mm_mul_epu32(_mm_unpacklo_epi32(qh, z), m.m23));
+    o = static_cast<std::size_t>(_mm_cvtsi128_si64(_mm_add_epi64(p, _mm_unpackhi_epi64(p, p))));
+#else
+    o = static_cast<std::size_t>(i[0]) * m.s[0] + static_cast<std::size_t>(i[1]) * m.s[1] + static_cast<std::size_t>(i[2]) * m.s[2] + static_cast<std::size_t>(i[3]) * m.s[3];
+#endif
     return {_mm_sub_pd(lo, _mm_cvtepi32_pd(ql)), _mm_sub_pd(hi, _mm_cvtepi32_pd(qh))};
   }
   HAIRLUT_SAMPLER_INLINE Vec4 abs() const {
