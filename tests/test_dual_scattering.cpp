@@ -306,13 +306,26 @@ TEST_CASE("Dual scattering stays finite over the domain: grazing, tiny and huge 
   for (double beta : {1e-6, 3.0})
     for (double tilt : {0.0, 0.3}) rq.roughness.push_back({{beta, beta, -tilt}, {beta, beta, tilt}, {beta, beta, tilt}, {beta, beta, tilt}});
   rq.thetas = {-1.5707963267948966, 0.0, 1.5707963267948966};
-  int cells = 0;
+  // The output is called concurrently for distinct cells (the grid runs on every core): each
+  // cell's point goes to its own slot, and the checks run here on one thread (Catch's INFO and
+  // CHECK are not thread-safe; from the workers they corrupted its heap now and then).
+  const std::size_t nk = rq.sigmas.size(), nr = rq.roughness.size(), nt = rq.thetas.size();
+  std::vector<DualScatteringPoint> points(nk * nr * nt);
+  std::vector<char> seen(points.size(), 0);
   dual_scattering_grid(rq, BakeOptions{}, "", [&](std::size_t k, std::size_t r, std::size_t t, const DualScatteringPoint& p) {
-    INFO("sigma_a " << rq.sigmas[k] << " roughness " << r << " theta_i " << rq.thetas[t]);
-    CHECK(finite_point(p));
-    ++cells;
+    const std::size_t i = (k * nr + r) * nt + t;
+    points[i] = p;
+    seen[i] = 1;
   });
-  CHECK(cells == 24);
+  for (std::size_t k = 0; k < nk; ++k)
+    for (std::size_t r = 0; r < nr; ++r)
+      for (std::size_t t = 0; t < nt; ++t) {
+        const std::size_t i = (k * nr + r) * nt + t;
+        INFO("sigma_a " << rq.sigmas[k] << " roughness " << r << " theta_i " << rq.thetas[t]);
+        REQUIRE(seen[i] == 1);
+        CHECK(finite_point(points[i]));
+      }
+  CHECK(points.size() == 24);
   for (double sigma : {0.0, 1e5})
     for (double theta_i : {-1.5707963267948966, 1.5707963267948966}) {
       HairModel m = HairModel::uniform(1.55, sigma, 3.0, 3, true);
