@@ -140,6 +140,14 @@ void stored_sampler_fits(const TableSet& set, const std::string& group, const Fi
   }
 }
 
+// Runs the sampler's blocks in reverse order (sampler::SerialBlocks' form).
+struct ReverseBlocks {
+  template <class Body>
+  void operator()(std::size_t n, Body&& body) const {
+    for (std::size_t i = n; i-- > 0;) body(i);
+  }
+};
+
 }  // namespace
 
 TEST_CASE("Sampling data: the default tables' stored data equal the sampler's and independent quadrature", "[sampling]") {
@@ -169,6 +177,37 @@ TEST_CASE("Sampling data: the sampler reads stored data or computes them, with t
     CHECK(r1.theta_r == r2.theta_r);
     CHECK(r1.phi == r2.phi);
     CHECK(r1.pdf == r2.pdf);
+  }
+}
+TEST_CASE("Sampling data: the clamp bounds' blocks give the same data in any order and on any thread count", "[sampling]") {
+  // Every N_p and M_p table of the default set: the sampler's data computed with its blocks in
+  // order (SerialBlocks), in reverse order, and by sampling_tables on one and on two threads.
+  const TableSet& set = default_tables();
+  int compared = 0;
+  for (const Table& t : set.tables) {
+    const auto m = sampled_measure(t);
+    if (!m) continue;
+    INFO(t.path());
+    const std::vector<sampler::Axis> axes = views_of(t);
+    const int dims = static_cast<int>(axes.size());
+    const sampler::AxisSampler<float> in_order(t.f32.data(), axes.data(), dims, *m, sampler::AxisData(), sampler::SerialBlocks());
+    const sampler::AxisSampler<float> reversed(t.f32.data(), axes.data(), dims, *m, sampler::AxisData(), ReverseBlocks());
+    const sampler::AxisData a = in_order.sampling_data(), b = reversed.sampling_data();
+    REQUIRE(a.cdf);
+    REQUIRE(b.cdf);
+    const std::size_t n = t.f32.size(), slices = in_order.slices();
+    CHECK(std::equal(a.cdf, a.cdf + n, b.cdf));
+    CHECK(std::equal(a.mass, a.mass + slices, b.mass));
+    CHECK(std::equal(a.clamp_bound, a.clamp_bound + n, b.clamp_bound));
+    ++compared;
+  }
+  CHECK(compared > 0);
+  const std::vector<Table> one = sampling_tables(set, 1), two = sampling_tables(set, 2);
+  REQUIRE(one.size() == two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    INFO(one[i].path());
+    CHECK(one[i].f64 == two[i].f64);
+    CHECK(one[i].f32 == two[i].f32);
   }
 }
 TEST_CASE("Sampling data: stored data, chi-square and furnace of every lobe, default tables, narrow roughness", "[sampling]") {

@@ -72,7 +72,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
   if (slabbed) check_slab_by_slab(c);
   if (c.marschner) {
     TableSet m = bake_marschner(c, opt, report_out);
-    if (c.output.sampling_data) append_sampling_tables(m);  // the importance sampler's data next to every N_p and M_p table
+    if (c.output.sampling_data) append_sampling_tables(m, opt.threads, opt.progress);  // the importance sampler's data next to every N_p and M_p table
     return m;
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -98,7 +98,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     if (c.mp_axes) detail::bake_mp_tables(run, per_material, set, report);
     detail::append_melanin_tables(c, precision, set, report);
     bake_dual_scattering_tables(c, opt, set, report);  // mean energy, dual scattering, engine presets
-    if (c.output.sampling_data) append_sampling_tables(set);  // the importance sampler's data next to every N_p and M_p table
+    if (c.output.sampling_data) append_sampling_tables(set, opt.threads, opt.progress);  // the importance sampler's data next to every N_p and M_p table
 
     if (run.unconverged) report.notes.push_back(std::to_string(run.unconverged) + " adaptive N_p entries did not reach the tolerance");
     if (!report.resolution.is_null() && generic_np) {

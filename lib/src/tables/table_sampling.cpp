@@ -3,20 +3,16 @@
 // is what the sampler would compute from the stored values.
 #include "hairlut/tables/table_sampling.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <mutex>
 
 namespace hairlut {
 namespace {
 
-// The tables' values as the sampler reads them (float32 or float64), with their axis views.
-template <class T>
-sampler::AxisSampler<T> axis_sampler(const Table& t, const T* data, std::vector<sampler::Axis>& views, sampler::Measure m,
-                                     const sampler::AxisData& stored = sampler::AxisData()) {
-  views.clear();
-  for (const GridAxis& g : t.axes) views.push_back(g.view());
-  return sampler::AxisSampler<T>(data, views.data(), static_cast<int>(views.size()), m, stored);
-}
 
 std::size_t grid_values(const std::vector<GridAxis>& axes) {
   std::size_t n = 1;
@@ -24,11 +20,51 @@ std::size_t grid_values(const std::vector<GridAxis>& axes) {
   return n;
 }
 
-// build_data of table t, in the precision it is stored in.
-void build(const Table& t, sampler::Measure m, std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound) {
+// Runs the sampler's blocks (sampler::SerialBlocks' form) on `threads` OpenMP threads (0: all),
+// dynamically scheduled; each block writes its own entries, so the result does not depend on the
+// thread count. The first exception of a block is rethrown after the loop.
+struct OmpBlocks {
+  int threads = 0;
+  template <class Body>
+  void operator()(std::size_t n, Body&& body) const {
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    const int t = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(t)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (error) continue;
+      try {
+        body(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+    if (error) std::rethrow_exception(error);
+  }
+};
+
+// The sampler's data of table t (its values as the sampler reads them, float32 or float64, with
+// their axis views), computed as AxisSampler computes them, the clamp bounds on `threads` threads.
+template <class T>
+void build_from(const Table& t, const T* data, sampler::Measure m, std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound,
+                int threads) {
   std::vector<sampler::Axis> views;
-  if (t.precision == Precision::float32) axis_sampler<float>(t, t.f32.data(), views, m).build_data(cdf, mass, bound);
-  else axis_sampler<double>(t, t.f64.data(), views, m).build_data(cdf, mass, bound);
+  for (const GridAxis& g : t.axes) views.push_back(g.view());
+  const sampler::AxisSampler<T> s(data, views.data(), static_cast<int>(views.size()), m, sampler::AxisData(), OmpBlocks{threads});
+  const sampler::AxisData d = s.sampling_data();
+  if (!d.cdf || !d.mass || !d.clamp_bound) {  // a table the sampler does not support (callers skip those)
+    cdf.clear(), mass.clear(), bound.clear();
+    return;
+  }
+  const std::size_t slices = s.slices(), n = slices == 0 ? 0 : t.size() / slices;
+  cdf.assign(d.cdf, d.cdf + slices * n);
+  mass.assign(d.mass, d.mass + slices);
+  bound.assign(d.clamp_bound, d.clamp_bound + slices * n);
+}
+void build(const Table& t, sampler::Measure m, std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound, int threads) {
+  if (t.precision == Precision::float32) build_from(t, t.f32.data(), m, cdf, mass, bound, threads);
+  else build_from(t, t.f64.data(), m, cdf, mass, bound, threads);
 }
 
 bool supported(const Table& t, sampler::Measure) {
@@ -50,14 +86,20 @@ std::optional<sampler::Measure> sampled_measure(const Table& t) {
 
 std::string sampling_path(const Table& t, const std::string& what) { return "sampling/" + t.group + "/" + t.name + "_" + what; }
 
-std::vector<Table> sampling_tables(const TableSet& set) {
+std::vector<Table> sampling_tables(const TableSet& set, int threads, const SamplingProgress& progress) {
   std::vector<Table> out;
-  for (const Table& t : set.tables) {
+  std::vector<const Table*> sampled;
+  for (const Table& t : set.tables)
+    if (const auto m = sampled_measure(t); m && supported(t, *m)) sampled.push_back(&t);
+  const std::string_view stage = "sampling data";
+  if (progress && !sampled.empty()) progress(stage, 0, sampled.size());
+  for (std::size_t done = 0; done < sampled.size(); ++done) {
+    const Table& t = *sampled[done];
     const auto m = sampled_measure(t);
-    if (!m || !supported(t, *m)) continue;
     std::vector<double> cdf, mass;
     std::vector<float> bound;
-    build(t, *m, cdf, mass, bound);
+    build(t, *m, cdf, mass, bound, threads);
+    if (progress) progress(stage, done + 1, sampled.size());
     const bool cosine = *m == sampler::Measure::cosine;
     const std::string axis = t.axes.back().name;
     nlohmann::ordered_json attrs = {{"sampling_of", t.path()}, {"sampled_axis", axis}, {"measure", cosine ? "cos" : "plain"}};
@@ -121,8 +163,8 @@ std::vector<Table> sampling_tables(const TableSet& set) {
   return ordered;
 }
 
-void append_sampling_tables(TableSet& set) {
-  std::vector<Table> add = sampling_tables(set);
+void append_sampling_tables(TableSet& set, int threads, const SamplingProgress& progress) {
+  std::vector<Table> add = sampling_tables(set, threads, progress);
   for (Table& t : add) set.tables.push_back(std::move(t));
 }
 
@@ -142,7 +184,7 @@ sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t) {
   return d;
 }
 
-std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set) {
+std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set, int threads) {
   std::vector<SamplingDataCheck> out;
   for (const Table& t : set.tables) {
     const auto m = sampled_measure(t);
@@ -159,7 +201,7 @@ std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set) {
     r.present = true;
     std::vector<double> cdf, mass;
     std::vector<float> bound;
-    build(t, *m, cdf, mass, bound);
+    build(t, *m, cdf, mass, bound, threads);
     const std::size_t n = static_cast<std::size_t>(t.axes.back().count);
     for (std::size_t s = 0; s < mass.size(); ++s) {
       // Differences relative to the slice's own scale: the largest |prefix| along it.

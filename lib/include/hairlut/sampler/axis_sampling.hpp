@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstddef>
 #include <vector>
+#include <utility>
 
 #include "hairlut/sampler/cell_bernstein.hpp"
 #include "hairlut/sampler/cell_polynomial.hpp"
@@ -67,6 +68,11 @@ class AxisSampler {
   /// With `stored` (all three arrays, as build_data() lays them out, e.g. read from a table file)
   /// the sampler points into them; without, it computes them (one pass over the table).
   AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, const AxisData& stored = AxisData())
+      : AxisSampler(data, axes, dims, measure, stored, SerialBlocks()) {}
+  /// The same, computing the data (when none are stored) with the clamp bounds' blocks run by
+  /// run_blocks (build_data).
+  template <class RunBlocks>
+  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, const AxisData& stored, RunBlocks&& run_blocks)
       : data_(data), dims_(dims), measure_(measure) {
     if (!data || dims < 1 || dims > 8) return;
     std::size_t s = 1;
@@ -102,7 +108,7 @@ class AxisSampler {
     if (stored.cdf && stored.mass && stored.clamp_bound) {
       stored_ = stored;
     } else {
-      build_data(cdf_, mass_, bound_);
+      build_data(cdf_, mass_, bound_, std::forward<RunBlocks>(run_blocks));
     }
     prepare_fixes();
     mixture_ = true;
@@ -301,6 +307,9 @@ class AxisSampler {
   /// The node slices along the sampled axis (the product of the other axes' counts; a cell of the
   /// other axes is indexed by the slice of its first node).
   std::size_t slices() const { return slices_; }
+  /// The sampling data in use: the stored ones, or those computed at construction (slices() × n
+  /// prefix masses, slices() masses, slices() × n clamp bounds); null pointers when unsupported.
+  AxisData sampling_data() const { return supported_ ? AxisData{cdfs(), masses(), bounds()} : AxisData(); }
   /// Computes the sampling data of the table (docs/table-format.md, "Sampling data"): per slice
   /// the prefix masses of its own interpolant along the sampled axis at the n nodes (unclamped;
   /// over [0, π] for an even axis; with the cos x weight for Measure::cosine) and its mass over the
@@ -309,7 +318,10 @@ class AxisSampler {
   /// max(0, −least tensor Bernstein coefficient of the interpolant over the two cells) × the
   /// cell's width, rounded up to float: the most that max(0, ·) can add to that cell's mass
   /// anywhere in the cell of the other axes (0: the interpolant is ≥ 0 throughout).
-  void build_data(std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound) const {
+  /// The clamp bounds' blocks go through run_blocks (clamp_bounds; SerialBlocks by default: on this
+  /// thread, in order).
+  template <class RunBlocks = SerialBlocks>
+  void build_data(std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound, RunBlocks&& run_blocks = RunBlocks()) const {
     cdf.assign(slices_ * static_cast<std::size_t>(n_), 0.0);
     mass.assign(slices_, 0.0);
     bound.assign(slices_ * static_cast<std::size_t>(n_), 0.0f);
@@ -328,7 +340,7 @@ class AxisSampler {
       }
       mass[s] = cum[n - 1] * (even_ ? 2.0 : 1.0);
     }
-    clamp_bounds(bern.data(), axes_, stride_, dims_, n_, h_, bound);
+    clamp_bounds(bern.data(), axes_, stride_, dims_, n_, h_, bound, std::forward<RunBlocks>(run_blocks));
   }
 
   /// Draws x in proportion to the density from u ∈ [0, 1); returns NaN when the row has no mass.

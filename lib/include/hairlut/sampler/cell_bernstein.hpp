@@ -13,6 +13,7 @@
 // interpolant stays ≥ 0, near a steep fall).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -134,41 +135,68 @@ inline void bernstein_of_cubic(const double* c, double* b) {
   b[3] = c[0] + c[1] + c[2] + c[3];
 }
 
+/// Runs body(i) for i in [0, n) in order, on the calling thread: the default way clamp_bounds and
+/// AxisSampler::build_data run their independent blocks. A caller may pass any callable of the same
+/// form that runs the blocks on several threads instead (each block writes only its own entries,
+/// so the results do not depend on how the blocks are scheduled).
+struct SerialBlocks {
+  template <class Body>
+  void operator()(std::size_t n, Body&& body) const {
+    for (std::size_t i = 0; i < n; ++i) body(i);
+  }
+};
+
 /// The clamp bounds (AxisData::clamp_bound) of a table of `dims` axes, the last sampled with n
 /// nodes of spacing h: bern holds each node slice's sampled cells in Bernstein form (slice-major,
 /// n − 1 cells of 4). For every cell of the other axes (written at its first node's slice) and
 /// every sampled cell k, max(0, −least tensor Bernstein coefficient) · h rounded up to float: the
 /// interpolant is ≥ that least coefficient over the two cells, so max(0, ·) adds at most this
 /// to the sampled cell's integral anywhere in the cell of the other axes (cos x ≤ 1 included).
+/// The cells of the other axes go in blocks through run_blocks(count, body) (SerialBlocks: in
+/// order on this thread); bound must already hold every entry.
+template <class RunBlocks = SerialBlocks>
 inline void clamp_bounds(const double* bern, const PreparedAxis* axes, const std::size_t* stride, int dims, int n_nodes, double h,
-                         std::vector<float>& bound) {
-  const std::size_t n = static_cast<std::size_t>(n_nodes), cells = n - 1;
-  // Every cell of the other axes (multi-index over their cells), in slice order of its first node.
+                         std::vector<float>& bound, RunBlocks&& run_blocks = RunBlocks()) {
+  const std::size_t n = static_cast<std::size_t>(n_nodes), cells = n - 1, row = cells * 4;
   const int od = dims - 1;
   std::vector<std::vector<CellBasis>> basis(static_cast<std::size_t>(od));
-  for (int d = 0; d < od; ++d)
+  std::size_t total = 1;  // cells of the other axes
+  for (int d = 0; d < od; ++d) {
     for (int c = 0; c < axis_cells(axes[d].axis); ++c) basis[static_cast<std::size_t>(d)].push_back(cell_basis(axes[d], c));
-  int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  std::vector<double> a, b;
-  for (;;) {
-    int shape[9];
-    std::size_t gathered = 4, first = 0;
-    for (int d = 0; d < od; ++d) {
-      const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
-      shape[d] = cb.nodes;
-      gathered *= static_cast<std::size_t>(cb.nodes);
-      first += static_cast<std::size_t>(idx[d]) * (stride[d] / n);
-    }
-    shape[od] = 4;
-    for (std::size_t k = 0; k < cells; ++k) {
-      // Gather the Bernstein rows of the slices the cell's bases combine, then apply the bases.
-      a.assign(gathered, 0.0);
+    total *= basis[static_cast<std::size_t>(d)].size();
+  }
+  if (total == 0) return;
+  constexpr std::size_t kBlock = 16;  // cells of the other axes per block
+  run_blocks((total + kBlock - 1) / kBlock, [&](std::size_t block) {
+    std::vector<double> a, b;
+    for (std::size_t cell = block * kBlock; cell < std::min(total, (block + 1) * kBlock); ++cell) {
+      // The cell's multi-index over the other axes (row-major, the last fastest).
+      int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (std::size_t rest = cell, d = static_cast<std::size_t>(od); d-- > 0;) {
+        const std::size_t c = basis[d].size();
+        idx[d] = static_cast<int>(rest % c);
+        rest /= c;
+      }
+      int shape[9];
+      std::size_t gathered = 1, first = 0;
+      for (int d = 0; d < od; ++d) {
+        const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
+        shape[d] = cb.nodes;
+        gathered *= static_cast<std::size_t>(cb.nodes);
+        first += static_cast<std::size_t>(idx[d]) * (stride[d] / n);
+      }
+      // Gather the Bernstein rows of the slices the cell's bases combine, every sampled cell's
+      // four coefficients together (the last dimension: cells × 4), then apply the bases along the
+      // other axes for all sampled cells at once: each result is the same sum, in the same order,
+      // as one sampled cell at a time would give.
+      shape[od] = static_cast<int>(row);
+      a.resize(gathered * row);
       int j[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-      for (std::size_t g = 0; g < gathered / 4; ++g) {
+      for (std::size_t g = 0; g < gathered; ++g) {
         std::size_t s = 0;
         for (int d = 0; d < od; ++d)
           s += static_cast<std::size_t>(basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])].node[j[d]]) * (stride[d] / n);
-        for (int q = 0; q < 4; ++q) a[g * 4 + static_cast<std::size_t>(q)] = bern[(s * cells + k) * 4 + static_cast<std::size_t>(q)];
+        std::copy(bern + s * row, bern + (s + 1) * row, a.begin() + static_cast<std::ptrdiff_t>(g * row));
         for (int d = od - 1; d >= 0; --d) {
           if (++j[d] < shape[d]) break;
           j[d] = 0;
@@ -176,32 +204,34 @@ inline void clamp_bounds(const double* bern, const PreparedAxis* axes, const std
       }
       int sh[9];
       for (int d = 0; d <= od; ++d) sh[d] = shape[d];
+      std::size_t terms = 1;
       for (int d = 0; d < od; ++d) {
         const CellBasis& cb = basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])];
         std::size_t size = 1;
         for (int e = 0; e <= od; ++e) size *= static_cast<std::size_t>(e == d ? cb.terms : sh[e]);
-        b.assign(size, 0.0);
+        b.resize(size);
         apply_along(a.data(), b.data(), sh, od + 1, d, cb);
         sh[d] = cb.terms;
+        terms *= static_cast<std::size_t>(cb.terms);
         a.swap(b);
       }
-      // The interpolant is ≥ the least coefficient over the box, so the clamp adds at most its
-      // negative part times the cell's width (cos x ≤ 1); rounded up to float. Infinite when a
-      // coefficient is NaN.
-      double least = 0.0;
-      for (double v : a) least = v >= least ? least : (v == v ? v : -HUGE_VAL);
-      const double most = -least * h;
-      float f = static_cast<float>(most);
-      if (static_cast<double>(f) < most) f = std::nextafter(f, HUGE_VALF);
-      bound[first * n + k] = f;
+      // Per sampled cell k: the interpolant is ≥ the least coefficient over the box, so the clamp
+      // adds at most its negative part times the cell's width (cos x ≤ 1); rounded up to float.
+      // Infinite when a coefficient is NaN.
+      for (std::size_t k = 0; k < cells; ++k) {
+        double least = 0.0;
+        for (std::size_t o = 0; o < terms; ++o)
+          for (std::size_t q = 0; q < 4; ++q) {
+            const double v = a[o * row + k * 4 + q];
+            least = v >= least ? least : (v == v ? v : -HUGE_VAL);
+          }
+        const double most = -least * h;
+        float f = static_cast<float>(most);
+        if (static_cast<double>(f) < most) f = std::nextafter(f, HUGE_VALF);
+        bound[first * n + k] = f;
+      }
     }
-    int d = od - 1;
-    for (; d >= 0; --d) {
-      if (++idx[d] < axis_cells(axes[d].axis)) break;
-      idx[d] = 0;
-    }
-    if (d < 0) break;
-  }
+  });
 }
 
 }  // namespace sampler

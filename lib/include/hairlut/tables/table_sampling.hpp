@@ -6,9 +6,11 @@
 #pragma once
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hairlut/util/error.hpp"
@@ -25,9 +27,13 @@ std::string sampling_path(const Table& t, const std::string& what);
 /// The sampling data of every sampled table of the set whose axes the sampler supports, as tables
 /// (AxisSampler::build_data of the stored values): <name>_cdf (float64, the table's axes),
 /// <name>_mass (float64) over the other axes and <name>_clamp_bound (float32, the table's axes).
-std::vector<Table> sampling_tables(const TableSet& set);
-/// Appends sampling_tables(set) to the set (the baker does, after the tables are complete).
-void append_sampling_tables(TableSet& set);
+/// The clamp bounds are computed on `threads` OpenMP threads (0: all cores); the values do not
+/// depend on the thread count. `progress` (optional) hears ("sampling data", tables done, tables).
+using SamplingProgress = std::function<void(std::string_view stage, std::size_t done, std::size_t total)>;
+std::vector<Table> sampling_tables(const TableSet& set, int threads = 0, const SamplingProgress& progress = {});
+/// Appends sampling_tables(set, threads, progress) to the set (the baker does, after the tables
+/// are complete).
+void append_sampling_tables(TableSet& set, int threads = 0, const SamplingProgress& progress = {});
 /// The stored sampling data of table t (pointers into the set), or empty when the set has none
 /// of the right precision and shape (the sampler then computes them).
 sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t);
@@ -42,7 +48,9 @@ struct SamplingDataCheck {
   std::size_t bound_mismatches = 0;     ///< clamp bounds that differ
   std::size_t unclamped = 0, cells = 0;  ///< cells of the other axes with every clamp bound 0, and all of them
 };
-std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set);
+/// Every sampled table's stored data against the sampler's, recomputed on `threads` OpenMP threads
+/// (0: all cores).
+std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set, int threads = 0);
 
 /// The sampler of one table group, with the axis views it points into. Valid while the TableSet
 /// lives (the sampler points into its float32 values).
