@@ -187,14 +187,20 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
 }
 
 // The step by which HDF5's core driver grows the in-memory image; it zero-fills each new step
-// (and the pages it touches fault in), and growing copies the image. One step sized for the whole
-// file: the values plus 8 KiB per table (its object header with the hairlut_table description and
-// attributes, about 5 KiB for a per-material table) and 64 KiB (the root's metadata), rounded to
-// 64 KiB; a file that outgrows it takes a second step of the same size. The file's bytes do not
-// depend on it.
-std::size_t core_increment(const TableSet& set) {
+// (and the pages it touches fault in), and growing reallocates the image (a move of pages, not a
+// copy, once the image is larger than the heap's mmap threshold). Unfiltered, one step sized for
+// the whole file: the values plus 8 KiB per table (its object header with the hairlut_table
+// description and attributes, about 5 KiB for a per-material table) and 64 KiB (the root's
+// metadata), rounded to 64 KiB; a file that outgrows it takes a second step of the same size.
+// Deflated, an eighth of that, since the file is smaller than its values by a factor the values
+// decide (the generic tables with their sampling data: 179 MB of 536 MB): the image then grows in
+// steps, and what the driver zero-fills and holds stays within an eighth of the values of the
+// file's size, where one step for all the values held (and touched) all of them. The file's bytes
+// do not depend on it.
+std::size_t core_increment(const TableSet& set, int deflate) {
   std::size_t bytes = std::size_t{64} << 10;
   for (const Table& t : set.tables) bytes += t.size() * (t.precision == Precision::float64 ? 8 : 4) + (std::size_t{8} << 10);
+  if (deflate > 0) bytes = std::max<std::size_t>(bytes / 8, std::size_t{64} << 10);
   return (bytes + 0xffff) / 0x10000 * 0x10000;
 }
 
@@ -255,7 +261,7 @@ void hdf5_image(const TableSet& set, const File& f, const Hdf5WriteOptions& opti
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);  // on an error path, closing the file closes every object in it
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);  // 1.10 format: compact chunk indexes
-  f.check_status(H5Pset_fapl_core(fapl.get(), core_increment(set), 0), "cannot set up an in-memory HDF5 file");
+  f.check_status(H5Pset_fapl_core(fapl.get(), core_increment(set, options.deflate), 0), "cannot set up an in-memory HDF5 file");
   H5FD_file_image_callbacks_t callbacks = keep_image_callbacks(&kept);
   f.check_status(H5Pset_file_image_callbacks(fapl.get(), &callbacks), "cannot set up an in-memory HDF5 file");
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
