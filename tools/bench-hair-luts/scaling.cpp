@@ -5,6 +5,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <hairlut/bake/config.hpp>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include "bench_common.hpp"
 
@@ -84,6 +86,10 @@ json bench_scaling(const Settings& st) {
     std::map<int, StageRun> best;
     for (int r = 0; r < runs; ++r)
       for (int th : {1, max_t}) {
+        // OpenMP's workers of the previous run spin for a while after its last parallel region;
+        // their CPU time would count in this run's process CPU time (at one thread: more CPU
+        // than wall time). Let them go to sleep first.
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
         StageRun s = run_bake(c, th);
         if (!best.count(th) || s.total < best[th].total) best[th] = std::move(s);
       }
