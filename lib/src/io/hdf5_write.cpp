@@ -192,11 +192,10 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
 // the whole file: the values plus 8 KiB per table (its object header with the hairlut_table
 // description and attributes, about 5 KiB for a per-material table) and 64 KiB (the root's
 // metadata), rounded to 64 KiB; a file that outgrows it takes a second step of the same size.
-// Deflated, an eighth of that, since the file is smaller than its values by a factor the values
-// decide (the generic tables with their sampling data: 179 MB of 536 MB): the image then grows in
-// steps, and what the driver zero-fills and holds stays within an eighth of the values of the
-// file's size, where one step for all the values held (and touched) all of them. The file's bytes
-// do not depend on it.
+// Deflated, an eighth of that: how much smaller the file is depends on the values (the generic
+// tables with their sampling data: 179 MB of 536 MB), so the image grows in steps, and the driver
+// holds (and zero-fills) at most one step more than the file instead of room for every value.
+// The file's bytes do not depend on it.
 std::size_t core_increment(const TableSet& set, int deflate) {
   std::size_t bytes = std::size_t{64} << 10;
   for (const Table& t : set.tables) bytes += t.size() * (t.precision == Precision::float64 ? 8 : 4) + (std::size_t{8} << 10);

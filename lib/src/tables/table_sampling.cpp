@@ -9,6 +9,7 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
+#include <utility>
 
 namespace hairlut {
 namespace {
@@ -51,16 +52,8 @@ void build_from(const Table& t, const T* data, sampler::Measure m, std::vector<d
                 int threads) {
   std::vector<sampler::Axis> views;
   for (const GridAxis& g : t.axes) views.push_back(g.view());
-  const sampler::AxisSampler<T> s(data, views.data(), static_cast<int>(views.size()), m, sampler::AxisData(), OmpBlocks{threads});
-  const sampler::AxisData d = s.sampling_data();
-  if (!d.cdf || !d.mass || !d.clamp_bound) {  // a table the sampler does not support (callers skip those)
-    cdf.clear(), mass.clear(), bound.clear();
-    return;
-  }
-  const std::size_t slices = s.slices(), n = slices == 0 ? 0 : t.size() / slices;
-  cdf.assign(d.cdf, d.cdf + slices * n);
-  mass.assign(d.mass, d.mass + slices);
-  bound.assign(d.clamp_bound, d.clamp_bound + slices * n);
+  sampler::AxisSampler<T> s(data, views.data(), static_cast<int>(views.size()), m, sampler::AxisData(), OmpBlocks{threads});
+  std::move(s).release_data(cdf, mass, bound);
 }
 void build(const Table& t, sampler::Measure m, std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound, int threads) {
   if (t.precision == Precision::float32) build_from(t, t.f32.data(), m, cdf, mass, bound, threads);
@@ -88,14 +81,14 @@ std::string sampling_path(const Table& t, const std::string& what) { return "sam
 
 std::vector<Table> sampling_tables(const TableSet& set, int threads, const SamplingProgress& progress) {
   std::vector<Table> out;
-  std::vector<const Table*> sampled;
+  std::vector<std::pair<const Table*, sampler::Measure>> sampled;
   for (const Table& t : set.tables)
-    if (const auto m = sampled_measure(t); m && supported(t, *m)) sampled.push_back(&t);
+    if (const auto m = sampled_measure(t); m && supported(t, *m)) sampled.emplace_back(&t, *m);
   const std::string_view stage = "sampling data";
   if (progress && !sampled.empty()) progress(stage, 0, sampled.size());
   for (std::size_t done = 0; done < sampled.size(); ++done) {
-    const Table& t = *sampled[done];
-    const auto m = sampled_measure(t);
+    const Table& t = *sampled[done].first;
+    const std::optional<sampler::Measure> m = sampled[done].second;
     std::vector<double> cdf, mass;
     std::vector<float> bound;
     build(t, *m, cdf, mass, bound, threads);

@@ -310,6 +310,11 @@ class AxisSampler {
   /// The sampling data in use: the stored ones, or those computed at construction (slices() × n
   /// prefix masses, slices() masses, slices() × n clamp bounds); null pointers when unsupported.
   AxisData sampling_data() const { return supported_ ? AxisData{cdfs(), masses(), bounds()} : AxisData(); }
+  /// Moves out the sampling data computed at construction (build_data's arrays; empty when they
+  /// were stored or the table is unsupported). The sampler is not to be used afterwards.
+  void release_data(std::vector<double>& cdf, std::vector<double>& mass, std::vector<float>& bound) && {
+    cdf = std::move(cdf_), mass = std::move(mass_), bound = std::move(bound_);
+  }
   /// Computes the sampling data of the table (docs/table-format.md, "Sampling data"): per slice
   /// the prefix masses of its own interpolant along the sampled axis at the n nodes (unclamped;
   /// over [0, π] for an even axis; with the cos x weight for Measure::cosine) and its mass over the

@@ -547,7 +547,7 @@ class FixedView {
     f.store(w);
     if (V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_) != 0) {  // within snap of a node, or at the last
       ((std::fabs(w[I] - R(0.5)) > axes_[I].unsnapped() ? axes_[I].snap(i[I], w[I]) : void()), ...);
-      o = ((static_cast<std::size_t>(i[I]) * static_cast<std::size_t>(steps_[I])) + ...);
+      o = lane_strides_.dot(i);
     }
     return detail::lerp_cell<T, R, D>(data_ + o, steps_, w);
   }

@@ -52,6 +52,10 @@ struct Strides4 {
       if (static_cast<unsigned long long>(s[k]) > 0xffffffffull) return false;
     return true;
   }
+  /// Σ i_k · s_k (i_k ≥ 0).
+  std::size_t dot(const int* i) const {
+    return static_cast<std::size_t>(i[0]) * s[0] + static_cast<std::size_t>(i[1]) * s[1] + static_cast<std::size_t>(i[2]) * s[2] + static_cast<std::size_t>(i[3]) * s[3];
+  }
   explicit Strides4(const std::size_t* m) {
     for (int k = 0; k < 4; ++k) s[k] = m[k];
 #if HAIRLUT_SAMPLER_SSE2
@@ -111,7 +115,7 @@ struct Vec4 {
   /// split(i) for v_k ≥ 0, and o = Σ i_k · m.s_k (in registers where SSE2 is, not through i).
   HAIRLUT_SAMPLER_INLINE Vec4 split_offset(int* i, const Strides4& m, std::size_t& o) const {
     const Vec4 r = split(i);
-    o = static_cast<std::size_t>(i[0]) * m.s[0] + static_cast<std::size_t>(i[1]) * m.s[1] + static_cast<std::size_t>(i[2]) * m.s[2] + static_cast<std::size_t>(i[3]) * m.s[3];
+    o = m.dot(i);
     return r;
   }
   /// |v| per lane.
@@ -181,7 +185,7 @@ struct Vec4<float, true> {
     const __m128i p = _mm_add_epi64(_mm_mul_epu32(q, m.m02), _mm_mul_epu32(_mm_srli_epi64(q, 32), m.m13));
     o = static_cast<std::size_t>(_mm_cvtsi128_si64(_mm_add_epi64(p, _mm_unpackhi_epi64(p, p))));
 #else
-    o = static_cast<std::size_t>(i[0]) * m.s[0] + static_cast<std::size_t>(i[1]) * m.s[1] + static_cast<std::size_t>(i[2]) * m.s[2] + static_cast<std::size_t>(i[3]) * m.s[3];
+    o = m.dot(i);
 #endif
     return {_mm_sub_ps(v, _mm_cvtepi32_ps(q))};
   }
@@ -268,7 +272,7 @@ struct Vec4<double, true> {
     const __m128i p = _mm_add_epi64(_mm_mul_epu32(_mm_unpacklo_epi32(ql, z), m.m01), _mm_mul_epu32(_mm_unpacklo_epi32(qh, z), m.m23));
     o = static_cast<std::size_t>(_mm_cvtsi128_si64(_mm_add_epi64(p, _mm_unpackhi_epi64(p, p))));
 #else
-    o = static_cast<std::size_t>(i[0]) * m.s[0] + static_cast<std::size_t>(i[1]) * m.s[1] + static_cast<std::size_t>(i[2]) * m.s[2] + static_cast<std::size_t>(i[3]) * m.s[3];
+    o = m.dot(i);
 #endif
     return {_mm_sub_pd(lo, _mm_cvtepi32_pd(ql)), _mm_sub_pd(hi, _mm_cvtepi32_pd(qh))};
   }
