@@ -5,10 +5,12 @@
 #include <hairlut/physics/azimuthal_fourier.hpp>
 #include <hairlut/hairlut.hpp>
 #include <hairlut/physics/material_np.hpp>
+#include <hairlut/physics/melanin.hpp>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/io/table_io.hpp>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -252,4 +254,92 @@ TEST_CASE("Per-material bakes are bit-identical for any thread count", "[materia
   CHECK(bytes[0].size() > 10000);
   CHECK(bytes[0] == bytes[1]);
   CHECK(bytes[0] == bytes[2]);
+}
+
+TEST_CASE("Materials baked together give each material's own values, bit for bit", "[material]") {
+  // One MaterialNp over five materials' RGB (channels = 3) against one per material: every N_p
+  // value and energy identical, for narrow to wide β (spreading and the Fourier form both taken),
+  // on a periodic grid with both ends, a periodic one without, and an even half circle.
+  const std::vector<double> thetas = [] {
+    std::vector<double> t;
+    for (int i = 0; i < 10; ++i) t.push_back(std::acos(1.0 - i / 9.0) * 0.999);
+    return t;
+  }();
+  std::vector<std::vector<double>> sigmas;
+  for (int i = 0; i < 5; ++i) {
+    const Rgb s = melanin_sigma_a_rgb(0.05 + 1.25 * i, 0.1 + 0.05 * i);
+    sigmas.push_back({s.r, s.g, s.b});
+  }
+  sigmas[4] = {0.0, 0.0, 0.0};  // a white fibre among them
+  std::vector<double> all;
+  for (const auto& s : sigmas) all.insert(all.end(), s.begin(), s.end());
+  const std::vector<std::vector<double>> grids = {uniform(-kPi, kTwoPi / 63.0, 64), uniform(0.0, kTwoPi / 48.0, 48), uniform(0.0, kPi / 64.0, 65)};
+  std::size_t spread = 0, fourier = 0, compared = 0, different = 0;
+  for (const double beta_deg : {0.7, 2.0, 5.0, 12.0, 30.0})
+    for (const auto& phis : grids) {
+      const double b = radians(beta_deg);
+      const std::vector<double> betas = {b, 0.5 * b, 2.0 * b};
+      MaterialNpRequest together{1.55, AbsorptionPath::chord, betas, all, thetas, phis, 1e-10};
+      together.channels = 3;
+      const MaterialNp g(together);
+      for (std::size_t mi = 0; mi < sigmas.size(); ++mi) {
+        const MaterialNp own({1.55, AbsorptionPath::chord, betas, sigmas[mi], thetas, phis, 1e-10});
+        for (std::size_t t = 0; t < thetas.size(); ++t) {
+          for (int p = 0; p < 3; ++p) {
+            REQUIRE(own.spreads(t, p) == g.spreads(t, p));
+            if (mi == 0) (own.spreads(t, p) ? spread : fourier) += 1;
+          }
+          std::vector<double> v1, e1, vg, eg;
+          own.evaluate(t, v1, &e1);
+          g.evaluate(t, vg, &eg);
+          for (std::size_t p = 0; p < 3; ++p)
+            for (std::size_t k = 0; k < 3; ++k)
+              for (std::size_t j = 0; j < phis.size(); ++j, ++compared)
+                different += std::memcmp(&v1[(p * 3 + k) * phis.size() + j], &vg[(p * 15 + mi * 3 + k) * phis.size() + j], sizeof(double)) != 0;
+          for (std::size_t k = 0; k < 3; ++k)
+            for (std::size_t p = 0; p < 3; ++p, ++compared) different += std::memcmp(&e1[k * 3 + p], &eg[(mi * 3 + k) * 3 + p], sizeof(double)) != 0;
+        }
+      }
+    }
+  INFO(compared << " values compared; (theta_d, lobe) spreading " << spread << ", Fourier " << fourier);
+  CHECK(spread > 0);
+  CHECK(fourier > 0);
+  CHECK(different == 0);
+}
+
+TEST_CASE("A scene's materials of the same beta bake the tables each would bake alone", "[material][bake]") {
+  // Three materials, two of the same β per lobe (baked together) and one of its own, against
+  // each material in a scene of its own: the same float values in every table.
+  auto config = [](const std::string& materials) {
+    return nlohmann::json::parse(R"({
+      "name": "grouped", "model": "deon2011",
+      "lobes": { "explicit": ["R", "TT", "TRT"], "residual": false },
+      "quadrature": { "method": "fourier", "tolerance": 1e-10 },
+      "tables": { "np": { "axes": { "theta_d": { "count": 9, "range_deg": [0, 89], "spacing": "cos" }, "phi": { "count": 64, "symmetry": "full" } } } },
+      "scene": { "mode": "per-material", "materials": [)" + materials + R"(] },
+      "output": { "basename": "grouped", "formats": ["hdf5"] }
+    })");
+  };
+  const std::vector<std::string> materials = {
+      R"({ "name": "a", "melanin": { "eumelanin": 0.4, "pheomelanin": 0.1 }, "beta_deg": { "R": 2, "TT": 2, "TRT": 2 } })",
+      R"({ "name": "b", "sigma_a": [0.1, 0.5, 2.0], "beta_deg": { "R": 6, "TT": 3, "TRT": 12 } })",
+      R"({ "name": "c", "melanin": { "eumelanin": 3.0 }, "beta_deg": { "R": 2, "TT": 2, "TRT": 2 } })"};
+  BakeOptions opt;
+  opt.threads = 2;
+  const TableSet scene = bake(parse_config(config(materials[0] + "," + materials[1] + "," + materials[2]), "grouped.json", "."), opt);
+  std::size_t compared = 0;
+  for (const std::string& m : materials) {
+    const TableSet alone = bake(parse_config(config(m), "grouped.json", "."), opt);
+    for (const Table& t : alone.tables) {
+      const Table* s = nullptr;
+      for (const Table& x : scene.tables)
+        if (x.path() == t.path()) s = &x;
+      REQUIRE(s != nullptr);
+      INFO(t.path());
+      REQUIRE(s->f32.size() == t.f32.size());
+      CHECK(std::memcmp(s->f32.data(), t.f32.data(), t.f32.size() * sizeof(float)) == 0);
+      ++compared;
+    }
+  }
+  CHECK(compared == 3 * 6);  // N_p and energy of R, TT, TRT per material
 }

@@ -1,6 +1,7 @@
 // The per-material N_p tables: every explicit lobe of each material of a scene over (channel, θd, φ)
 // with the material's RGB σa and its own β per lobe, the lobe energies and the residual over
 // (channel, θd): the shape renderers precompute per material (material_np.hpp).
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -25,15 +26,28 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
   const std::vector<double> thetas = theta_axis.nodes(), phis = phi_axis.nodes();
   const GridAxis channel = channel_axis({"R", "G", "B"}, "colour channel (linear sRGB primaries)");
   const std::size_t nt = thetas.size(), nphi = phis.size();
-  // Each material's tables and planned N_p, filled by one parallel loop below.
+  // Each material's tables, filled by one parallel loop below.
   struct Pending {
     std::size_t first, energy_first, residual_index;
     std::vector<double> sigmas;
-    std::unique_ptr<MaterialNp> np;  // null: N_p already baked by bake_np_grid (per-entry methods)
+    std::size_t group = 0;    // its MaterialNp in `groups` (method "fourier")
+    std::size_t channel0 = 0;  // its first channel among the group's
+  };
+  // Materials with the same β per lobe (η, the path and the grids are the scene's) share every
+  // node factor but T^p = e^{−pσa'ℓ}: the rule's asin, Fresnel and path lengths, the exit azimuths
+  // and detector windows, and R's whole sum (its amplitude f does not depend on σa). One MaterialNp
+  // bakes all their channels; each material's values are those of a bake of its own, bit for bit
+  // (MaterialNpRequest::channels).
+  struct Group {
+    std::vector<double> betas, sigmas;
+    std::vector<std::size_t> members;  // indices into `pending`
+    std::unique_ptr<MaterialNp> np;
   };
   std::vector<Pending> pending;
+  std::vector<Group> groups;
   pending.reserve(c.scene->materials.size());
   MaterialNpRules rules_shared;  // the materials share the θd axis and so their quadrature rules
+  const bool shared_path = c.quadrature.method == NpQuadratureConfig::Method::fourier;
   for (const MaterialConfig& m : c.scene->materials) {
     const std::string group = "materials/" + m.name;
     const std::size_t first = set.tables.size();
@@ -63,13 +77,17 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
       set.tables.push_back(std::move(t));
     }
     const std::vector<double> channel_sigmas(m.sigma_a.begin(), m.sigma_a.end());
-    Pending& item = pending.emplace_back(Pending{first, energy_first, residual_index, channel_sigmas, nullptr});
-    if (c.quadrature.method == NpQuadratureConfig::Method::fourier) {
-      // The material's own path: every lobe and channel of a θd from one node set.
-      MaterialNpRequest mr{c.eta, c.path, {}, channel_sigmas, thetas, phis, c.quadrature.tolerance, &rules_shared};
-      for (int p = 0; p < s.lobes; ++p) mr.betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
-      item.np = std::make_unique<MaterialNp>(std::move(mr));
-      if (!item.np->note().empty() && &m == &c.scene->materials.front()) report.notes.push_back("per-material N_p: " + item.np->note());
+    Pending& item = pending.emplace_back(Pending{first, energy_first, residual_index, channel_sigmas});
+    if (shared_path) {
+      // Every lobe and channel of a θd from one node set, shared with the materials of the same β.
+      std::vector<double> betas;
+      for (int p = 0; p < s.lobes; ++p) betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
+      auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) { return x.betas == betas; });
+      if (g == groups.end()) g = groups.insert(groups.end(), Group{betas, {}, {}, nullptr});
+      item.group = static_cast<std::size_t>(g - groups.begin());
+      item.channel0 = g->sigmas.size();
+      g->sigmas.insert(g->sigmas.end(), channel_sigmas.begin(), channel_sigmas.end());
+      g->members.push_back(pending.size() - 1);
     } else {
       unconverged += bake_np_grid(
           {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
@@ -80,33 +98,57 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
     }
     report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
   }
-  // One parallel loop over every (material, θd): N_p of every lobe and channel, and the lobe
-  // energies of every channel at once — from N_p's own nodes on the material's path (MaterialNp)
-  // without a residual, else by material_energies (lobe_energies' rule and integrand). Few large loops rather than two
-  // per material: less time in OpenMP's start and spin-waiting.
-  parallel_for(pending.size() * nt, opt, "N_p and energies (per material)", 3 * nphi * static_cast<std::size_t>(s.lobes), [&](std::size_t item) {
-    const Pending& w = pending[item / nt];
-    const std::size_t it = item % nt, K = w.sigmas.size();
-    std::vector<double> e;
-    if (w.np) {
-      std::vector<double> v;
-      w.np->evaluate(it, v, c.residual ? nullptr : &e);
+  for (Group& g : groups) {
+    MaterialNpRequest mr{c.eta, c.path, g.betas, g.sigmas, thetas, phis, c.quadrature.tolerance, &rules_shared};
+    mr.channels = pending[g.members.front()].sigmas.size();
+    g.np = std::make_unique<MaterialNp>(std::move(mr));
+    if (!g.np->note().empty() && &g == &groups.front()) report.notes.push_back("per-material N_p: " + g.np->note());
+  }
+  const auto E = static_cast<std::size_t>(lobe_set.size());
+  // The energies of one material at θd node it: from N_p's own nodes (e[(channel0 + ic) · E + p])
+  // without a residual, else by material_energies (lobe_energies' rule and integrand: the
+  // residual's integrand (1 − f)² f^{P−1} T^P / (1 − fT) needs more nodes than N_p's wide lobes have).
+  auto store_energies = [&](const Pending& w, std::size_t it, const std::vector<double>* from_np, std::size_t channel0) {
+    std::vector<double> own;
+    const std::vector<double>* e = from_np;
+    if (!e) {
+      material_energies(c.eta, thetas[it], c.path, w.sigmas, lobe_set, s.energy_rule, own);
+      e = &own, channel0 = 0;
+    }
+    for (std::size_t ic = 0; ic < w.sigmas.size(); ++ic) {
+      const double* ep = e->data() + (channel0 + ic) * E;
+      for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, ep[p]);
+      if (c.residual) set.tables[w.residual_index].set(ic * nt + it, ep[E - 1] / kTwoPi);
+    }
+  };
+  // One parallel loop over every (group, θd) — or (material, θd) for the per-entry methods — : N_p
+  // of every lobe and channel and the lobe energies of every channel at once. Few large loops
+  // rather than two per material: less time in OpenMP's start and spin-waiting.
+  const std::size_t units = shared_path ? groups.size() : pending.size();
+  std::size_t per_unit = 3 * nphi * static_cast<std::size_t>(s.lobes);
+  if (shared_path && !groups.empty()) per_unit *= pending.size() / groups.size();
+  parallel_for(units * nt, opt, "N_p and energies (per material)", per_unit, [&](std::size_t item) {
+    const std::size_t it = item % nt;
+    if (!shared_path) {
+      store_energies(pending[item / nt], it, nullptr, 0);
+      return;
+    }
+    const Group& g = groups[item / nt];
+    const std::size_t K = g.sigmas.size();
+    std::vector<double> v, e;
+    g.np->evaluate(it, v, c.residual ? nullptr : &e);
+    for (const std::size_t member : g.members) {
+      const Pending& w = pending[member];
       for (int p = 0; p < s.lobes; ++p) {
         Table& t = set.tables[w.first + static_cast<std::size_t>(p)];
-        for (std::size_t ic = 0; ic < K; ++ic) {
-          const double* src = v.data() + (static_cast<std::size_t>(p) * K + ic) * nphi;
+        for (std::size_t ic = 0; ic < w.sigmas.size(); ++ic) {
+          const double* src = v.data() + (static_cast<std::size_t>(p) * K + w.channel0 + ic) * nphi;
           const std::size_t dst = (ic * nt + it) * nphi;
-          for (std::size_t ip = 0; ip < nphi; ++ip) t.set(dst + ip, src[ip]);
+          if (t.precision == Precision::float32) std::transform(src, src + nphi, t.f32.data() + dst, [](double x) { return static_cast<float>(x); });
+          else std::copy(src, src + nphi, t.f64.data() + dst);
         }
       }
-    }
-    // The residual's integrand (1 − f)² f^{P−1} T^P / (1 − fT) needs more nodes than N_p's wide lobes
-    // have: with a residual, every energy comes from the energy rule.
-    if (!w.np || c.residual) material_energies(c.eta, thetas[it], c.path, w.sigmas, lobe_set, s.energy_rule, e);
-    const auto E = static_cast<std::size_t>(lobe_set.size());
-    for (std::size_t ic = 0; ic < K; ++ic) {
-      for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, e[ic * E + p]);
-      if (c.residual) set.tables[w.residual_index].set(ic * nt + it, e[ic * E + E - 1] / kTwoPi);
+      store_energies(w, it, c.residual ? nullptr : &e, w.channel0);
     }
   });
 }

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
@@ -12,6 +15,31 @@
 
 namespace hairlut {
 namespace {
+
+// max(x, 0) as std::max(0.0, x) gives it (NaN and −0 to +0), without a branch: maxsd returns its
+// second operand unless the first is greater (GCC compiles the conditional to a compare and a
+// jump, which mispredicts on values near 0).
+inline double nonnegative(double x) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()));
+#else
+  return x > 0.0 ? x : 0.0;
+#endif
+}
+
+// sums[k] = Σ_{i < m} a[k · m + i] for k < n ≤ 4, each in increasing i from 0 (the order of a
+// plain loop), the n sums advancing together.
+void plane_sums(const double* a, std::size_t m, std::size_t n, double* sums) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  const double *a0 = a, *a1 = a + m, *a2 = a + 2 * m, *a3 = a + 3 * m;
+  switch (n) {
+    case 4: for (std::size_t i = 0; i < m; ++i) s0 += a0[i], s1 += a1[i], s2 += a2[i], s3 += a3[i]; break;
+    case 3: for (std::size_t i = 0; i < m; ++i) s0 += a0[i], s1 += a1[i], s2 += a2[i]; break;
+    case 2: for (std::size_t i = 0; i < m; ++i) s0 += a0[i], s1 += a1[i]; break;
+    default: for (std::size_t i = 0; i < m; ++i) s0 += a0[i];
+  }
+  sums[0] = s0, sums[1] = s1, sums[2] = s2, sums[3] = s3;
+}
 
 // Points 2R + 1 of a detector window: the Gaussian is cut where it falls below tolerance/2 of its peak.
 long window_radius(double beta, double step, double tolerance) {
@@ -43,18 +71,19 @@ void add_window(double* b, double a, const double* w, std::size_t run) {
   }
 }
 
-// out[k · points + j] = Σ_{n ≤ N} v[n · Planes + k] cos nφ_j (cos_table as [n][j]), each sum taken in
-// increasing n from 0 (CosineSeries's order), two points at a time with the planes in registers.
+// out[k · points + j] = Σ_{n ≤ N} v[n · vstride + k] cos nφ_j for k < Planes (cos_table as [n][j]),
+// each sum taken in increasing n from 0 (CosineSeries's order), two points at a time with the
+// planes in registers.
 template <std::size_t Planes>
-void cosine_sums(const double* cos_table, std::size_t points, const double* v, std::size_t N, double* out) {
+void cosine_sums(const double* cos_table, std::size_t points, const double* v, std::size_t vstride, std::size_t N, double* out) {
   std::size_t j = 0;
   for (; j + 2 <= points; j += 2) {
     double a[Planes][2] = {};
     for (std::size_t n = 0; n <= N; ++n) {
       const double c0 = cos_table[n * points + j], c1 = cos_table[n * points + j + 1];
       for (std::size_t k = 0; k < Planes; ++k) {
-        a[k][0] += v[n * Planes + k] * c0;
-        a[k][1] += v[n * Planes + k] * c1;
+        a[k][0] += v[n * vstride + k] * c0;
+        a[k][1] += v[n * vstride + k] * c1;
       }
     }
     for (std::size_t k = 0; k < Planes; ++k) out[k * points + j] = a[k][0], out[k * points + j + 1] = a[k][1];
@@ -62,7 +91,7 @@ void cosine_sums(const double* cos_table, std::size_t points, const double* v, s
   for (; j < points; ++j)
     for (std::size_t k = 0; k < Planes; ++k) {
       double sum = 0.0;
-      for (std::size_t n = 0; n <= N; ++n) sum += v[n * Planes + k] * cos_table[n * points + j];
+      for (std::size_t n = 0; n <= N; ++n) sum += v[n * vstride + k] * cos_table[n * points + j];
       out[k * points + j] = sum;
     }
 }
@@ -70,7 +99,7 @@ void cosine_sums(const double* cos_table, std::size_t points, const double* v, s
 // The same for three planes sharing the window (the RGB channels of a lobe): each window value
 // loaded once; every sum gets the same operations as three add_window calls.
 template <std::size_t Run>
-void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w) {
+[[gnu::always_inline]] inline void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w) {
   const double a0 = a[0], a1 = a[1], a2 = a[2];
 #pragma omp simd
   for (std::size_t j = 0; j < Run; ++j) {
@@ -79,7 +108,7 @@ void add_window3(double* b0, double* b1, double* b2, const double* a, const doub
     b2[j] += a2 * w[j];
   }
 }
-void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w, std::size_t run) {
+[[gnu::always_inline]] inline void add_window3(double* b0, double* b1, double* b2, const double* a, const double* w, std::size_t run) {
   switch (run) {
     case 8: return add_window3<8>(b0, b1, b2, a, w);
     case 12: return add_window3<12>(b0, b1, b2, a, w);
@@ -89,6 +118,18 @@ void add_window3(double* b0, double* b1, double* b2, const double* a, const doub
     default:
       for (int k = 0; k < 3; ++k) add_window(k == 0 ? b0 : k == 1 ? b1 : b2, a[k], w, run);
   }
+}
+
+// One node's window added to every plane, three planes per window load: b + k · stride gets
+// a[k] · win[j] at slot j < run (planes a multiple of 3). Compiled for AVX2 as well as for the
+// baseline ISA, the loader choosing by the CPU (GCC's target_clones): the AVX2 version does the
+// same multiplies and adds four values at a time (AVX2 without FMA: no fused multiply–add, so the
+// sums are the same bits on every CPU).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+[[gnu::target_clones("avx2", "default")]]
+#endif
+void spread_node3(double* b, std::size_t stride, const double* a, std::size_t planes, const double* win, std::size_t run) {
+  for (std::size_t k = 0; k < planes; k += 3) add_window3(b + k * stride, b + (k + 1) * stride, b + (k + 2) * stride, a + k, win, run);
 }
 
 // Above this many (terms + 1) × points the Fourier sums go through CosineSeries (which folds terms
@@ -112,7 +153,7 @@ struct MaterialNp::Row {
   FiberGeometry g;
   std::size_t m = 0, K = 0;
   std::vector<double> st, gt, len, f, omf, T, fpow, tpow, amp;  // T, tpow, amp: [k · m + i]
-  std::vector<double> centre, d0, g0, rr, win, buf, circle;
+  std::vector<double> centre, d0, g0, rr, win, buf, circle, scale;  // scale: a node's amplitude × norm per plane
   std::vector<long> start;
   std::vector<double> vr, vi, phase, zr, zi, sr, si, C, v, series_row;  // the Fourier form
   bool rotations = false;  // vr, vi hold e^{2iγt} of this θd
@@ -163,8 +204,10 @@ MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid
       if (it == counts.end()) it = counts.emplace(std::pair{p, rate}, material_np_nodes(r_.betas[p], static_cast<int>(p), g, tol)).first;
       m_[t] = std::max(m_[t], it->second);
     }
+    // The choice for one material's channels (MaterialNpRequest::channels), however many share the bake.
+    const std::size_t per_material = r_.channels > 0 ? std::min(r_.channels, K) : K;
     for (std::size_t p = 0; p < L; ++p) {
-      const std::size_t planes = p == 0 ? 1 : K;
+      const std::size_t planes = p == 0 ? 1 : per_material;
       const bool spread = grid_.period > 0 &&
                           spread_work(m_[t], window_radius(r_.betas[p], step, tol), planes, p == 0) < fourier_work(m_[t], terms_[p], planes, nphi);
       spread_[t * L + p] = spread;
@@ -309,13 +352,18 @@ void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<d
     for (std::size_t i = 0; i < m; ++i) row.amp[i] = n.weight[i] * row.fpow[i];
     for (std::size_t k = planes; k-- > 0;)  // in place: plane 0 last
       for (std::size_t i = 0; i < m; ++i) row.amp[k * m + i] = row.amp[i] * row.tpow[k * m + i];
-    if (energies)  // ∫N_p dφ = Σ W A: the quadrature of N_p with D replaced by its integral 1
-      for (std::size_t k = 0; k < K; ++k) {
-        const double* a = row.amp.data() + (planes == 1 ? 0 : k) * m;
-        double e = 0.0;
-        for (std::size_t i = 0; i < m; ++i) e += a[i];
-        (*energies)[k * E + p] = e;
+    if (energies) {  // ∫N_p dφ = Σ W A: the quadrature of N_p with D replaced by its integral 1
+      // Each plane's sum in increasing i; four planes side by side (four independent chains of
+      // additions instead of one), R's single plane once for every channel.
+      double sums[4];
+      for (std::size_t k0 = 0; k0 < planes; k0 += 4) {
+        const std::size_t n4 = std::min<std::size_t>(4, planes - k0);
+        plane_sums(row.amp.data() + k0 * m, m, n4, sums);
+        for (std::size_t k = k0; k < k0 + n4; ++k) (*energies)[k * E + p] = sums[k - k0];
       }
+      if (planes == 1)
+        for (std::size_t k = 1; k < K; ++k) (*energies)[k * E + p] = sums[0];
+    }
     if (spread_[t * L + p]) spread_lobe(p, n, row, out);
     else fourier_lobe(p, n, row, out);
   }
@@ -331,6 +379,7 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
   const auto P = static_cast<long>(grid_.period);
   const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
   row.buf.assign(stride * planes, 0.0);
+  row.scale.resize(planes);
   const bool fixed = p == 0;  // R's windows were computed with the rule
   if (!fixed) {
     row.centre.resize(m);
@@ -351,9 +400,9 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
       r0 = static_cast<std::size_t>(row.start[i]);
     }
     double* b = row.buf.data() + r0;
-    if (planes == 3) {
-      const double a[3] = {amp[i] * w.norm, amp[m + i] * w.norm, amp[2 * m + i] * w.norm};
-      add_window3(b, b + stride, b + 2 * stride, a, win, run);
+    if (planes % 3 == 0) {  // RGB, or the RGB of several materials: three planes per window load
+      for (std::size_t k = 0; k < planes; ++k) row.scale[k] = amp[k * m + i] * w.norm;
+      spread_node3(b, stride, row.scale.data(), planes, win, run);
     } else {
       for (std::size_t k = 0; k < planes; ++k) add_window(b + k * stride, amp[k * m + i] * w.norm, win, run);
     }
@@ -376,7 +425,7 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
   for (std::size_t k = 0; k < K; ++k) {
     const double* c = row.circle.data() + (planes == 1 ? 0 : k) * Pu;
     double* o = out.data() + (p * K + k) * nphi;
-    for (std::size_t j = 0; j < nphi; ++j) o[j] = std::max(0.0, 0.5 * (c[here_[j]] + c[mirror_[j]]));
+    for (std::size_t j = 0; j < nphi; ++j) o[j] = nonnegative(0.5 * (c[here_[j]] + c[mirror_[j]]));
   }
 }
 
@@ -454,10 +503,10 @@ void MaterialNp::fourier_lobe(std::size_t p, const RuleNodes& n, Row& row, std::
       for (std::size_t nn = 0; nn <= N; ++nn) vk[nn] = row.v[nn * planes + k];
       series_->evaluate(vk, std::span<double>(o + k * nphi, nphi));
     }
-  } else if (planes == 3) {
-    cosine_sums<3>(cos_table_.data(), nphi, row.v.data(), N, o);
+  } else if (planes % 3 == 0) {  // RGB, or the RGB of several materials, three planes at a time
+    for (std::size_t k = 0; k < planes; k += 3) cosine_sums<3>(cos_table_.data(), nphi, row.v.data() + k, planes, N, o + k * nphi);
   } else if (planes == 1) {
-    cosine_sums<1>(cos_table_.data(), nphi, row.v.data(), N, o);
+    cosine_sums<1>(cos_table_.data(), nphi, row.v.data(), 1, N, o);
   } else {
     for (std::size_t k = 0; k < planes; ++k)
       for (std::size_t j = 0; j < nphi; ++j) {
@@ -469,7 +518,7 @@ void MaterialNp::fourier_lobe(std::size_t p, const RuleNodes& n, Row& row, std::
   for (std::size_t k = 0; k < K; ++k) {
     const double* src = o + (planes == 1 ? 0 : k) * nphi;
     double* dst = out.data() + (p * K + k) * nphi;
-    for (std::size_t j = 0; j < nphi; ++j) dst[j] = std::max(0.0, src[j]);  // roundoff below 0 clamped
+    for (std::size_t j = 0; j < nphi; ++j) dst[j] = nonnegative(src[j]);  // roundoff below 0 clamped
   }
 }
 

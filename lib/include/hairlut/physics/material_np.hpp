@@ -62,6 +62,12 @@ struct MaterialNpRequest {
   std::vector<double> phis;    ///< φ nodes (any; periodic grids take the spreading path)
   double tolerance = 1e-12;
   MaterialNpRules* rules = nullptr;  ///< optional: rules shared with other bakes (else built here)
+  /// σa per material when `sigmas` holds several materials' channels one material after another
+  /// (materials that share η, the path, β per lobe and the grids share every factor but T^p: one
+  /// MaterialNp for all of them). Each (θd, lobe) chooses between spreading and the Fourier form
+  /// for this many channels, so a material's values do not depend on which materials it is baked
+  /// with (bit for bit: each channel's sums are the same operations either way). 0: sigmas.size().
+  std::size_t channels = 0;
 };
 
 /// Nodes m (a multiple of 8) of the transplanted rule (2m points on [−π/2, π/2], m of them in
