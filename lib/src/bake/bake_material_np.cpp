@@ -135,7 +135,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
     }
     const Group& g = groups[item / nt];
     const std::size_t K = g.sigmas.size();
-    std::vector<double> v, e;
+    thread_local std::vector<double> v, e;  // reused: evaluate writes every value
     g.np->evaluate(it, v, c.residual ? nullptr : &e);
     for (const std::size_t member : g.members) {
       const Pending& w = pending[member];

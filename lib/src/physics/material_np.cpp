@@ -52,11 +52,11 @@ std::size_t window_run(long R) { return std::max<std::size_t>(8, (static_cast<st
 
 // b[j] += a · w[j] for j < Run (a compile-time length: unrolled, two lanes at a time).
 template <std::size_t Run>
-void add_window(double* b, double a, const double* w) {
+[[gnu::always_inline]] inline void add_window(double* b, double a, const double* w) {
 #pragma omp simd
   for (std::size_t j = 0; j < Run; ++j) b[j] += a * w[j];
 }
-void add_window(double* b, double a, const double* w, std::size_t run) {
+[[gnu::always_inline]] inline void add_window(double* b, double a, const double* w, std::size_t run) {
   switch (run) {
     case 8: return add_window<8>(b, a, w);
     case 12: return add_window<12>(b, a, w);
@@ -120,16 +120,45 @@ template <std::size_t Run>
   }
 }
 
-// One node's window added to every plane, three planes per window load: b + k · stride gets
-// a[k] · win[j] at slot j < run (planes a multiple of 3). Compiled for AVX2 as well as for the
-// baseline ISA, the loader choosing by the CPU (GCC's target_clones): the AVX2 version does the
-// same multiplies and adds four values at a time (AVX2 without FMA: no fused multiply–add, so the
-// sums are the same bits on every CPU).
+// Loops of element-wise arithmetic compiled for AVX2 as well as for the baseline ISA, the loader
+// choosing by the CPU (GCC's target_clones): the AVX2 version does the same multiplies, adds,
+// divisions and square roots four values at a time (AVX2 without FMA: no fused multiply–add, and
+// no sums reordered), so the values are the same bits on every CPU.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-[[gnu::target_clones("avx2", "default")]]
+#define HAIRLUT_AVX2_CLONES [[gnu::target_clones("avx2", "default")]]
+#else
+#define HAIRLUT_AVX2_CLONES
 #endif
-void spread_node3(double* b, std::size_t stride, const double* a, std::size_t planes, const double* win, std::size_t run) {
-  for (std::size_t k = 0; k < planes; k += 3) add_window3(b + k * stride, b + (k + 1) * stride, b + (k + 2) * stride, a + k, win, run);
+
+// One node's window added to every plane: b + k · stride gets a[k] · win[j] at slot j < run;
+// three planes per window load when planes is a multiple of 3 (RGB, or several materials' RGB).
+HAIRLUT_AVX2_CLONES
+void spread_node(double* b, std::size_t stride, const double* a, std::size_t planes, const double* win, std::size_t run) {
+  if (planes % 3 == 0)
+    for (std::size_t k = 0; k < planes; k += 3) add_window3(b + k * stride, b + (k + 1) * stride, b + (k + 2) * stride, a + k, win, run);
+  else
+    for (std::size_t k = 0; k < planes; ++k) add_window(b + k * stride, a[k], win, run);
+}
+
+// Per node i < m (st = sin γt, cg = cos γ): the path length len (2 cos γt, or 4 cos² γt), and the
+// unpolarised Fresnel f at cos θd cos γ from outside (η > 1: never total reflection) and its
+// complement omf = 1 − f in the cancellation-free form.
+HAIRLUT_AVX2_CLONES
+void path_and_fresnel(std::size_t m, const double* st, const double* cg, double cos_theta_d, double eta, bool chord, double* len, double* f,
+                      double* omf) {
+#pragma omp simd
+  for (std::size_t i = 0; i < m; ++i) {
+    const double s = st[i];
+    const double ct = std::sqrt((1.0 - s) * (1.0 + s));
+    len[i] = chord ? 2.0 * ct : 4.0 * ct * ct;
+    const double c = cos_theta_d * cg[i];
+    const double ctr = std::sqrt(1.0 - (1.0 - c) * (1.0 + c) / (eta * eta));
+    const double ds = c + eta * ctr, dp = eta * c + ctr;
+    const double rs = (c - eta * ctr) / ds, rp = (eta * c - ctr) / dp;
+    const double num = 4.0 * eta * c * ctr;
+    f[i] = std::min(1.0, 0.5 * (rs * rs + rp * rp));
+    omf[i] = std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
+  }
 }
 
 // Above this many (terms + 1) × points the Fourier sums go through CosineSeries (which folds terms
@@ -303,22 +332,8 @@ void MaterialNp::node_factors(std::size_t t, Row& row) const {
   const double a = g.inv_eta_prime, eta = g.eta;
   for (std::size_t i = 0; i < m; ++i) row.st[i] = n.sin_gamma[i] * a;
   for (std::size_t i = 0; i < m; ++i) row.gt[i] = std::asin(row.st[i]);
-  const bool chord = r_.path == AbsorptionPath::chord;
-#pragma omp simd
-  for (std::size_t i = 0; i < m; ++i) {
-    const double s = row.st[i];
-    const double ct = std::sqrt((1.0 - s) * (1.0 + s));
-    row.len[i] = chord ? 2.0 * ct : 4.0 * ct * ct;
-    // Unpolarised Fresnel at cos θd cos γ from outside (η > 1: never total reflection), and its
-    // complement in the cancellation-free form.
-    const double c = g.cos_theta_d * n.cos_gamma[i];
-    const double ctr = std::sqrt(1.0 - (1.0 - c) * (1.0 + c) / (eta * eta));
-    const double ds = c + eta * ctr, dp = eta * c + ctr;
-    const double rs = (c - eta * ctr) / ds, rp = (eta * c - ctr) / dp;
-    const double num = 4.0 * eta * c * ctr;
-    row.f[i] = std::min(1.0, 0.5 * (rs * rs + rp * rp));
-    row.omf[i] = std::min(1.0, 0.5 * (num / (ds * ds) + num / (dp * dp)));
-  }
+  path_and_fresnel(m, row.st.data(), n.cos_gamma.data(), g.cos_theta_d, eta, r_.path == AbsorptionPath::chord, row.len.data(), row.f.data(),
+                   row.omf.data());
   for (std::size_t k = 0; k < K; ++k) {
     const double sp = reduced_absorption(r_.sigmas[k], g);
     double* T = row.T.data() + k * m;
@@ -335,7 +350,7 @@ void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<d
   row.rotations = false;
   const RuleNodes& n = nodes_.at(m_[t]);
   const std::size_t m = row.m;
-  out.assign(L * K * nphi, 0.0);
+  out.resize(L * K * nphi);  // every value written by its lobe's spread_lobe or fourier_lobe
   if (energies) energies->assign(K * E, 0.0);
   // A(p) = f for p = 0, (1 − f)² f^{p−1} T^p after: the powers of lobe p from those of lobe p − 1.
   // amp = W · A: [i] for R (the same for every σa), [i · K + k] after.
@@ -400,30 +415,30 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
       r0 = static_cast<std::size_t>(row.start[i]);
     }
     double* b = row.buf.data() + r0;
-    if (planes % 3 == 0) {  // RGB, or the RGB of several materials: three planes per window load
-      for (std::size_t k = 0; k < planes; ++k) row.scale[k] = amp[k * m + i] * w.norm;
-      spread_node3(b, stride, row.scale.data(), planes, win, run);
-    } else {
-      for (std::size_t k = 0; k < planes; ++k) add_window(b + k * stride, amp[k * m + i] * w.norm, win, run);
-    }
+    for (std::size_t k = 0; k < planes; ++k) row.scale[k] = amp[k * m + i] * w.norm;
+    spread_node(b, stride, row.scale.data(), planes, win, run);
   }
-  // Fold the padding onto the circle, then N(φ_j) = ½ (circle(φ_j) + circle(−φ_j)).
+  // Fold the padding onto the circle, then N(φ_j) = ½ (circle(φ_j) + circle(−φ_j)). Circle point
+  // j is slot R + j; when each circle point gets at most one wrapped slot, the padding is added
+  // in place (the slots it adds to and the ones it reads are distinct); otherwise into a circle
+  // of its own.
   const auto Pu = static_cast<std::size_t>(P);
-  row.circle.assign(Pu * planes, 0.0);
   const auto R = static_cast<std::size_t>(w.R);
+  const bool in_place = run - 1 <= Pu;
+  if (!in_place) row.circle.assign(Pu * planes, 0.0);
   for (std::size_t k = 0; k < planes; ++k) {
-    const double* b = row.buf.data() + k * stride;
-    double* c = row.circle.data() + k * Pu;
-    if (run - 1 <= Pu) {  // each circle point gets its own slot and at most one wrapped one
-      for (std::size_t j = 0; j < Pu; ++j) c[j] = b[R + j];
-      for (std::size_t q = 0; q < R; ++q) c[Pu - R + q] += b[q];
-      for (std::size_t q = R + Pu; q < stride; ++q) c[q - R - Pu] += b[q];
+    double* b = row.buf.data() + k * stride;
+    if (in_place) {
+      for (std::size_t q = 0; q < R; ++q) b[Pu + q] += b[q];
+      for (std::size_t q = R + Pu; q < stride; ++q) b[q - Pu] += b[q];
     } else {
+      double* c = row.circle.data() + k * Pu;
       for (std::size_t q = 0; q < stride; ++q) c[w.fold[q]] += b[q];
     }
   }
   for (std::size_t k = 0; k < K; ++k) {
-    const double* c = row.circle.data() + (planes == 1 ? 0 : k) * Pu;
+    const std::size_t plane = planes == 1 ? 0 : k;
+    const double* c = in_place ? row.buf.data() + plane * stride + R : row.circle.data() + plane * Pu;
     double* o = out.data() + (p * K + k) * nphi;
     for (std::size_t j = 0; j < nphi; ++j) o[j] = nonnegative(0.5 * (c[here_[j]] + c[mirror_[j]]));
   }
