@@ -120,6 +120,13 @@ TEST_CASE("Fixed views return stored values at nodes and NaN for a NaN coordinat
         CHECK(view(x) == Approx(stored).epsilon(1e-14));
         CHECK(view_float(xf) == Approx(stored).epsilon(1e-5));
       }
+  // The same axes all linear take the lanes path (every axis located in one register), whose
+  // NaN test is on the mapped coordinates; and a sqrt axis, clamped, as the σa axis is.
+  Axis linear[3] = {axes[0], axes[1], axes[2]};
+  for (Axis& a : linear) a.interpolation = Interpolation::linear;
+  linear[1].spacing = Spacing::sqrt, linear[1].lo = 0.0, linear[1].hi = 16.0;
+  const FixedView<float, 3> lanes(v.data(), linear);
+  const FixedView<float, 3, float> lanes_float(v.data(), linear);
   for (int d = 0; d < 3; ++d) {
     double x[3] = {0.1, 0.5, 1.0};
     float xf[3] = {0.1f, 0.5f, 1.0f};
@@ -127,6 +134,8 @@ TEST_CASE("Fixed views return stored values at nodes and NaN for a NaN coordinat
     xf[d] = std::nanf("");
     CHECK(std::isnan(view(x)));
     CHECK(std::isnan(view_float(xf)));
+    CHECK(std::isnan(lanes(x)));
+    CHECK(std::isnan(lanes_float(xf)));
   }
 }
 

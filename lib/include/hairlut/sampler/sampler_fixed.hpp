@@ -69,6 +69,12 @@ class FixedAxis {
     step_ = n_ > 1 ? static_cast<std::ptrdiff_t>(stride) : 0;
     snap_ = sizeof(R) >= sizeof(double) ? static_cast<R>(1e-9) : static_cast<R>(8.0 * 1.1920928955078125e-07 * (n_ > 1 ? n_ : 1));
     unsnapped_ = R(0.5) - snap_;
+    const bool clamped = a.wrap == Wrap::clamp && n_ > 1 && simple_;
+    map_ = !clamped                         ? Map::other
+           : a.spacing == Spacing::uniform  ? Map::plain
+           : a.spacing == Spacing::log      ? Map::log
+           : a.spacing == Spacing::sqrt     ? Map::sqrt
+                                            : Map::other;
     fold_ = n_ <= 1                      ? Fold::single
             : a.wrap == Wrap::periodic   ? Fold::periodic
             : a.wrap == Wrap::even       ? Fold::even
@@ -144,6 +150,13 @@ class FixedAxis {
   /// cos, sin): the coordinate t whose node index is s = (t − t0()) · scale() + offset(). For
   /// affine() axes.
   HAIRLUT_SAMPLER_INLINE R mapped(R x) const {
+    // The commonest axes first, one test each: uniform and clamped; log or sqrt and clamped. log
+    // and sqrt increase on (0, ∞): beyond hi, s lands beyond the last node and is clamped there as
+    // clamping x first would put it (up to rounding, which the snap absorbs); below lo they need x
+    // clamped (log, sqrt of 0 or less).
+    if (map_ == Map::plain) return x;
+    if (map_ == Map::log) return std::log(x < lo_ ? lo_ : x);
+    if (map_ == Map::sqrt) return std::sqrt(x < lo_ ? lo_ : x);
     if (fold_ != Fold::none) {
       if (fold_ == Fold::even) {
         // |x| ≤ π is what remainder(x, 2π) leaves unchanged (ties round to the even quotient 0).
@@ -160,10 +173,10 @@ class FixedAxis {
     // clamps x first (the mappings are monotonic only on the range; log and sqrt need it positive).
     if (spacing_ == Spacing::uniform) return x;
     x = x < lo_ ? lo_ : x;
+    if (spacing_ == Spacing::log) return std::log(x);
+    if (spacing_ == Spacing::sqrt) return std::sqrt(x);
     x = x > hi_ ? hi_ : x;
     switch (spacing_) {
-      case Spacing::log: return std::log(x);
-      case Spacing::sqrt: return std::sqrt(x);
       case Spacing::cos: return std::cos(x);
       case Spacing::sin: return std::sin(x);
       default: return x;
@@ -259,6 +272,9 @@ class FixedAxis {
   Spacing spacing_ = Spacing::uniform;
   bool cubic_ = false;
   bool simple_ = false;  // mapped spacing and at least 2 nodes
+  // mapped()'s commonest cases (clamped, at least 2 nodes): uniform (x itself), log, sqrt.
+  enum class Map : unsigned char { plain, log, sqrt, other };
+  Map map_ = Map::other;
   PreparedAxis prepared_;
 };
 
@@ -481,13 +497,13 @@ class FixedView {
   /// Inline: the common path (every axis linear over mapped nodes, no NaN) is a few dozen
   /// instructions, the call would be a fair part of it; the other paths are one call away.
   HAIRLUT_SAMPLER_INLINE R operator()(const R* x) const {
-    if (linear_) {
-      // The cell's corner and steps, then 2^D values combined as nested lerps. One NaN test for
-      // all coordinates (a sum of infinities of both signs takes the general path, which tells
-      // them apart).
-      R sum = x[0];
-      for (int d = 1; d < D; ++d) sum += x[d];
-      if (sum == sum) return lanes_ ? lanes_path(x, std::make_index_sequence<D>{}) : lerp_path(x, std::make_index_sequence<D>{});
+    // The cell's corner and steps, then 2^D values combined as nested lerps. One NaN test for
+    // all coordinates (a sum of infinities of both signs takes the general path, which tells
+    // them apart). The lanes path is tested first: one flag on the commonest path.
+    if (lanes_) {
+      return lanes_path(x, std::make_index_sequence<D>{});
+    } else if (linear_ && no_nan(x)) {
+      return lerp_path(x, std::make_index_sequence<D>{});
     }
     return general(x);
   }
@@ -508,6 +524,12 @@ class FixedView {
   }
 
  private:
+  // Whether x[0] + … + x[D − 1] is a number (no NaN, and no infinities of both signs).
+  static HAIRLUT_SAMPLER_INLINE bool no_nan(const R* x) {
+    R sum = x[0];
+    for (int d = 1; d < D; ++d) sum += x[d];
+    return sum == sum;
+  }
   // Any axes, or a NaN coordinate: the taps of every axis, then the kernel for their counts.
   HAIRLUT_SAMPLER_NOINLINE R general(const R* x) const {
     FixedTaps<R> tp[D];
@@ -538,7 +560,11 @@ class FixedView {
     using V = detail::Vec4<R>;
     // The lanes set from registers (a load of values just stored one by one would stall).
     const R t[4] = {axes_[I].mapped(x[I])...};
-    V s = (V::set(t[0], t[1], t[2], t[3]) - lane_t0_) * lane_scale_ + lane_offset_;
+    const V tv = V::set(t[0], t[1], t[2], t[3]);
+    // A NaN coordinate maps to NaN (every fold and mapping keeps it): the general path then.
+    // Infinities need no test: the clamp to the nodes below takes them to the end nodes.
+    if (V::unordered(tv)) return general(x);
+    V s = (tv - lane_t0_) * lane_scale_ + lane_offset_;
     s = V::max(V::min(s, lane_top_), V::all(R(0)));  // upper bound first: a NaN s goes to the last node
     int i[4];
     std::size_t o;  // Σ i_d · stride_d, multiplied in registers (not through i, stored and reloaded)

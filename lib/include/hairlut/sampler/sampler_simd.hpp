@@ -106,6 +106,8 @@ struct Vec4 {
   static HAIRLUT_SAMPLER_INLINE int greater(const Vec4& a, const Vec4& b) {
     return (a.v[0] > b.v[0] ? 1 : 0) | (a.v[1] > b.v[1] ? 2 : 0) | (a.v[2] > b.v[2] ? 4 : 0) | (a.v[3] > b.v[3] ? 8 : 0);
   }
+  /// Whether a lane is NaN.
+  static HAIRLUT_SAMPLER_INLINE bool unordered(const Vec4& a) { return !(a.v[0] == a.v[0]) || !(a.v[1] == a.v[1]) || !(a.v[2] == a.v[2]) || !(a.v[3] == a.v[3]); }
   /// i_k = static_cast<int>(v_k) (truncation; v_k within int's range), and returns v_k − i_k.
   HAIRLUT_SAMPLER_INLINE Vec4 split(int* i) const {
     Vec4 r;
@@ -172,6 +174,7 @@ struct Vec4<float, true> {
   static HAIRLUT_SAMPLER_INLINE Vec4 min(const Vec4& a, const Vec4& b) { return {_mm_min_ps(a.v, b.v)}; }
   static HAIRLUT_SAMPLER_INLINE Vec4 max(const Vec4& a, const Vec4& b) { return {_mm_max_ps(a.v, b.v)}; }
   static HAIRLUT_SAMPLER_INLINE int greater(const Vec4& a, const Vec4& b) { return _mm_movemask_ps(_mm_cmpgt_ps(a.v, b.v)); }
+  static HAIRLUT_SAMPLER_INLINE bool unordered(const Vec4& a) { return _mm_movemask_ps(_mm_cmpunord_ps(a.v, a.v)) != 0; }
   HAIRLUT_SAMPLER_INLINE Vec4 split(int* i) const {
     const __m128i q = _mm_cvttps_epi32(v);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(i), q);
@@ -255,6 +258,9 @@ struct Vec4<double, true> {
   static HAIRLUT_SAMPLER_INLINE Vec4 max(const Vec4& a, const Vec4& b) { return {_mm_max_pd(a.lo, b.lo), _mm_max_pd(a.hi, b.hi)}; }
   static HAIRLUT_SAMPLER_INLINE int greater(const Vec4& a, const Vec4& b) {
     return _mm_movemask_pd(_mm_cmpgt_pd(a.lo, b.lo)) | (_mm_movemask_pd(_mm_cmpgt_pd(a.hi, b.hi)) << 2);
+  }
+  static HAIRLUT_SAMPLER_INLINE bool unordered(const Vec4& a) {
+    return _mm_movemask_pd(_mm_or_pd(_mm_cmpunord_pd(a.lo, a.lo), _mm_cmpunord_pd(a.hi, a.hi))) != 0;
   }
   HAIRLUT_SAMPLER_INLINE Vec4 split(int* i) const {
     const __m128i ql = _mm_cvttpd_epi32(lo), qh = _mm_cvttpd_epi32(hi);
