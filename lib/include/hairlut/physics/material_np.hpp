@@ -10,6 +10,9 @@
 // then evaluated by spreading each node's Gaussian onto the periodic φ grid (narrow β) or from the
 // Fourier coefficients C_n = Σ W A cos nΦ (wide β), whichever the work estimate says is cheaper.
 // The lobe energies ∫N_p dφ = ½∫A dh are the same sums with D replaced by its integral 1.
+// Materials of the same β per lobe (and η, path and grids) differ only in T^p, so one MaterialNp
+// bakes all their channels at once (MaterialNpRequest::channels keeps each material's values
+// those of a bake of its own, bit for bit).
 //
 // Exact and approximate: the quadrature is the only approximation besides the detector's window
 // (cut where the Gaussian is below tolerance/2 of its peak) and the Fourier truncation
