@@ -30,8 +30,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
   struct Pending {
     std::size_t first, energy_first, residual_index;
     std::vector<double> sigmas;
-    std::size_t group = 0;    // its MaterialNp in `groups` (method "fourier")
-    std::size_t channel0 = 0;  // its first channel among the group's
+    std::size_t channel0 = 0;  // its first channel among its group's (method "fourier")
   };
   // Materials with the same β per lobe (η, the path and the grids are the scene's) share every
   // node factor but T^p = e^{−pσa'ℓ}: the rule's asin, Fresnel and path lengths, the exit azimuths
@@ -84,7 +83,6 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
       for (int p = 0; p < s.lobes; ++p) betas.push_back(m.beta_n[static_cast<std::size_t>(p)]);
       auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) { return x.betas == betas; });
       if (g == groups.end()) g = groups.insert(groups.end(), Group{betas, {}, {}, nullptr});
-      item.group = static_cast<std::size_t>(g - groups.begin());
       item.channel0 = g->sigmas.size();
       g->sigmas.insert(g->sigmas.end(), channel_sigmas.begin(), channel_sigmas.end());
       g->members.push_back(pending.size() - 1);
@@ -121,9 +119,9 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
       if (c.residual) set.tables[w.residual_index].set(ic * nt + it, ep[E - 1] / kTwoPi);
     }
   };
-  // One parallel loop over every (group, θd) — or (material, θd) for the per-entry methods — : N_p
-  // of every lobe and channel and the lobe energies of every channel at once. Few large loops
-  // rather than two per material: less time in OpenMP's start and spin-waiting.
+  // One parallel loop over every (group, θd), or (material, θd) for the per-entry methods: N_p of
+  // every lobe and channel and the lobe energies of every channel at once. Few large loops rather
+  // than two per material: less time in OpenMP's start and spin-waiting.
   const std::size_t units = shared_path ? groups.size() : pending.size();
   std::size_t per_unit = 3 * nphi * static_cast<std::size_t>(s.lobes);
   if (shared_path && !groups.empty()) per_unit *= pending.size() / groups.size();
