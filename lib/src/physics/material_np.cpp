@@ -130,14 +130,41 @@ template <std::size_t Run>
 #define HAIRLUT_AVX2_CLONES
 #endif
 
-// One node's window added to every plane: b + k · stride gets a[k] · win[j] at slot j < run;
-// three planes per window load when planes is a multiple of 3 (RGB, or several materials' RGB).
+// Every node's window added to every plane, a node at a time in increasing i: node i adds
+// a[i · planes + k] · win[i · run + j] to slot j of plane k, b[start[i] + k · stride + j], three
+// planes per window load when planes is a multiple of 3 (RGB, or several materials' RGB). One
+// call per lobe, the window's length a constant of the loop.
+template <std::size_t Run>
+[[gnu::always_inline]] inline void spread_nodes_of(double* b, std::size_t stride, const double* a, std::size_t planes, const double* win,
+                                                   const long* start, std::size_t m, std::size_t run) {
+  for (std::size_t i = 0; i < m; ++i) {
+    double* bi = b + start[i];
+    const double* ai = a + i * planes;
+    const double* wi = win + i * run;
+    if (planes % 3 == 0) {
+      for (std::size_t k = 0; k < planes; k += 3) {
+        if constexpr (Run > 0) add_window3<Run>(bi + k * stride, bi + (k + 1) * stride, bi + (k + 2) * stride, ai + k, wi);
+        else add_window3(bi + k * stride, bi + (k + 1) * stride, bi + (k + 2) * stride, ai + k, wi, run);
+      }
+    } else {
+      for (std::size_t k = 0; k < planes; ++k) {
+        if constexpr (Run > 0) add_window<Run>(bi + k * stride, ai[k], wi);
+        else add_window(bi + k * stride, ai[k], wi, run);
+      }
+    }
+  }
+}
 HAIRLUT_AVX2_CLONES
-void spread_node(double* b, std::size_t stride, const double* a, std::size_t planes, const double* win, std::size_t run) {
-  if (planes % 3 == 0)
-    for (std::size_t k = 0; k < planes; k += 3) add_window3(b + k * stride, b + (k + 1) * stride, b + (k + 2) * stride, a + k, win, run);
-  else
-    for (std::size_t k = 0; k < planes; ++k) add_window(b + k * stride, a[k], win, run);
+void spread_nodes(double* b, std::size_t stride, const double* a, std::size_t planes, const double* win, const long* start, std::size_t m,
+                  std::size_t run) {
+  switch (run) {
+    case 8: return spread_nodes_of<8>(b, stride, a, planes, win, start, m, run);
+    case 12: return spread_nodes_of<12>(b, stride, a, planes, win, start, m, run);
+    case 16: return spread_nodes_of<16>(b, stride, a, planes, win, start, m, run);
+    case 20: return spread_nodes_of<20>(b, stride, a, planes, win, start, m, run);
+    case 24: return spread_nodes_of<24>(b, stride, a, planes, win, start, m, run);
+    default: return spread_nodes_of<0>(b, stride, a, planes, win, start, m, run);
+  }
 }
 
 // Per node i < m (st = sin γt, cg = cos γ): the path length len (2 cos γt, or 4 cos² γt), and the
@@ -394,30 +421,21 @@ void MaterialNp::spread_lobe(std::size_t p, const RuleNodes& n, Row& row, std::v
   const auto P = static_cast<long>(grid_.period);
   const std::size_t stride = static_cast<std::size_t>(P) + run - 1;
   row.buf.assign(stride * planes, 0.0);
-  row.scale.resize(planes);
   const bool fixed = p == 0;  // R's windows were computed with the rule
   if (!fixed) {
     row.centre.resize(m);
     for (std::size_t i = 0; i < m; ++i) row.centre[i] = exit_azimuth(static_cast<int>(p), n.gamma[i], row.gt[i]);
     anchor_windows(p, row.centre.data(), m, row);
-    row.win.assign(run, 0.0);
+    row.win.assign(m * run, 0.0);  // the slots beyond 2R + 1 stay 0
+    for (std::size_t i = 0; i < m; ++i) window_values(p, i, row, row.win.data() + i * run);
   }
+  // Each node's amplitude times the detector's norm, node by node: scale[i · planes + k].
   const double* amp = row.amp.data();
-  for (std::size_t i = 0; i < m; ++i) {
-    const double* win;
-    std::size_t r0;
-    if (fixed) {
-      win = n.r_window.data() + i * run;
-      r0 = static_cast<std::size_t>(n.r_start[i]);
-    } else {
-      window_values(p, i, row, row.win.data());
-      win = row.win.data();
-      r0 = static_cast<std::size_t>(row.start[i]);
-    }
-    double* b = row.buf.data() + r0;
-    for (std::size_t k = 0; k < planes; ++k) row.scale[k] = amp[k * m + i] * w.norm;
-    spread_node(b, stride, row.scale.data(), planes, win, run);
-  }
+  row.scale.resize(m * planes);
+  for (std::size_t k = 0; k < planes; ++k)
+    for (std::size_t i = 0; i < m; ++i) row.scale[i * planes + k] = amp[k * m + i] * w.norm;
+  spread_nodes(row.buf.data(), stride, row.scale.data(), planes, fixed ? n.r_window.data() : row.win.data(), fixed ? n.r_start.data() : row.start.data(),
+               m, run);
   // Fold the padding onto the circle, then N(φ_j) = ½ (circle(φ_j) + circle(−φ_j)). Circle point
   // j is slot R + j; when each circle point gets at most one wrapped slot, the padding is added
   // in place (the slots it adds to and the ones it reads are distinct); otherwise into a circle
