@@ -209,7 +209,7 @@ struct MaterialNp::Row {
   FiberGeometry g;
   std::size_t m = 0, K = 0;
   std::vector<double> st, gt, len, f, omf, T, fpow, tpow, amp;  // T, tpow, amp: [k · m + i]
-  std::vector<double> centre, d0, g0, rr, win, buf, circle, scale;  // scale: a node's amplitude × norm per plane
+  std::vector<double> centre, d0, g0, rr, win, buf, circle, scale;  // win: [i · run + j]; scale: [i · planes + k]
   std::vector<long> start;
   std::vector<double> vr, vi, phase, zr, zi, sr, si, C, v, series_row;  // the Fourier form
   bool rotations = false;  // vr, vi hold e^{2iγt} of this θd
