@@ -1,6 +1,10 @@
 // Grid axes and the header-only sampler: node placement, exact reproduction at nodes and of
 // functions linear in the mapped coordinate, wrapping, folding and clamping.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <hairlut/tables/grid.hpp>
 #include <hairlut/sampler/sampler.hpp>
 #include <hairlut/util/angles.hpp>
@@ -70,6 +74,49 @@ TEST_CASE("Sampling at nodes returns the stored value, and linear functions of t
     CHECK(sampler::sample(data.data(), &v, 1, &below) == data.front());
     CHECK(sampler::sample(data.data(), &v, 1, &above) == data.back());
   }
+}
+
+TEST_CASE("Lookups locate log axes with an ln within 4 ulps of a long double log, std::log off its domain", "[sampler]") {
+  // The bound: the node index s = (ln x − ln lo) · scale then moves by at most 4 ulps of
+  // max(1, |ln x|) · scale, the order of the affine step's own rounding. Reference: the x87 long
+  // double log (64-bit mantissa), another algorithm.
+  const auto check = [](double x) {
+    const long double ref = std::log(static_cast<long double>(x));
+    const double err = static_cast<double>(std::fabs(static_cast<long double>(sampler::ln_positive(x)) - ref));
+    const double bound = 4.0 * 2.220446049250313e-16 * std::max(1.0, std::fabs(static_cast<double>(ref)));
+    if (err > bound) FAIL_CHECK("ln_positive(" << x << ") off by " << err << " (bound " << bound << ")");
+  };
+  std::uint64_t state = 7;
+  const auto next = [&state] {  // splitmix64
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15u);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  for (int i = 0; i < 200000; ++i) {
+    check(std::exp2(-1022.0 + 2045.0 * next()));  // every binade
+    check(0.5 + 1.5 * next());                      // around 1, where ln x is small
+    check(1e-3 + 20.0 * next());                    // the range of angles and σa
+  }
+  // The table's subinterval edges (bits(0.6875) + i · 2^44) and their neighbours, in two binades.
+  for (std::uint64_t i = 0; i <= 256; ++i)
+    for (double scale : {1.0, 0x1.0p-30}) {
+      const std::uint64_t bits = 0x3fe6000000000000u + (i << 44);
+      double z;
+      std::memcpy(&z, &bits, sizeof z);
+      for (double x : {std::nextafter(z, 0.0), z, std::nextafter(z, 2.0)}) check(x * scale);
+    }
+  CHECK(sampler::ln_positive(1.0) == Approx(0.0).margin(1e-16));
+  CHECK(sampler::ln_positive(2.0) == std::log(2.0));
+  // Off the positive normal numbers: std::log's values (−∞ at 0, NaN below, +∞, NaN), subnormals exact.
+  for (double x : {0.0, -0.0, -1.0, std::numeric_limits<double>::denorm_min(), 1e-310, std::numeric_limits<double>::infinity(),
+                   -std::numeric_limits<double>::infinity()}) {
+    const double a = sampler::ln_positive(x), b = std::log(x);
+    CHECK(((a == b) || (std::isnan(a) && std::isnan(b))));
+  }
+  CHECK(std::isnan(sampler::ln_positive(std::numeric_limits<double>::quiet_NaN())));
+  CHECK(sampler::ln_positive(std::numeric_limits<double>::max()) == Approx(std::log(std::numeric_limits<double>::max())).epsilon(1e-15));
+  CHECK(sampler::ln_positive(std::numeric_limits<double>::min()) == Approx(std::log(std::numeric_limits<double>::min())).epsilon(1e-15));
 }
 
 TEST_CASE("Periodic and even azimuth axes wrap", "[sampler]") {

@@ -155,7 +155,7 @@ class FixedAxis {
     // clamping x first would put it (up to rounding, which the snap absorbs); below lo they need x
     // clamped (log, sqrt of 0 or less).
     if (map_ == Map::plain) return x;
-    if (map_ == Map::log) return std::log(x < lo_ ? lo_ : x);
+    if (map_ == Map::log) return ln(x < lo_ ? lo_ : x);
     if (map_ == Map::sqrt) return std::sqrt(x < lo_ ? lo_ : x);
     if (fold_ != Fold::none) {
       if (fold_ == Fold::even) {
@@ -173,7 +173,7 @@ class FixedAxis {
     // clamps x first (the mappings are monotonic only on the range; log and sqrt need it positive).
     if (spacing_ == Spacing::uniform) return x;
     x = x < lo_ ? lo_ : x;
-    if (spacing_ == Spacing::log) return std::log(x);
+    if (spacing_ == Spacing::log) return ln(x);
     if (spacing_ == Spacing::sqrt) return std::sqrt(x);
     x = x > hi_ ? hi_ : x;
     switch (spacing_) {
@@ -181,6 +181,13 @@ class FixedAxis {
       case Spacing::sin: return std::sin(x);
       default: return x;
     }
+  }
+
+  /// ln x as TableView locates log axes: ln_positive() in double (the same bits, so that the
+  /// views agree to the ulp), std::log in float.
+  static HAIRLUT_SAMPLER_INLINE R ln(R x) {
+    if constexpr (std::is_same_v<R, double>) return ln_positive(x);
+    else return std::log(x);
   }
 
   /// The taps at x (NaN excluded by the caller).
@@ -335,14 +342,24 @@ HAIRLUT_SAMPLER_INLINE __m128d load_pair(const float* q) {
   return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(q))));
 }
 HAIRLUT_SAMPLER_INLINE __m128d load_pair(const double* q) { return _mm_loadu_pd(q); }
+// wb[A]: axis A's weight w in both halves.
 template <class T, int D, int A>
-HAIRLUT_SAMPLER_INLINE __m128d pair_tree_pd(const T* q, const std::ptrdiff_t* step, const double* w) {
+HAIRLUT_SAMPLER_INLINE __m128d pair_tree_pd(const T* q, const std::ptrdiff_t* step, const __m128d* wb) {
   if constexpr (A == D - 2) {
     return load_pair(q);
   } else {
-    const __m128d u = pair_tree_pd<T, D, A + 1>(q, step, w), v = pair_tree_pd<T, D, A + 1>(q + step[A], step, w);
-    return _mm_add_pd(_mm_mul_pd(_mm_set1_pd(1.0 - w[A]), u), _mm_mul_pd(_mm_set1_pd(w[A]), v));
+    const __m128d u = pair_tree_pd<T, D, A + 1>(q, step, wb), v = pair_tree_pd<T, D, A + 1>(q + step[A], step, wb);
+    return _mm_add_pd(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1.0), wb[A]), u), _mm_mul_pd(wb[A], v));
   }
+}
+// lerp_cell_scalar's value for a last axis of step 1 (T float or double), the weights of axes
+// 0 … D − 2 broadcast in wb[] and the last one w_last.
+template <class T, int D>
+HAIRLUT_SAMPLER_INLINE double lerp_cell_pd(const T* p, const std::ptrdiff_t* step, const __m128d* wb, double w_last) {
+  const __m128d u = pair_tree_pd<T, D, 0>(p, step, wb), v = pair_tree_pd<T, D, 0>(p + step[D - 2], step, wb);
+  const __m128d r = _mm_add_pd(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1.0), wb[D - 2]), u), _mm_mul_pd(wb[D - 2], v));
+  const double a = _mm_cvtsd_f64(r), b = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
+  return (1.0 - w_last) * a + w_last * b;
 }
 // In float, two pairs per register: T_A(q) and T_A(q + step D − 2), so that the lerp over axis
 // D − 2 is between the register's halves.
@@ -365,10 +382,9 @@ HAIRLUT_SAMPLER_INLINE R lerp_cell(const T* p, const std::ptrdiff_t* step, const
 #if HAIRLUT_SAMPLER_SSE2
   if constexpr (D >= 2 && std::is_same_v<R, double> && (std::is_same_v<T, float> || std::is_same_v<T, double>)) {
     if (step[D - 1] == 1) {
-      const __m128d u = pair_tree_pd<T, D, 0>(p, step, w), v = pair_tree_pd<T, D, 0>(p + step[D - 2], step, w);
-      const __m128d r = _mm_add_pd(_mm_mul_pd(_mm_set1_pd(1.0 - w[D - 2]), u), _mm_mul_pd(_mm_set1_pd(w[D - 2]), v));
-      const double a = _mm_cvtsd_f64(r), b = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
-      return (1.0 - w[D - 1]) * a + w[D - 1] * b;
+      __m128d wb[D - 1];
+      for (int d = 0; d + 1 < D; ++d) wb[d] = _mm_set1_pd(w[d]);
+      return lerp_cell_pd<T, D>(p, step, wb, w[D - 1]);
     }
   } else if constexpr (D >= 2 && std::is_same_v<R, float> && std::is_same_v<T, float>) {
     if (step[D - 1] == 1) {
@@ -569,9 +585,20 @@ class FixedView {
     int i[4];
     std::size_t o;  // Σ i_d · stride_d, multiplied in registers (not through i, stored and reloaded)
     const V f = s.split_offset(i, lane_strides_, o);
+    const bool snapping = V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_) != 0;  // within snap of a node, or at the last
+#if HAIRLUT_SAMPLER_SSE2
+    // Double in SSE2: the weights go from f's registers to the lerps as broadcasts (a store and
+    // reloads would put store forwarding on the path from the coordinates to the result).
+    if constexpr (D >= 2 && std::is_same_v<R, double> && (std::is_same_v<T, float> || std::is_same_v<T, double>)) {
+      if (!snapping && steps_[D - 1] == 1) {
+        const __m128d wb[D] = {f.template lane<static_cast<int>(I)>().lo...};
+        return detail::lerp_cell_pd<T, D>(data_ + o, steps_, wb, _mm_cvtsd_f64(wb[D - 1]));
+      }
+    }
+#endif
     alignas(16) R w[4];
     f.store(w);
-    if (V::greater((f - V::all(R(0.5))).abs(), lane_unsnapped_) != 0) {  // within snap of a node, or at the last
+    if (snapping) {
       ((std::fabs(w[I] - R(0.5)) > axes_[I].unsnapped() ? axes_[I].snap(i[I], w[I]) : void()), ...);
       o = lane_strides_.dot(i);
     }
