@@ -8,6 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libopenexr-dev libimath-dev openexr      # OpenEXR 3 (+ exrheader)
   libhdf5-dev hdf5-tools                   # HDF5 (+ h5dump)
+  zlib1g-dev                               # deflate of HDF5 chunks on the baker's threads
   libcli11-dev                             # command lines
   catch2                                   # tests
   libboost-dev libboost-math-dev           # Bessel functions, quadrature, multiprecision

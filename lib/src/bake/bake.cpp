@@ -120,6 +120,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       set.metadata["resolution"] = report.resolution;
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report.threads = opt.threads;
     set.metadata["notes"] = report.notes;
     if (report_out) *report_out = report;
     return set;

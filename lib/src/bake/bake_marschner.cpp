@@ -209,6 +209,7 @@ TableSet bake_marschner(const BakeConfig& c, const BakeOptions& opt, BakeReport*
 
   detail::append_melanin_tables(c, precision, set, report);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  report.threads = opt.threads;
   set.metadata["notes"] = report.notes;
   if (report_out) *report_out = report;
   return set;

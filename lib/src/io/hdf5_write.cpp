@@ -4,6 +4,8 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -21,6 +23,8 @@
 #include "hairlut/util/error.hpp"
 #include "hairlut/util/hash.hpp"
 #include "hdf5_bytes.hpp"
+#include "hdf5_chunks.hpp"
+#include "hdf5_layout.hpp"
 #include "hdf5_objects.hpp"
 #include "table_checksum.hpp"
 #include "table_text.hpp"
@@ -41,6 +45,32 @@ struct SlabFeed {
 };
 
 struct WriterStopped {};  // the baking side stopped: unwind the writer quietly
+
+// Threads that filter chunks at once, at most: each holds about 8 MiB of scratch (a 4 MiB chunk
+// shuffled, and room for it deflated) and its batch's deflated chunks wait to be written, so four
+// stay within the bake's fixed allowance for the writer (kBakeOverheadBytes, bake_estimate.hpp).
+constexpr int kDeflateThreadsMax = 4;
+
+// A chunked, deflated dataset written whole: its chunks filtered on up to kDeflateThreadsMax of
+// options.threads, two per thread at a time, each batch handed to HDF5 in chunk order.
+void write_filtered_chunks(const File& f, hid_t ds, const void* data, const std::vector<hsize_t>& dims, std::size_t element,
+                           const Hdf5WriteOptions& options, const std::string& path) {
+  const std::vector<hsize_t> chunk = chunk_dims(dims, element);
+  const std::size_t n = detail::chunk_count(dims, chunk);
+  const int threads = std::min(kDeflateThreadsMax, options.threads > 0 ? options.threads : omp_get_max_threads());
+  const std::size_t batch = 2 * static_cast<std::size_t>(threads);
+  for (std::size_t first = 0; first < n; first += batch) {
+    std::vector<detail::FilteredChunk> done;
+    try {
+      done = detail::filtered_chunks(data, dims, chunk, element, options.deflate, first, std::min(batch, n - first), threads);
+    } catch (const std::exception& e) {
+      f.fail("cannot deflate dataset " + path + ": " + e.what());
+    }
+    for (const detail::FilteredChunk& c : done)
+      f.check_status(H5Dwrite_chunk(ds, H5P_DEFAULT, c.filter_mask, c.offset.data(), c.bytes.size(), c.bytes.data()),
+                     "cannot write a chunk of dataset " + path);
+  }
+}
 
 // Everything write_hdf5 stores, into an open file. With a feed, the values of slabbed tables
 // arrive slab by slab and the content checksum is computed while writing, over the same bytes in
@@ -143,8 +173,13 @@ void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5Wr
     if (feed) hash.update(described[i]);
     if (!slabbed) {
       const void* data = dbl ? static_cast<const void*>(t.f64.data()) : static_cast<const void*>(t.f32.data());
-      f.check_status(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "cannot write dataset " + t.path());
-      if (feed) hash.update(data, t.size() * (dbl ? 8 : 4));
+      const std::size_t element = dbl ? 8 : 4;
+      if (detail::whole_dataset_layout(t.size() * element, options.deflate) == detail::Hdf5Layout::chunked) {
+        write_filtered_chunks(f, ds.get(), data, dims, element, options, t.path());
+      } else {
+        f.check_status(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "cannot write dataset " + t.path());
+      }
+      if (feed) hash.update(data, t.size() * element);
     } else {
       // Each slab as a hyperslab of whole leading-axis rows (chunk-aligned by SlabRanges).
       for (const auto& [row0, rows] : (*feed->ranges)[i]) {

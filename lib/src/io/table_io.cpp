@@ -227,8 +227,9 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   if (c.output.hdf5) {
     const fs::path t = temporary_for(paths.hdf5);
     temps.paths.push_back(t);
-    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, {c.output.hdf5_deflate}), digests.emplace_back();
-    else digests.push_back(detail::write_hdf5_digest(set, t, {c.output.hdf5_deflate}));
+    const Hdf5WriteOptions h5{c.output.hdf5_deflate, report.threads};
+    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, h5), digests.emplace_back();
+    else digests.push_back(detail::write_hdf5_digest(set, t, h5));
     written.emplace_back("hdf5", t);
   }
   if (c.output.exr) {

@@ -47,6 +47,7 @@ struct BakeReport {
   nlohmann::ordered_json resolution;    ///< counts chosen for tables.np.target_error and the error achieved
   std::size_t entries = 0;              ///< values computed
   double seconds = 0.0;
+  int threads = 0;                      ///< threads the bake ran on (the HDF5 writer deflates on as many; 0: OpenMP's default)
 };
 
 /// One N_p grid: lobes p = 0 … lobes − 1 over σa_k, θd_t, the lobe's β list and φ_j.

@@ -54,6 +54,9 @@ int check_format_version(const std::string& text, const std::string& name);
 
 struct Hdf5WriteOptions {
   int deflate = 6;  ///< 0 … 9; 0 stores unfiltered (compact or contiguous; tables written slab by slab stay chunked with shuffle and Fletcher-32)
+  /// Threads that filter (checksum, shuffle, deflate) the chunks of tables written whole, at most
+  /// four (bounded scratch memory); 0: the OpenMP default. The file's bytes do not depend on it.
+  int threads = 0;
 };
 
 /// Writes the tables to `file` (created or truncated). Throws IoError.
