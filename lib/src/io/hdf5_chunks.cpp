@@ -17,9 +17,10 @@ namespace hairlut::detail {
 
 namespace {
 
-// HDF5's Fletcher-32, fed in pieces of whole 16-bit words: the sums are reduced after every 360
-// words counted from the start (the most whose sums cannot overflow 32 bits), after the last
-// partial block, and once more at the end.
+// HDF5's Fletcher-32 (16-bit big-endian words), fed in pieces of whole words: the sums are reduced
+// after every 360 words counted from the start (the most whose sums cannot overflow 32 bits), after
+// the last partial block, and once more at the end. (HDF5 takes a last odd byte as the high byte of
+// a word; a chunk of 4- or 8-byte elements has none.)
 struct Fletcher32 {
   std::uint32_t sum1 = 0, sum2 = 0;
   std::size_t in_block = 0;
@@ -39,26 +40,14 @@ struct Fletcher32 {
   void zero_words(std::size_t n) {
     for (std::size_t k = 0; k < n; ++k) add(0);
   }
-  // `odd`: the last byte of an odd length, taken as the high byte of a word.
-  std::uint32_t finish(const unsigned char* odd) {
+  std::uint32_t finish() {
     if (in_block > 0) reduce();
-    if (odd) {
-      sum1 += static_cast<std::uint32_t>(*odd) << 8;
-      sum2 += sum1;
-      reduce();
-    }
     reduce();
     return (sum2 << 16) | sum1;
   }
 };
 
 }  // namespace
-
-std::uint32_t hdf5_fletcher32(const unsigned char* data, std::size_t bytes) {
-  Fletcher32 f;
-  f.words(data, bytes / 2);
-  return f.finish(bytes % 2 != 0 ? data + bytes - 1 : nullptr);
-}
 
 std::size_t chunk_count(const std::vector<hsize_t>& dims, const std::vector<hsize_t>& chunk) {
   std::size_t n = 1;
@@ -112,7 +101,7 @@ void filter_chunk(const unsigned char* data, const std::vector<hsize_t>& dims, c
   Fletcher32 f;
   f.words(src, have * element / 2);
   f.zero_words((whole - have) * element / 2);
-  const std::uint32_t sum = f.finish(nullptr);
+  const std::uint32_t sum = f.finish();
   const unsigned char tail[4] = {static_cast<unsigned char>(sum), static_cast<unsigned char>(sum >> 8), static_cast<unsigned char>(sum >> 16),
                                  static_cast<unsigned char>(sum >> 24)};
   const std::size_t n = whole * element + 4;

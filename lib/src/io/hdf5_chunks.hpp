@@ -22,10 +22,6 @@
 
 namespace hairlut::detail {
 
-/// HDF5's Fletcher-32 of `bytes` bytes (16-bit big-endian words, sums reduced modulo 65535 in
-/// blocks of 360 words, a final odd byte as the high byte of a word), as the filter stores it.
-std::uint32_t hdf5_fletcher32(const unsigned char* data, std::size_t bytes);
-
 /// One chunk after the pipeline: its offset in elements, the mask of filters skipped, its bytes.
 struct FilteredChunk {
   std::vector<hsize_t> offset;
