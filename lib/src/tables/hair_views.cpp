@@ -8,6 +8,7 @@
 #include "hairlut/physics/melanin.hpp"
 #include "hairlut/tables/beta_bands.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
+#include "hairlut/tables/table_sampling.hpp"
 
 namespace hairlut {
 namespace {
@@ -108,6 +109,25 @@ template sampler::HairTables<float, float> hair_tables<float, float>(const Table
 template sampler::HairTables<float, double> hair_tables<float, double>(const TableSet&);
 template sampler::HairTables<double, float> hair_tables<double, float>(const TableSet&);
 template sampler::HairTables<double, double> hair_tables<double, double>(const TableSet&);
+
+template <class T>
+sampler::HairScattering<T> hair_scattering(const TableSet& set) {
+  using Runtime = sampler::HairScattering<T>;
+  const sampler::HairTables<T, double> views = hair_tables<T, double>(set);
+  std::vector<sampler::AxisData> stored(static_cast<std::size_t>(Runtime::kMaxBands * Runtime::kMaxLobes));
+  const auto& lobes = set.metadata.at("lobes");
+  for (int k = 0; k < views.beta_bands; ++k)
+    for (int p = 0; p < views.lobes; ++p) {
+      const std::string path = "np/" + lobes[static_cast<std::size_t>(p)].get<std::string>() + (k == 0 ? std::string() : beta_band_suffix(k));
+      if (const Table* t = set.find(path)) stored[static_cast<std::size_t>(k * Runtime::kMaxLobes + p)] = stored_sampling_data(set, *t);
+    }
+  Runtime r(views, stored.data());
+  if (!r.valid()) throw DomainError("table set: the runtime cannot sample its N_p or M_p tables (a sampled axis that is not uniform, or a geometric axis before it)");
+  return r;
+}
+
+template sampler::HairScattering<float> hair_scattering<float>(const TableSet&);
+template sampler::HairScattering<double> hair_scattering<double>(const TableSet&);
 
 template <class T, class R>
 sampler::FourierNp<T, R> fourier_np(const TableSet& set, std::string_view lobe) {

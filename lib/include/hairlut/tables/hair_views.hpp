@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "hairlut/sampler/fourier_np.hpp"
+#include "hairlut/sampler/hair_scattering.hpp"
 #include "hairlut/sampler/sampler_fibre.hpp"
 #include "hairlut/tables/tables.hpp"
 
@@ -21,6 +22,13 @@ namespace hairlut {
 /// tables are not stored as T.
 template <class T, class R>
 sampler::HairTables<T, R> hair_tables(const TableSet& set);
+
+/// The renderer runtime (eval, sample, pdf; hair_scattering.hpp) over `set`'s d'Eon tables
+/// (hair_tables<T, double>), with the N_p tables' sampling data along φ where the file stores them.
+/// It points into `set`, which must outlive it. Throws DomainError as hair_tables does, and when a
+/// table's sampled axis is one the runtime cannot invert.
+template <class T>
+sampler::HairScattering<T> hair_scattering(const TableSet& set);
 
 /// N_p of one lobe of a set baked in the Fourier representation (tables.np.representation
 /// "fourier"; fourier_tables.hpp): the view of np_fourier/<lobe> ("R", "TT", ..., or "residual",

@@ -1,0 +1,348 @@
+// hairlut::sampler::HairScattering — what a renderer calls per shading point: eval, sample and pdf
+// of S = Σ_p M_p N_p from d'Eon 2011 tables, with directions in the fibre frame.
+//
+// Header-only and dependency-free (C++17, with sampler_fibre.hpp and axis_sampling.hpp). Built once
+// from the typed views of a table set (HairTables: tensor or β-band N_p, M_p, the residual), then
+// const and shareable between threads. A fibre is plain data (Fibre: RGB σa, β_m, β_n): there is no
+// per-fibre setup, so σa may change per strand or per shading point.
+//
+// Frame and angles (pbrt's hair frame): x along the fibre from root to tip, y–z the normal plane;
+// θ = asin x, φ = atan2(z, y). wo is the direction the renderer holds (towards the viewer or the
+// previous vertex), wi the one it samples (towards the light). In the tables' terms wo is the exit
+// direction θr and wi the incidence θi: S(wo, wi) = Σ_p M_p(β_m; θi, θo) N_p(φ; β_n, σa, θd) with
+// θd = (θo − θi)/2 and φ = φo − φi. A tilted table stores M(v, θi, θr − α_p): the tilt shifts the
+// held direction, so ∫ M_p cos θi dθi = 1 for every θo and each lobe stays normalised over the
+// direction that is sampled (as pbrt-v4 applies its scale angle to wo).
+//
+// Sampling, exactly from the density that pdf() returns (and, for a white fibre with untilted
+// tables, in exact proportion to S cos θi; weights then equal the tables' albedo):
+//   1. θi from the mixture m(θi) = Σ_p c_p M̃_p(θi) cos θi / Z_p, where M̃_p is the M_p table
+//      interpolated as it declares (Catmull–Rom or linear along every axis, clamped at 0), Z_p its
+//      integral over θi at this θo, and c_p ∝ Z_p Ē_p(θd_p) the lobe's energy at the θd of the
+//      median of its θi density (Ē: the mean over the three channels);
+//   2. the lobe q from its share of S at the drawn θi, π_q ∝ M̃_q(θi) Ē_q(θd) Z^φ_q, so that the
+//      choice of lobe is exact whatever the lobes' tilts: the weight depends on θi only, through
+//      Σ_q M̃_q Ē_q / Σ_p c_p M̃_p / Z_p;
+//   3. φ from lobe q's interpolated N_p shape at (β_n, σ̄a, θd), σ̄a the mean of the channels
+//      (Z^φ_q its integral over φ); the residual is uniform in φ.
+// Each stage inverts the interpolant's own piecewise-polynomial CDF (axis_sampling.hpp), so
+//   pdf = m(θi) / cos θi · Σ_q π_q(θi) n_q(φ) / Z^φ_q   per unit solid angle (dω = cos θi dθi dφ),
+// and a sample's weight S / pdf is, in pbrt's terms, f |cos θ| / pdf (S = ∫ over dω carries the cos).
+// Each u ∈ [0, 1) is mapped into [ε, 1 − ε] (ε = 2⁻⁴⁰) so that u = 0 never lands on a zero of the
+// density (θi = ±π/2, where cos θi = 0).
+//
+// Where the tables are tilted the lobes' energies are taken at different θd, and the mixture of
+// step 1 follows S only as closely as each lobe's energy stays flat across its M_p; the physics
+// itself is not energy conserving there (docs/conventions.md, "Tilt").
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "hairlut/sampler/axis_sampling.hpp"
+#include "hairlut/sampler/sampler_fibre.hpp"
+
+namespace hairlut {
+namespace sampler {
+
+/// A direction drawn by HairScattering::sample. pdf == 0 (and weight 0) when nothing could be
+/// drawn (no energy at this wo, or a NaN direction).
+struct ScatteringSample {
+  double wi[3] = {0.0, 0.0, 0.0};      ///< unit vector in the fibre frame
+  double weight[3] = {0.0, 0.0, 0.0};  ///< S(wo, wi) / pdf per channel (pbrt's f |cos| / pdf)
+  double pdf = 0.0;                    ///< per unit solid angle
+  double theta_i = 0.0, phi = 0.0;     ///< θi and φ = φo − φi of wi [rad]
+  int lobe = -1;                       ///< the lobe drawn (the residual is lobes() − 1)
+};
+
+/// The inclination θ = asin(w_x) and azimuth φ = atan2(w_z, w_y) of a unit vector in the fibre frame
+/// (NaN in, NaN out).
+inline void fibre_direction_angles(const double* w, double& theta, double& phi) {
+  theta = w[0] == w[0] ? std::asin(std::max(-1.0, std::min(1.0, w[0]))) : w[0];
+  phi = std::atan2(w[2], w[1]);
+}
+
+template <class T>
+class HairScattering {
+ public:
+  static constexpr int kMaxLobes = HairTables<T, double>::kMaxLobes + 1;  ///< explicit + residual
+  static constexpr int kMaxBands = HairTables<T, double>::kMaxBetaBands;
+
+  HairScattering() = default;
+  /// From the typed views (which must outlive this object). np_data (optional) holds the stored
+  /// sampling data of the N_p tables along φ, np_data[band · kMaxLobes + p] (table_sampling.hpp
+  /// finds them in a file); where absent they are computed here. The M_p tables are copied once
+  /// with θi as their last axis, and their sampling data along θi computed here.
+  explicit HairScattering(const HairTables<T, double>& tables, const AxisData* np_data = nullptr) : t_(tables) {
+    explicit_ = t_.lobes;
+    lobes_ = explicit_ + (t_.has_residual ? 1 : 0);
+    if (explicit_ < 1 || explicit_ > HairTables<T, double>::kMaxLobes) {
+      explicit_ = lobes_ = 0;
+      return;
+    }
+    bool ok = true;
+    for (int p = 0; p < lobes_; ++p) {
+      const MpLobe<T, double>& m = p < explicit_ ? t_.mp[p] : t_.mp_residual;
+      ok = ok && m.valid();
+      if (!m.valid()) continue;
+      const FixedView<T, 3, double>& v = m.table();
+      const Axis a[3] = {v.axis(0).axis(), v.axis(1).axis(), v.axis(2).axis()};
+      const std::size_t nb = static_cast<std::size_t>(a[0].count), ni = static_cast<std::size_t>(a[1].count), nr = static_cast<std::size_t>(a[2].count);
+      std::vector<T>& out = mt_[p];
+      out.resize(nb * ni * nr);
+      for (std::size_t b = 0; b < nb; ++b)
+        for (std::size_t i = 0; i < ni; ++i)
+          for (std::size_t r = 0; r < nr; ++r) out[(b * nr + r) * ni + i] = v.data()[(b * ni + i) * nr + r];
+      mt_axes_[p][0] = a[0], mt_axes_[p][1] = a[2], mt_axes_[p][2] = a[1];
+      m_axis_[p] = AxisSampler<T>(out.data(), mt_axes_[p], 3, Measure::cosine);
+      ok = ok && m_axis_[p].supported();
+    }
+    for (int k = 0; k < t_.beta_bands; ++k)
+      for (int p = 0; p < explicit_; ++p) {
+        const NpLobe<T, double>& n = k == 0 ? t_.np[p] : t_.np_band[k - 1][p];
+        ok = ok && n.valid();
+        if (!n.valid()) continue;
+        const FixedView<T, 4, double>& v = n.table();
+        for (int d = 0; d < 4; ++d) n_axes_[k][p][d] = v.axis(d).axis();
+        const AxisData stored = np_data ? np_data[k * kMaxLobes + p] : AxisData();
+        n_axis_[k][p] = AxisSampler<T>(v.data(), n_axes_[k][p], 4, Measure::plain, stored);
+        ok = ok && n_axis_[k][p].supported();
+      }
+    valid_ = ok;
+  }
+  HairScattering(const HairScattering&) = delete;
+  HairScattering& operator=(const HairScattering&) = delete;
+  // The samplers point into this object's own copies (heap buffers, which a move keeps in place).
+  HairScattering(HairScattering&&) = default;
+  HairScattering& operator=(HairScattering&&) = default;
+
+  /// False when a table is missing or its sampled axis is one the sampler cannot invert.
+  bool valid() const { return valid_; }
+  /// Explicit lobes plus the residual (its index is lobes() − 1 when the tables have one).
+  int lobes() const { return lobes_; }
+  const HairTables<T, double>& tables() const { return t_; }
+
+  /// S(wo, wi) per channel [1/sr] for unit vectors in the fibre frame.
+  void eval(const Fibre& f, const double* wo, const double* wi, double* rgb) const {
+    double to, po, ti, pi;
+    fibre_direction_angles(wo, to, po);
+    fibre_direction_angles(wi, ti, pi);
+    eval(f, to, ti, po - pi, rgb);
+  }
+  /// S per channel at θo (held), θi (sampled), φ = φo − φi [rad]. NaN in every channel for a
+  /// NaN argument; ≥ 0 otherwise.
+  void eval(const Fibre& f, double theta_o, double theta_i, double phi, double* rgb) const {
+    rgb[0] = rgb[1] = rgb[2] = 0.0;
+    if (!(theta_o == theta_o) || !(theta_i == theta_i) || !(phi == phi)) {
+      rgb[0] = rgb[1] = rgb[2] = theta_o + theta_i + phi;
+      return;
+    }
+    const double theta_d = 0.5 * (theta_o - theta_i);
+    const NpLobe<T, double>* np = t_.np_at(f.beta_n);
+    for (int p = 0; p < lobes_; ++p) {
+      const double m = mp(p, f.beta_m, theta_i, theta_o);
+      if (!(m > 0.0)) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double n = p < explicit_ ? np[p](f.beta_n, f.sigma_a[c], theta_d, phi) : t_.np_residual(f.sigma_a[c], theta_d);
+        rgb[c] += m * n;
+      }
+    }
+  }
+
+  /// The pdf per unit solid angle with which sample(f, wo, ·) draws wi.
+  double pdf(const Fibre& f, const double* wo, const double* wi) const {
+    double to, po, ti, pi;
+    fibre_direction_angles(wo, to, po);
+    fibre_direction_angles(wi, ti, pi);
+    return pdf(f, to, ti, po - pi);
+  }
+  double pdf(const Fibre& f, double theta_o, double theta_i, double phi) const {
+    if (!valid_ || !(theta_o == theta_o) || !(theta_i == theta_i) || !(phi == phi)) return 0.0;
+    Point pt;
+    if (!at_theta_o(f, theta_o, pt)) return 0.0;
+    const double m = theta_density(pt, theta_i);
+    if (!(m > 0.0)) return 0.0;
+    double share[kMaxLobes];
+    Density n[kMaxLobes];
+    const double norm = phi_stage(f, pt, theta_i, share, n);
+    return norm > 0.0 ? m * phi_sum(f, share, n, norm, phi) : 0.0;
+  }
+
+  /// Draws wi for wo from three uniform numbers in [0, 1): u[0] the lobe of θi's mixture and
+  /// then the lobe at θi, u[1] θi, u[2] φ. Returns the direction, S / pdf per channel and the pdf
+  /// per unit solid angle (see the top of this file).
+  ScatteringSample sample(const Fibre& f, const double* wo, const double* u) const {
+    ScatteringSample s;
+    double to, po;
+    fibre_direction_angles(wo, to, po);
+    if (!valid_ || !(to == to) || !(po == po)) return s;
+    Point pt;
+    if (!at_theta_o(f, to, pt)) return s;
+    // 1. θi from the mixture: the component by u0, then its inverse CDF at u1.
+    double u0 = open_unit(u[0]);
+    int p = -1;
+    for (int k = 0; k < lobes_; ++k) {
+      if (!(pt.c[k] > 0.0)) continue;
+      p = k;
+      if (u0 < pt.c[k]) break;
+      u0 -= pt.c[k];
+    }
+    if (p < 0) return s;
+    u0 = std::min(std::max(u0 / pt.c[p], 0.0), 1.0);
+    const double ti = pt.m[p].sample(m_axis_[p], open_unit(u[1]));
+    if (!(ti == ti)) return s;
+    const double m = theta_density(pt, ti);
+    // 2. The lobe at θi, by what is left of u0, in proportion to share_q Z^φ_q.
+    double share[kMaxLobes];
+    Density n[kMaxLobes];
+    const double norm = m > 0.0 ? phi_stage(f, pt, ti, share, n) : 0.0;
+    if (!(norm > 0.0)) return s;
+    u0 = open_unit(u0) * norm;
+    int q = -1;
+    for (int k = 0; k < lobes_; ++k) {
+      if (!(share[k] > 0.0)) continue;
+      q = k;
+      if (u0 < share[k]) break;
+      u0 -= share[k];
+    }
+    if (q < 0) return s;
+    // 3. φ from lobe q.
+    const int band = t_.band_of(f.beta_n);
+    const double pi = 3.14159265358979323846;
+    const double phi = q < explicit_ ? n[q].sample(n_axis_[band][q], open_unit(u[2])) : (2.0 * open_unit(u[2]) - 1.0) * pi;
+    if (!(phi == phi)) return s;
+    const double pphi = phi_sum(f, share, n, norm, phi);
+    const double pdf = m * pphi;
+    if (!(pdf > 0.0) || !(phi == phi)) return s;
+    const double phi_i = po - phi;
+    const double cti = std::cos(ti);
+    s.wi[0] = std::sin(ti), s.wi[1] = cti * std::cos(phi_i), s.wi[2] = cti * std::sin(phi_i);
+    s.theta_i = ti, s.phi = phi, s.pdf = pdf, s.lobe = q;
+    double rgb[3];
+    eval(f, to, ti, phi, rgb);
+    for (int c = 0; c < 3; ++c) s.weight[c] = rgb[c] / pdf;
+    return s;
+  }
+
+ private:
+  // A density along one axis at one lookup: the mixture path where it is exact, else the
+  // blended row (axis_sampling.hpp).
+  struct Density {
+    typename AxisSampler<T>::Mix mix;
+    AxisRow row;
+    bool mixed = false;
+    double total = 0.0;
+    void at(const AxisSampler<T>& s, const double* x) {
+      mixed = s.mix(x, mix);
+      if (mixed) {
+        total = mix.total;
+      } else {
+        s.blend(x, row);
+        total = row.ok ? row.total : 0.0;
+      }
+      if (!(total > 0.0)) total = 0.0;
+    }
+    double value(const AxisSampler<T>& s, double x) const { return mixed ? s.mix_value(mix, x) : s.value(row, x); }
+    double sample(const AxisSampler<T>& s, double u) const { return mixed ? s.sample_mix(mix, u) : s.sample(row, u); }
+  };
+  // What depends on the fibre and θo only: each lobe's θi density (M̃_p cos θi over θi) and the
+  // mixture weights c_p of step 1.
+  struct Point {
+    double theta_o = 0.0;
+    Density m[kMaxLobes];
+    double c[kMaxLobes] = {};
+  };
+
+  static double open_unit(double u) {
+    constexpr double eps = 9.094947017729282e-13;  // 2^-40
+    if (!(u == u)) u = 0.0;
+    return eps + std::min(std::max(u, 0.0), 1.0) * (1.0 - 2.0 * eps);
+  }
+  double mp(int p, double beta_m, double theta_i, double theta_o) const {
+    return p < explicit_ ? t_.mp[p](beta_m, theta_i, theta_o) : t_.mp_residual(beta_m, theta_i, theta_o);
+  }
+  // Ē_p(θd): the lobe's energy factor averaged over the channels (1 for a table that stores N_p
+  // itself; its φ integral then carries the energy, Z^φ).
+  double mean_energy(const Fibre& f, int p, double theta_d) const {
+    double e = 0.0;
+    const NpLobe<T, double>* np = t_.np_at(f.beta_n);
+    for (int c = 0; c < 3; ++c)
+      e += p < explicit_ ? np[p].energy(f.sigma_a[c], theta_d) : 2.0 * 3.14159265358979323846 * t_.np_residual(f.sigma_a[c], theta_d);
+    return e / 3.0;
+  }
+  bool at_theta_o(const Fibre& f, double theta_o, Point& pt) const {
+    pt.theta_o = theta_o;
+    const double x[2] = {f.beta_m, theta_o};
+    double sum = 0.0;
+    for (int p = 0; p < lobes_; ++p) {
+      Density& d = pt.m[p];
+      d.at(m_axis_[p], x);
+      pt.c[p] = 0.0;
+      if (!(d.total > 0.0)) continue;
+      const double median = d.sample(m_axis_[p], 0.5);
+      const double e = median == median ? mean_energy(f, p, 0.5 * (theta_o - median)) : 0.0;
+      pt.c[p] = e > 0.0 ? e * d.total : 0.0;
+      sum += pt.c[p];
+    }
+    if (!(sum > 0.0) || !(sum < HUGE_VAL)) return false;
+    for (int p = 0; p < lobes_; ++p) pt.c[p] /= sum;
+    return true;
+  }
+  // m(θi) / cos θi = Σ_p c_p M̃_p(θi) / Z_p: the θ factor of the pdf per unit solid angle (m, the
+  // density of θi per radian, carries the cos θi of dω).
+  double theta_density(const Point& pt, double theta_i) const {
+    double m = 0.0;
+    for (int p = 0; p < lobes_; ++p)
+      if (pt.c[p] > 0.0) m += pt.c[p] * pt.m[p].value(m_axis_[p], theta_i) / pt.m[p].total;
+    return m;
+  }
+  // The lobes' shares at θi, share_q = M̃_q(θi) Ē_q(θd) Z^φ_q, with each explicit lobe's φ density
+  // n_q at (β_n, σ̄a, |θd|) (Z^φ_q its integral; 1 for the residual, uniform in φ). Returns Σ share
+  // (0: no lobe has energy here). π_q = share_q / Σ share.
+  double phi_stage(const Fibre& f, const Point& pt, double theta_i, double* share, Density* n) const {
+    const double theta_d = 0.5 * (pt.theta_o - theta_i);
+    const int band = t_.band_of(f.beta_n);
+    const double x[3] = {f.beta_n, (f.sigma_a[0] + f.sigma_a[1] + f.sigma_a[2]) / 3.0, std::fabs(theta_d)};
+    double norm = 0.0;
+    for (int q = 0; q < lobes_; ++q) {
+      const double m = pt.m[q].total > 0.0 ? pt.m[q].value(m_axis_[q], theta_i) : 0.0;
+      share[q] = m > 0.0 ? m * mean_energy(f, q, theta_d) : 0.0;
+      if (share[q] > 0.0 && q < explicit_) {
+        n[q].at(n_axis_[band][q], x);
+        share[q] *= n[q].total;
+      }
+      if (!(share[q] > 0.0) || !(share[q] < HUGE_VAL)) share[q] = 0.0;
+      norm += share[q];
+    }
+    return norm > 0.0 && norm < HUGE_VAL ? norm : 0.0;
+  }
+  // Σ_q π_q n_q(φ) / Z^φ_q [1/rad].
+  double phi_sum(const Fibre& f, const double* share, const Density* n, double norm, double phi) const {
+    const int band = t_.band_of(f.beta_n);
+    const double pi = 3.14159265358979323846, a = fold(phi);
+    double s = 0.0;
+    for (int q = 0; q < lobes_; ++q) {
+      if (!(share[q] > 0.0)) continue;
+      s += share[q] * (q < explicit_ ? n[q].value(n_axis_[band][q], a) / n[q].total : 1.0 / (2.0 * pi));
+    }
+    return s / norm;
+  }
+  static double fold(double phi) {
+    const double pi = 3.14159265358979323846;
+    return std::fabs(phi) <= pi ? std::fabs(phi) : std::fabs(std::remainder(phi, 2.0 * pi));
+  }
+
+  HairTables<T, double> t_;
+  int explicit_ = 0, lobes_ = 0;
+  bool valid_ = false;
+  std::vector<T> mt_[kMaxLobes];
+  Axis mt_axes_[kMaxLobes][3];
+  AxisSampler<T> m_axis_[kMaxLobes];
+  Axis n_axes_[kMaxBands][kMaxLobes][4];
+  AxisSampler<T> n_axis_[kMaxBands][kMaxLobes];
+};
+
+}  // namespace sampler
+}  // namespace hairlut

@@ -1,0 +1,305 @@
+// The renderer runtime (hair_scattering.hpp) tested as pbrt-v4 and Mitsuba 3 test their hair BSDFs,
+// with their counts and tolerances, on the shipped (tilted) default tables and on the same config
+// baked without tilts.
+//
+// Ported from (operation for operation where the model allows):
+//   pbrt-v4 src/pbrt/bsdfs_test.cpp at commit 00aad0a68d6672d0e52f3d9c730406eee720f2b5:
+//     Hair.WhiteFurnace, Hair.HOnTheEdge, Hair.WhiteFurnaceSampled, Hair.SamplingWeights,
+//     Hair.SamplingConsistency;
+//   Mitsuba 3 src/bsdfs/tests/test_hair.py at commit 0fec507e35a820a2fc0f3079686a3ee34b5697ad:
+//     test04_sample_numeric.
+// Both peers take roughness in [0, 1]; their plugins map it to the Bessel M_p's variance
+// v = (0.726 β_m + 0.812 β_m² + 3.7 β_m²⁰)² and to a logistic scale s = √(π/8) (0.265 β_n + 1.194
+// β_n² + 5.372 β_n²²). hairlut's β_m is √v and its β_n the standard deviation of a Gaussian, taken
+// as that of the logistic (π s / √3). Values outside the tables' β range are clamped to it (the
+// peers' 0.7 and 0.9 lie beyond the default tables' 45°). Both peers' models have no θd in their
+// attenuation, so their furnace is exactly 1 with any tilt; d'Eon's is not (docs/conventions.md,
+// "Tilt"), so on tilted tables the sampled estimates are compared with the model's own albedo.
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/io/table_io.hpp>
+#include <hairlut/physics/lobe_energy.hpp>
+#include <hairlut/physics/longitudinal_mp.hpp>
+#include <hairlut/tables/hair_views.hpp>
+#include <hairlut/util/angles.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "catch.hpp"
+
+using namespace hairlut;
+using Runtime = sampler::HairScattering<float>;
+
+namespace {
+
+const TableSet& tilted_tables() {
+  static const TableSet set = load_tables(std::string(HAIRLUT_SOURCE_DIR) + "/tables/default/hairlut-default.h5");
+  return set;
+}
+// The shipped default config with every tilt 0, baked in memory.
+const TableSet& untilted_tables() {
+  static const TableSet set = [] {
+    std::ifstream in(std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/default.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    j["lobes"].erase("tilt_deg");
+    j["output"]["formats"] = {"hdf5"};
+    j["output"]["directory"] = ".";
+    BakeOptions options;
+    options.threads = 2;
+    return bake(parse_config(j, "untilted.json", std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs"), options);
+  }();
+  return set;
+}
+const Runtime& runtime(bool tilted) {
+  static const Runtime t = hair_scattering<float>(tilted_tables()), u = hair_scattering<float>(untilted_tables());
+  return tilted ? t : u;
+}
+
+double pbrt_beta_m(double b) { return 0.726 * b + 0.812 * b * b + 3.7 * std::pow(b, 20); }
+double pbrt_beta_n(double b) {
+  const double s = std::sqrt(kPi / 8.0) * (0.265 * b + 1.194 * b * b + 5.372 * std::pow(b, 22));
+  return kPi * s / std::sqrt(3.0);
+}
+// A fibre of σa (grey) with pbrt-style roughness, clamped to the tables' β ranges.
+sampler::Fibre fibre(const Runtime& rt, double pbrt_m, double pbrt_n, double sigma_a) {
+  const auto& t = rt.tables();
+  const sampler::Axis bm = t.mp[0].table().axis(0).axis(), bn = t.np[0].table().axis(0).axis();
+  sampler::Fibre f;
+  f.beta_m = std::clamp(pbrt_beta_m(pbrt_m), bm.lo, bm.hi);
+  f.beta_n = std::clamp(pbrt_beta_n(pbrt_n), bn.lo, t.band_hi[t.beta_bands - 1] > 0.0 ? t.band_hi[t.beta_bands - 1] : bn.hi);
+  f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = sigma_a;
+  return f;
+}
+
+struct Rng {
+  std::mt19937_64 g;
+  explicit Rng(unsigned long long seed) : g(seed) {}
+  double operator()() { return std::uniform_real_distribution<double>(0.0, 1.0)(g); }
+};
+void uniform_sphere(double u0, double u1, double* w) {
+  const double z = 1.0 - 2.0 * u0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), a = 2.0 * kPi * u1;
+  w[0] = r * std::cos(a), w[1] = r * std::sin(a), w[2] = z;
+}
+double average(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3.0; }
+
+// The model's own albedo at θo for a white fibre (σa = 0): Σ_p ∫ M(v, θi, θo − α_p) e_p(θd) cos θi
+// dθi with the exact Bessel M_p and lobe energies (physics, not tables), the shipped tilts.
+double model_albedo(double beta_m, double theta_o) {
+  const double alpha[5] = {radians(-4), radians(2), radians(6), radians(10), radians(10)};
+  const GaussLegendreRule rule(64);
+  double s = 0.0;
+  const int n = 2000;
+  for (int j = 0; j < n; ++j) {
+    const double ti = -0.5 * kPi + (j + 0.5) * kPi / n, w = kPi / n * std::cos(ti);
+    const double td = std::min(0.5 * std::fabs(theta_o - ti), 0.5 * kPi - 1e-9);
+    const std::vector<double> e = lobe_energies(AttenuationSlice(1.55, td, 0.0), LobeSet{4, true}, rule);
+    for (int p = 0; p < 5; ++p) s += w * longitudinal_deon_tilted(beta_m * beta_m, alpha[p], ti, theta_o) * e[static_cast<std::size_t>(p)];
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnace, eval integrated over the sphere by uniform sampling", "[scattering]") {
+  for (bool tilted : {false, true}) {
+    const Runtime& rt = runtime(tilted);
+    REQUIRE(rt.valid());
+    Rng rng(7);
+    double wo[3];
+    uniform_sphere(rng(), rng(), wo);
+    for (double bm = 0.1; bm < 1.0; bm += 0.2)
+      for (double bn = 0.1; bn < 1.0; bn += 0.2) {
+        const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
+        const int count = (bm < 0.5 || bn < 0.5) ? 100000 : 20000;
+        double sum = 0.0;
+        for (int i = 0; i < count; ++i) {
+          double wi[3], rgb[3];
+          uniform_sphere(rng(), rng(), wi);
+          rt.eval(f, wo, wi, rgb);
+          sum += average(rgb);  // ∫ S dω: pbrt's f |cos θ| (its f divides S by |cos θ|)
+        }
+        const double avg = sum / (count / (4.0 * kPi));
+        INFO("tilted " << tilted << " beta_m " << f.beta_m << " beta_n " << f.beta_n << " theta_o " << std::asin(wo[0]) << ": " << avg);
+        CHECK(avg >= 0.95);
+        CHECK(avg <= 1.05);
+      }
+  }
+}
+
+TEST_CASE("HairScattering: pbrt-v4 Hair.HOnTheEdge and the frame's edges give finite values", "[scattering]") {
+  const Runtime& rt = runtime(true);
+  const sampler::Fibre f = fibre(rt, 0.1, 0.1, 0.0);
+  // pbrt's vectors (its z is the fibre's normal, x along the fibre as here).
+  const double wo[3] = {0.54986966, 0.03359017, 0.83457476}, wi[3] = {-0.37383357, -0.91920084, 0.12376696};
+  const double along[3] = {1.0, 0.0, 0.0}, against[3] = {-1.0, 0.0, 0.0}, normal[3] = {0.0, 1.0, 0.0};
+  const double* dirs[5] = {wo, wi, along, against, normal};
+  for (const double* a : dirs)
+    for (const double* b : dirs) {
+      double rgb[3];
+      rt.eval(f, a, b, rgb);
+      for (double v : rgb) {
+        CHECK(std::isfinite(v));
+        CHECK(v >= 0.0);
+      }
+      const double u[3] = {0.0, 0.0, 0.0};
+      const sampler::ScatteringSample s = rt.sample(f, a, u);
+      CHECK(s.pdf > 0.0);
+      for (double w : s.weight) CHECK(std::isfinite(w));
+      CHECK(std::isfinite(rt.pdf(f, a, b)));
+    }
+}
+
+TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnaceSampled, importance-sampled furnace", "[scattering]") {
+  for (bool tilted : {false, true}) {
+    const Runtime& rt = runtime(tilted);
+    Rng rng(11);
+    double wo[3];
+    uniform_sphere(rng(), rng(), wo);
+    for (double bm = 0.1; bm < 1.0; bm += 0.2)
+      for (double bn = 0.1; bn < 1.0; bn += 0.2) {
+        const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
+        const int count = 10000;
+        double sum = 0.0;
+        for (int i = 0; i < count; ++i) {
+          const double u[3] = {rng(), rng(), rng()};
+          const sampler::ScatteringSample s = rt.sample(f, wo, u);
+          if (s.pdf > 0.0) sum += average(s.weight);
+        }
+        const double avg = sum / count, want = tilted ? model_albedo(f.beta_m, std::asin(wo[0])) : 1.0;
+        INFO("tilted " << tilted << " beta_m " << f.beta_m << " beta_n " << f.beta_n << " theta_o " << std::asin(wo[0]) << ": " << avg << " (model " << want << ")");
+        CHECK(avg / want >= 0.99);
+        CHECK(avg / want <= 1.01);
+      }
+  }
+}
+
+TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre (untilted tables)", "[scattering]") {
+  const Runtime& rt = runtime(false);
+  Rng rng(13);
+  int outside = 0, total = 0;
+  double lo = 1.0, hi = 1.0;
+  for (double bm = 0.1; bm < 1.0; bm += 0.2)
+    for (double bn = 0.4; bn < 1.0; bn += 0.2) {
+      const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
+      for (int i = 0; i < 10000; ++i) {
+        double wo[3];
+        uniform_sphere(rng(), rng(), wo);
+        const double u[3] = {rng(), rng(), rng()};
+        const sampler::ScatteringSample s = rt.sample(f, wo, u);
+        if (!(s.pdf > 0.0)) continue;
+        const double w = average(s.weight);
+        ++total;
+        lo = std::min(lo, w), hi = std::max(hi, w);
+        if (!(w > 0.99 && w < 1.01)) ++outside;
+      }
+    }
+  INFO(total << " samples, weights in [" << lo << ", " << hi << "]");
+  CHECK(total == 150000);
+  CHECK(outside == 0);
+}
+
+TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingConsistency, importance and uniform estimates agree", "[scattering]") {
+  for (bool tilted : {false, true}) {
+    const Runtime& rt = runtime(tilted);
+    Rng rng(17);
+    for (double bm = 0.2; bm < 1.0; bm += 0.2)
+      for (double bn = 0.4; bn < 1.0; bn += 0.2) {
+        const int count = 64 * 1024;
+        const sampler::Fibre f = fibre(rt, bm, bn, 0.25);
+        double wo[3];
+        uniform_sphere(rng(), rng(), wo);
+        // pbrt's Li(w) = w.z², z a normal direction (its frame's z is our y).
+        auto li = [](const double* w) { return w[1] * w[1]; };
+        double importance = 0.0, uniform = 0.0;
+        for (int i = 0; i < count; ++i) {
+          const double u[3] = {rng(), rng(), rng()};
+          const sampler::ScatteringSample s = rt.sample(f, wo, u);
+          if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
+          double wi[3], rgb[3];
+          uniform_sphere(u[1], u[2], wi);
+          rt.eval(f, wo, wi, rgb);
+          uniform += average(rgb) * li(wi) * 4.0 * kPi / count;
+        }
+        INFO("tilted " << tilted << " beta_m " << f.beta_m << " beta_n " << f.beta_n << ": importance " << importance << " uniform " << uniform);
+        CHECK(std::fabs(importance - uniform) / uniform < 0.05);
+      }
+  }
+}
+
+TEST_CASE("HairScattering: Mitsuba 3 test04_sample_numeric, every lane's luminance weight within 1e-3 (untilted tables)", "[scattering]") {
+  const Runtime& rt = runtime(false);
+  Rng rng(0);
+  double worst = 0.0;
+  int lanes = 0, bad = 0;
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b) {
+      const double bm = 0.1 + 0.89 * a / 4.0, bn = 0.1 + 0.89 * b / 4.0;
+      const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
+      for (int i = 0; i < 100000; ++i) {
+        double wo[3];
+        uniform_sphere(rng(), rng(), wo);
+        const double u[3] = {rng(), rng(), rng()};
+        const sampler::ScatteringSample s = rt.sample(f, wo, u);
+        // Mitsuba: a zero sample counts as 1; luminance with Rec. 709 weights.
+        const double lum = s.pdf > 0.0 ? 0.212671 * s.weight[0] + 0.715160 * s.weight[1] + 0.072169 * s.weight[2] : 1.0;
+        worst = std::max(worst, std::fabs(lum - 1.0));
+        if (!(std::fabs(lum - 1.0) <= 1e-3)) ++bad;
+        ++lanes;
+      }
+    }
+  INFO(lanes << " lanes, worst |w - 1| " << worst);
+  CHECK(bad == 0);
+}
+
+TEST_CASE("HairScattering: pdf() is the density sample() reports, u = 0 and 1 included", "[scattering]") {
+  const Runtime& rt = runtime(true);
+  Rng rng(23);
+  for (int i = 0; i < 2000; ++i) {
+    const sampler::Fibre f = fibre(rt, 0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 4.0 * rng());
+    double wo[3];
+    uniform_sphere(rng(), rng(), wo);
+    double u[3] = {rng(), rng(), rng()};
+    if (i % 7 == 0) u[i % 3] = 0.0;
+    if (i % 11 == 0) u[(i + 1) % 3] = 1.0;
+    const sampler::ScatteringSample s = rt.sample(f, wo, u);
+    REQUIRE(s.pdf > 0.0);
+    CHECK(rt.pdf(f, wo, s.wi) == Approx(s.pdf).epsilon(1e-9));
+    double rgb[3];
+    rt.eval(f, wo, s.wi, rgb);
+    for (int c = 0; c < 3; ++c) CHECK(s.weight[c] == Approx(rgb[c] / s.pdf).epsilon(1e-6));
+  }
+  const sampler::Fibre f = fibre(rt, 0.3, 0.3, 0.0);
+  const double nan = std::nan(""), bad[3] = {nan, 0.0, 1.0}, wo[3] = {0.0, 1.0, 0.0}, u[3] = {0.5, 0.5, 0.5};
+  CHECK(rt.sample(f, bad, u).pdf == 0.0);
+  CHECK(rt.pdf(f, wo, bad) == 0.0);
+  double rgb[3];
+  rt.eval(f, wo, bad, rgb);
+  CHECK(std::isnan(rgb[0]));
+}
+
+TEST_CASE("HairScattering: sampled densities integrate to one over the sphere", "[scattering]") {
+  // ∫ pdf dω by the midpoint rule in (θi, φi), dω = cos θi dθi dφi, on cells of 1/8° × 2°.
+  for (bool tilted : {false, true}) {
+    const Runtime& rt = runtime(tilted);
+    for (const auto& [bm, to] : {std::pair{0.1, 1.5}, std::pair{0.5, -1.2}}) {
+      const sampler::Fibre f = fibre(rt, bm, 0.3, 0.5);
+      const double wo[3] = {std::sin(to), std::cos(to), 0.0};
+      const int nt = 1440, np = 180;
+      double s = 0.0;
+      for (int a = 0; a < nt; ++a)
+        for (int b = 0; b < np; ++b) {
+          const double ti = -0.5 * kPi + (a + 0.5) * kPi / nt, ph = 2.0 * kPi * (b + 0.5) / np;
+          const double wi[3] = {std::sin(ti), std::cos(ti) * std::cos(ph), std::cos(ti) * std::sin(ph)};
+          s += rt.pdf(f, wo, wi) * std::cos(ti);
+        }
+      s *= (kPi / nt) * (2.0 * kPi / np);
+      INFO("tilted " << tilted << " beta_m " << f.beta_m << " theta_o " << to);
+      CHECK(s == Approx(1.0).epsilon(2e-3));
+    }
+  }
+}
