@@ -128,6 +128,7 @@ double time_per_entry(const NpQuadratureConfig& q, std::size_t n_theta, std::siz
 
 namespace bench {
 json bench_sampling(const Settings& s);  // sampling.cpp
+json bench_runtime(const Settings& s);   // runtime.cpp
 json bench_bands(const Settings& s);  // bands.cpp
 }
 
@@ -151,9 +152,9 @@ int main(int argc, char** argv) {
                "only measure table representations: entries against sampled error and lookup ns (writes representations.*)");
   std::string only;
   app.add_option("--only", only,
-                 "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets, lookup, sampling (the full run "
+                 "run one section and write only its files: per-material, end-to-end, scaling, pbrt, presets, lookup, sampling, runtime (the full run "
                  "also writes bench.json/csv/md and pareto.svg)")
-      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup", "sampling", "bands"}));
+      ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup", "sampling", "runtime", "bands"}));
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)\n\n"
              "Exit status: 0 done, 2 bad command line (one line \"bench-hair-luts: error: ...\" on stderr).");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
@@ -186,7 +187,7 @@ int main(int argc, char** argv) {
   if (presets_only) only = "presets";
   if (!only.empty()) {
     const std::map<std::string, std::string> files = {{"presets", "presets"}, {"per-material", "per-material"}, {"end-to-end", "end-to-end"},
-                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}, {"lookup", "lookup"}, {"sampling", "sampling"}, {"bands", "bands"}};
+                                                      {"scaling", "scaling"}, {"pbrt", "pbrt-hair"}, {"lookup", "lookup"}, {"sampling", "sampling"}, {"runtime", "runtime"}, {"bands", "bands"}};
     if (only == "presets") write_presets(bench_presets(st), st);
     if (only == "per-material") bench_per_material(st);
     if (only == "end-to-end") bench_end_to_end(st);
@@ -194,6 +195,7 @@ int main(int argc, char** argv) {
     if (only == "pbrt") bench_pbrt(st);
     if (only == "lookup") bench_lookup(st);
     if (only == "sampling") bench_sampling(st);  // sampling.cpp
+    if (only == "runtime") bench_runtime(st);    // runtime.cpp
     if (only == "bands") bench_bands(st);  // bands.cpp
     const std::string base = files.at(only);
     if (!quiet) {
@@ -321,6 +323,7 @@ int main(int argc, char** argv) {
   report["pbrt_hair"] = bench_pbrt(st);
   report["lookup"] = bench_lookup(st);
   report["sampling"] = bench_sampling(st);
+  report["runtime"] = bench_runtime(st);
 
   // ---- 5. Interpolation error against resolution, per axis of the generic table.
   log(quiet, "resolution ...\n");
@@ -417,6 +420,7 @@ int main(int argc, char** argv) {
     md << "\npbrt-v4 HairBxDF::f (pbrt-hair.md):\n\n" << std::ifstream(out_dir + "/pbrt-hair.md").rdbuf();
     md << "\nLookups and S from tables (lookup.md):\n\n" << std::ifstream(out_dir + "/lookup.md").rdbuf();
     md << "\nImportance sampling (sampling.md):\n\n" << std::ifstream(out_dir + "/sampling.md").rdbuf();
+    md << "\nRenderer runtime against pbrt-v4 (runtime.md):\n\n" << std::ifstream(out_dir + "/runtime.md").rdbuf();
     md << "\nResolution: `" << report["resolution"]["axes"].dump() << "`\n";
     md << "\nScaling (scaling.md):\n\n" << std::ifstream(out_dir + "/scaling.md").rdbuf();
     md << "\nExport presets:\n\n" << std::ifstream(out_dir + "/presets.md").rdbuf();

@@ -88,6 +88,43 @@ float azimuthal(float phi, int p, float s, float gamma_o, float gamma_t) {
   return trimmed_logistic(dphi, s);
 }
 
+// InvertLogisticSample and SampleLogistic; x drawn from the logistic of scale s trimmed to [a, b].
+float sample_trimmed_logistic(float u, float s, float a, float b) {
+  auto cdf = [s](float x) { return 1.0f / (1.0f + fast_exp(-x / s)); };
+  const float ca = cdf(a), cb = cdf(b);
+  u = (1.0f - u) * ca + u * cb;
+  return std::clamp(-s * std::log(1.0f / u - 1.0f), a, b);
+}
+
+// The index whose cumulative weight brackets u · Σ w, and u remapped into that weight.
+template <std::size_t N>
+int sample_discrete(const std::array<float, N>& w, float u, float* remapped) {
+  float total = 0.0f;
+  for (float x : w) total += x;
+  float up = u * total;
+  if (up == total) up = std::nextafter(up, 0.0f);
+  int k = 0;
+  float sum = 0.0f;
+  while (sum + w[static_cast<std::size_t>(k)] <= up) sum += w[static_cast<std::size_t>(k++)];
+  *remapped = std::min((up - sum) / w[static_cast<std::size_t>(k)], 0x1.fffffep-1f);
+  return k;
+}
+
+// pbrt's Ap(cos θo, η, h, T).
+template <std::size_t N, std::size_t K>
+std::array<std::array<float, K>, N> attenuation(float cos_o, float eta, float h, const std::array<float, K>& T) {
+  std::array<std::array<float, K>, N> ap{};
+  const float fr = fresnel_dielectric(cos_o * safe_sqrt(1.0f - sq(h)), eta);
+  for (std::size_t k = 0; k < K; ++k) ap[0][k] = fr, ap[1][k] = sq(1.0f - fr) * T[k];
+  for (std::size_t p = 2; p + 1 < N; ++p)
+    for (std::size_t k = 0; k < K; ++k) ap[p][k] = ap[p - 1][k] * T[k] * fr;
+  bool any = false;
+  for (std::size_t k = 0; k < K; ++k) any |= (1.0f - T[k] * fr) != 0.0f;
+  if (any)
+    for (std::size_t k = 0; k < K; ++k) ap[N - 1][k] = ap[N - 2][k] * fr * T[k] / (1.0f - T[k] * fr);
+  return ap;
+}
+
 }  // namespace
 
 PbrtHair::PbrtHair(float h, float eta, const Spectrum& sigma_a, float beta_m, float beta_n, float alpha_deg)
@@ -157,6 +194,83 @@ PbrtHair::Spectrum PbrtHair::f(PbrtVec3 wo, PbrtVec3 wi) const {
   if (abs_cos > 0.0f)
     for (int k = 0; k < kSamples; ++k) sum[k] /= abs_cos;
   return sum;
+}
+
+}  // namespace bench
+
+namespace bench {
+
+// ComputeApPDF(cos θo): each lobe's A_p averaged over the spectral samples, over their sum.
+static std::array<float, PbrtHair::kPMax + 1> ap_pdf(float cos_o, float eta, float h, const PbrtHair::Spectrum& sigma_a) {
+  const float sin_o = safe_sqrt(1.0f - cos_o * cos_o);
+  const float sin_t = sin_o / eta, cos_t = safe_sqrt(1.0f - sq(sin_t));
+  const float etap = safe_sqrt(eta * eta - sq(sin_o)) / cos_o;
+  const float sin_gt = h / etap, cos_gt = safe_sqrt(1.0f - sq(sin_gt));
+  PbrtHair::Spectrum T;
+  for (int k = 0; k < PbrtHair::kSamples; ++k) T[static_cast<std::size_t>(k)] = std::exp(-sigma_a[static_cast<std::size_t>(k)] * (2.0f * cos_gt / cos_t));
+  const auto ap = attenuation<PbrtHair::kPMax + 1>(cos_o, eta, h, T);
+  std::array<float, PbrtHair::kPMax + 1> pdf{};
+  float sum = 0.0f;
+  for (const auto& a : ap) sum += (a[0] + a[1] + a[2] + a[3]) / 4.0f;
+  for (std::size_t p = 0; p < pdf.size(); ++p) pdf[p] = (ap[p][0] + ap[p][1] + ap[p][2] + ap[p][3]) / 4.0f / sum;
+  return pdf;
+}
+
+// sin θo and cos θo of lobe p rotated by its scale tilt (pbrt's p = 0, 1, 2 cases).
+static void tilted(int p, float sin_o, float cos_o, const float* sin2k, const float* cos2k, float& s, float& c) {
+  if (p == 0) s = sin_o * cos2k[1] - cos_o * sin2k[1], c = cos_o * cos2k[1] + sin_o * sin2k[1];
+  else if (p == 1) s = sin_o * cos2k[0] + cos_o * sin2k[0], c = cos_o * cos2k[0] - sin_o * sin2k[0];
+  else if (p == 2) s = sin_o * cos2k[2] + cos_o * sin2k[2], c = cos_o * cos2k[2] - sin_o * sin2k[2];
+  else s = sin_o, c = cos_o;
+}
+
+PbrtHair::Sampled PbrtHair::sample_f(PbrtVec3 wo, float uc, float u0, float u1) const {
+  const float sin_o = wo.x, cos_o = safe_sqrt(1.0f - sq(sin_o));
+  const float phi_o = std::atan2(wo.z, wo.y);
+  const auto apdf = ap_pdf(cos_o, eta_, h_, sigma_a_);
+  const int p = sample_discrete(apdf, uc, &uc);
+  float sin_po, cos_po;
+  tilted(p, sin_o, cos_o, sin2k_, cos2k_, sin_po, cos_po);
+  const float v = v_[p];
+  const float cos_theta = 1.0f + v * std::log(std::max(u0, 1e-5f) + (1.0f - u0) * fast_exp(-2.0f / v));
+  const float sin_theta = safe_sqrt(1.0f - sq(cos_theta)), cos_phi = std::cos(2.0f * kPi * u1);
+  const float sin_i = -cos_theta * sin_po + sin_theta * cos_phi * cos_po, cos_i = safe_sqrt(1.0f - sq(sin_i));
+  const float etap = safe_sqrt(eta_ * eta_ - sq(sin_o)) / cos_o;
+  const float gamma_o = safe_asin(h_), gamma_t = safe_asin(h_ / etap);
+  const float dphi = p < kPMax ? 2.0f * static_cast<float>(p) * gamma_t - 2.0f * gamma_o + static_cast<float>(p) * kPi + sample_trimmed_logistic(uc, s_, -kPi, kPi)
+                               : 2.0f * kPi * uc;
+  const float phi_i = phi_o + dphi;
+  Sampled r;
+  r.wi = {sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i)};
+  float pdf = 0.0f;
+  for (int q = 0; q < kPMax; ++q) {
+    float s, c;
+    tilted(q, sin_o, cos_o, sin2k_, cos2k_, s, c);
+    pdf += longitudinal(cos_i, std::abs(c), sin_i, s, v_[q]) * apdf[static_cast<std::size_t>(q)] * azimuthal(dphi, q, s_, gamma_o, gamma_t);
+  }
+  pdf += longitudinal(cos_i, cos_o, sin_i, sin_o, v_[kPMax]) * apdf[kPMax] * (1.0f / (2.0f * kPi));
+  r.pdf = pdf;
+  r.f = f(wo, r.wi);
+  return r;
+}
+
+float PbrtHair::pdf(PbrtVec3 wo, PbrtVec3 wi) const {
+  const float sin_o = wo.x, cos_o = safe_sqrt(1.0f - sq(sin_o));
+  const float phi_o = std::atan2(wo.z, wo.y);
+  const float sin_i = wi.x, cos_i = safe_sqrt(1.0f - sq(sin_i));
+  const float phi_i = std::atan2(wi.z, wi.y);
+  const float etap = safe_sqrt(eta_ * eta_ - sq(sin_o)) / cos_o;
+  const float gamma_o = safe_asin(h_), gamma_t = safe_asin(h_ / etap);
+  const auto apdf = ap_pdf(cos_o, eta_, h_, sigma_a_);
+  const float phi = phi_i - phi_o;
+  float pdf = 0.0f;
+  for (int q = 0; q < kPMax; ++q) {
+    float s, c;
+    tilted(q, sin_o, cos_o, sin2k_, cos2k_, s, c);
+    pdf += longitudinal(cos_i, std::abs(c), sin_i, s, v_[q]) * apdf[static_cast<std::size_t>(q)] * azimuthal(phi, q, s_, gamma_o, gamma_t);
+  }
+  pdf += longitudinal(cos_i, cos_o, sin_i, sin_o, v_[kPMax]) * apdf[kPMax] * (1.0f / (2.0f * kPi));
+  return pdf;
 }
 
 }  // namespace bench

@@ -2,7 +2,9 @@
 // published equations and code: src/pbrt/bxdfs.h and src/pbrt/bxdfs.cpp (HairBxDF constructor,
 // f, Mp, Ap, Np, Phi), src/pbrt/util/math.h (I0, LogI0, FastExp, Logistic, TrimmedLogistic,
 // SafeSqrt, SafeASin) and src/pbrt/util/scattering.h (FrDielectric) of github.com/mmp/pbrt-v4 at
-// commit 5f7a606806a4ac7b939131ded9d7a30ebd02416e. Same algorithm and float arithmetic: the
+// commit 5f7a606806a4ac7b939131ded9d7a30ebd02416e, and HairBxDF::Sample_f, PDF and ComputeApPDF
+// with SampleDiscrete and SampleTrimmedLogistic (src/pbrt/util/sampling.h) as at commit
+// 4607f0e485627e70dd838c66181016760c582c8b. Same algorithm and float arithmetic: the
 // d'Eon/Chiang longitudinal M_p with pbrt's variance map, A_p up to pMax = 3 with the geometric
 // tail, the trimmed logistic N_p, scale tilts by the 2^k α double-angle recurrence, and four
 // spectral samples (pbrt's NSpectrumSamples). bench-hair-luts times it per call; the sampler's
@@ -25,6 +27,16 @@ class PbrtHair {
   PbrtHair(float h, float eta, const Spectrum& sigma_a, float beta_m, float beta_n, float alpha_deg);
   /// f(wo, wi) in pbrt's hair frame (x along the fibre), divided by |cos θ| of wi as there.
   Spectrum f(PbrtVec3 wo, PbrtVec3 wi) const;
+  /// Sample_f: the lobe by A_p at θo (uc, remapped for φ), θi by inverting M_p (u0, u1), φ by the
+  /// trimmed logistic; the pdf summed over the lobes and f at the drawn direction, as there.
+  struct Sampled {
+    PbrtVec3 wi;
+    Spectrum f;
+    float pdf;
+  };
+  Sampled sample_f(PbrtVec3 wo, float uc, float u0, float u1) const;
+  /// PDF(wo, wi), as there.
+  float pdf(PbrtVec3 wo, PbrtVec3 wi) const;
 
  private:
   float h_, eta_;
