@@ -127,8 +127,10 @@ class AxisSampler {
     return true;
   }
 
-  /// The density along the sampled axis at the other coordinates x[0 … dims − 2].
-  void blend(const double* x, AxisRow& row) const {
+  /// The density along the sampled axis at the other coordinates x[0 … dims − 2]. Without
+  /// with_masses only the blended nodes and cell polynomials are filled (cum and total stay
+  /// unset: for a caller that integrates the row times something else).
+  void blend(const double* x, AxisRow& row, bool with_masses = true) const {
     row.ok = false;
     row.total = 0.0;
     if (!supported_) return;
@@ -149,6 +151,11 @@ class AxisSampler {
     });
     // Cell polynomials, with sampler.hpp's end rules along the sampled axis.
     row.coef.resize(static_cast<std::size_t>(n_ - 1) * 4);
+    if (!with_masses) {
+      for (int k = 0; k + 1 < n_; ++k) cell_coef(v.data(), k, &row.coef[static_cast<std::size_t>(k) * 4]);
+      row.ok = true;
+      return;
+    }
     row.cum.resize(static_cast<std::size_t>(n_));
     row.cum[0] = 0.0;
     for (int k = 0; k + 1 < n_; ++k) {

@@ -16,13 +16,15 @@
 //
 // Sampling, exactly from the density that pdf() returns (and, for a white fibre with untilted
 // tables, in exact proportion to S cos θi; weights then equal the tables' albedo):
-//   1. θi from the mixture m(θi) = Σ_p c_p M̃_p(θi) cos θi / Z_p, where M̃_p is the M_p table
-//      interpolated as it declares (Catmull–Rom or linear along every axis, clamped at 0), Z_p its
-//      integral over θi at this θo, and c_p ∝ Z_p Ē_p(θd_p) the lobe's energy at the θd of the
-//      median of its θi density (Ē: the mean over the three channels);
+//   1. θi from m(θi) = Σ_p M̃_p(θi) Ê_p(θi) cos θi / G, where M̃_p is the M_p table interpolated
+//      as it declares (Catmull–Rom or linear along every axis, clamped at 0) and Ê_p the lobe's
+//      energy at θd = (θo − θi)/2, averaged over the channels, from the energy table's nodes
+//      interpolated linearly and then linearly between the M_p table's θi nodes (product_row.hpp);
+//      G normalises. So θi follows the product M_p E_p of the tables, lobe by lobe;
 //   2. the lobe q from its share of S at the drawn θi, π_q ∝ M̃_q(θi) Ē_q(θd) Z^φ_q, so that the
 //      choice of lobe is exact whatever the lobes' tilts: the weight depends on θi only, through
-//      Σ_q M̃_q Ē_q / Σ_p c_p M̃_p / Z_p;
+//      Σ_q M̃_q Ē_q Z^φ_q / Σ_p M̃_p Ê_p, which differs from a constant only by the linear
+//      interpolation of Ê (Ē: the tables' energies, averaged over the three channels);
 //   3. φ from lobe q's interpolated N_p shape at (β_n, σ̄a, θd), σ̄a the mean of the channels
 //      (Z^φ_q its integral over φ); the residual is uniform in φ.
 // Each stage inverts the interpolant's own piecewise-polynomial CDF (axis_sampling.hpp), so
@@ -31,9 +33,8 @@
 // Each u ∈ [0, 1) is mapped into [ε, 1 − ε] (ε = 2⁻⁴⁰) so that u = 0 never lands on a zero of the
 // density (θi = ±π/2, where cos θi = 0).
 //
-// Where the tables are tilted the lobes' energies are taken at different θd, and the mixture of
-// step 1 follows S only as closely as each lobe's energy stays flat across its M_p; the physics
-// itself is not energy conserving there (docs/conventions.md, "Tilt").
+// Where the tables are tilted the lobes' energies are taken at different θd: the physics itself is
+// not energy conserving there (docs/conventions.md, "Tilt"), and the weights average to its albedo.
 #pragma once
 
 #include <algorithm>
@@ -42,6 +43,7 @@
 #include <vector>
 
 #include "hairlut/sampler/axis_sampling.hpp"
+#include "hairlut/sampler/product_row.hpp"
 #include "hairlut/sampler/sampler_fibre.hpp"
 
 namespace hairlut {
@@ -98,6 +100,8 @@ class HairScattering {
       mt_axes_[p][0] = a[0], mt_axes_[p][1] = a[2], mt_axes_[p][2] = a[1];
       m_axis_[p] = AxisSampler<T>(out.data(), mt_axes_[p], 3, Measure::cosine);
       ok = ok && m_axis_[p].supported();
+      mom_[p] = CosineMoments(a[1].lo, (a[1].hi - a[1].lo) / (a[1].count - 1), a[1].count - 1);
+      prepare_shaping(p);
     }
     for (int k = 0; k < t_.beta_bands; ++k)
       for (int p = 0; p < explicit_; ++p) {
@@ -151,6 +155,18 @@ class HairScattering {
     }
   }
 
+  /// The normalisation of sample()'s θi density at wo: ∫ S dω averaged over the channels, with each
+  /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
+  /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fibre the
+  /// mean of the sample weights at this wo; 0 where nothing can be sampled.
+  double albedo(const Fibre& f, const double* wo) const {
+    double to, po;
+    fibre_direction_angles(wo, to, po);
+    Point pt;
+    if (!valid_ || !(to == to) || !at_theta_o(f, to, pt)) return 0.0;
+    return pt.total;
+  }
+
   /// The pdf per unit solid angle with which sample(f, wo, ·) draws wi.
   double pdf(const Fibre& f, const double* wo, const double* wi) const {
     double to, po, ti, pi;
@@ -191,7 +207,7 @@ class HairScattering {
     }
     if (p < 0) return s;
     u0 = std::min(std::max(u0 / pt.c[p], 0.0), 1.0);
-    const double ti = pt.m[p].sample(m_axis_[p], open_unit(u[1]));
+    const double ti = pt.g[p].sample(open_unit(u[1]));
     if (!(ti == ti)) return s;
     const double m = theta_density(pt, ti);
     // 2. The lobe at θi, by what is left of u0, in proportion to share_q Z^φ_q.
@@ -251,8 +267,16 @@ class HairScattering {
   // mixture weights c_p of step 1.
   struct Point {
     double theta_o = 0.0;
-    Density m[kMaxLobes];
-    double c[kMaxLobes] = {};
+    AxisRow m[kMaxLobes];      // M̃_p along θi at (β_m, θo)
+    ProductRow g[kMaxLobes];   // M̃_p Ê_p cos θi along θi
+    double c[kMaxLobes] = {};  // each lobe's share of m: its total over the sum
+    double total = 0.0;        // G
+  };
+  // The lobe energies on the nodes of their energy table (σa × θd, linear in both), for Ê.
+  struct Shaping {
+    std::vector<double> e;  // [σa node][θd node]
+    PreparedAxis sigma, theta;
+    bool valid = false;
   };
 
   static double open_unit(double u) {
@@ -275,28 +299,71 @@ class HairScattering {
   bool at_theta_o(const Fibre& f, double theta_o, Point& pt) const {
     pt.theta_o = theta_o;
     const double x[2] = {f.beta_m, theta_o};
+    Lerp ls[kMaxLobes][3];
     double sum = 0.0;
+    std::vector<double> e;
     for (int p = 0; p < lobes_; ++p) {
-      Density& d = pt.m[p];
-      d.at(m_axis_[p], x);
+      m_axis_[p].blend(x, pt.m[p], false);
       pt.c[p] = 0.0;
-      if (!(d.total > 0.0)) continue;
-      const double median = d.sample(m_axis_[p], 0.5);
-      const double e = median == median ? mean_energy(f, p, 0.5 * (theta_o - median)) : 0.0;
-      pt.c[p] = e > 0.0 ? e * d.total : 0.0;
+      if (!pt.m[p].ok) continue;
+      const CosineMoments& mom = mom_[p];
+      e.assign(static_cast<std::size_t>(mom.cells()) + 1, 1.0);
+      const Shaping& sh = shaping_[p];
+      if (sh.valid) {
+        for (int c = 0; c < 3; ++c) ls[p][c] = sh.sigma.locate(f.sigma_a[c]);
+        const std::size_t nt = static_cast<std::size_t>(sh.theta.axis.count);
+        for (int k = 0; k <= mom.cells(); ++k) {
+          const Lerp lt = sh.theta.locate(std::fabs(0.5 * (theta_o - (mom.lo() + k * mom.h()))));
+          double v = 0.0;
+          for (int c = 0; c < 3; ++c) {
+            const double* r0 = &sh.e[static_cast<std::size_t>(ls[p][c].i0) * nt];
+            const double* r1 = &sh.e[static_cast<std::size_t>(ls[p][c].i1) * nt];
+            const double w = ls[p][c].w;
+            v += (1.0 - w) * ((1.0 - lt.w) * r0[lt.i0] + lt.w * r0[lt.i1]) + w * ((1.0 - lt.w) * r1[lt.i0] + lt.w * r1[lt.i1]);
+          }
+          e[static_cast<std::size_t>(k)] = v / 3.0;
+        }
+      }
+      pt.g[p].prepare(mom, pt.m[p].coef.data(), e.data());
+      pt.c[p] = pt.g[p].total();
       sum += pt.c[p];
     }
     if (!(sum > 0.0) || !(sum < HUGE_VAL)) return false;
+    pt.total = sum;
     for (int p = 0; p < lobes_; ++p) pt.c[p] /= sum;
     return true;
+  }
+  // The shaping table of lobe p: its energy factor table (explicit lobes stored as shape × energy),
+  // 2π N of the residual at its nodes; none (Ê = 1) for a lobe whose table stores N_p itself.
+  void prepare_shaping(int p) {
+    Shaping& sh = shaping_[p];
+    if (p < explicit_) {
+      const NpLobe<T, double>& n = t_.np[p];
+      if (!n.has_energy()) return;
+      const FixedView<T, 2, double>& v = n.energy();
+      sh.sigma = PreparedAxis(v.axis(0).axis()), sh.theta = PreparedAxis(v.axis(1).axis());
+      const std::size_t count = static_cast<std::size_t>(sh.sigma.axis.count) * static_cast<std::size_t>(sh.theta.axis.count);
+      sh.e.assign(v.data(), v.data() + count);
+    } else {
+      if (!t_.np_residual.valid()) return;
+      const Axis sa = t_.np_residual.table().axis(0).axis(), td = t_.np_residual.table().axis(1).axis();
+      if (sa.count < 1 || td.count < 1) return;
+      sh.sigma = PreparedAxis(sa), sh.theta = PreparedAxis(td);
+      sh.e.resize(static_cast<std::size_t>(sa.count) * static_cast<std::size_t>(td.count));
+      for (int i = 0; i < sa.count; ++i)
+        for (int j = 0; j < td.count; ++j)
+          sh.e[static_cast<std::size_t>(i) * static_cast<std::size_t>(td.count) + static_cast<std::size_t>(j)] =
+              2.0 * 3.14159265358979323846 * t_.np_residual(node(sa, i), node(td, j));
+    }
+    sh.valid = !sh.e.empty();
   }
   // m(θi) / cos θi = Σ_p c_p M̃_p(θi) / Z_p: the θ factor of the pdf per unit solid angle (m, the
   // density of θi per radian, carries the cos θi of dω).
   double theta_density(const Point& pt, double theta_i) const {
     double m = 0.0;
     for (int p = 0; p < lobes_; ++p)
-      if (pt.c[p] > 0.0) m += pt.c[p] * pt.m[p].value(m_axis_[p], theta_i) / pt.m[p].total;
-    return m;
+      if (pt.c[p] > 0.0) m += pt.g[p].value(theta_i);
+    return m / pt.total;
   }
   // The lobes' shares at θi, share_q = M̃_q(θi) Ē_q(θd) Z^φ_q, with each explicit lobe's φ density
   // n_q at (β_n, σ̄a, |θd|) (Z^φ_q its integral; 1 for the residual, uniform in φ). Returns Σ share
@@ -307,7 +374,7 @@ class HairScattering {
     const double x[3] = {f.beta_n, (f.sigma_a[0] + f.sigma_a[1] + f.sigma_a[2]) / 3.0, std::fabs(theta_d)};
     double norm = 0.0;
     for (int q = 0; q < lobes_; ++q) {
-      const double m = pt.m[q].total > 0.0 ? pt.m[q].value(m_axis_[q], theta_i) : 0.0;
+      const double m = pt.c[q] > 0.0 ? m_axis_[q].value(pt.m[q], theta_i) : 0.0;
       share[q] = m > 0.0 ? m * mean_energy(f, q, theta_d) : 0.0;
       if (share[q] > 0.0 && q < explicit_) {
         n[q].at(n_axis_[band][q], x);
@@ -340,6 +407,8 @@ class HairScattering {
   std::vector<T> mt_[kMaxLobes];
   Axis mt_axes_[kMaxLobes][3];
   AxisSampler<T> m_axis_[kMaxLobes];
+  CosineMoments mom_[kMaxLobes];
+  Shaping shaping_[kMaxLobes];
   Axis n_axes_[kMaxBands][kMaxLobes][4];
   AxisSampler<T> n_axis_[kMaxBands][kMaxLobes];
 };

@@ -160,6 +160,7 @@ class NpResidual {
     if (energy) energy_ = FixedView<T, 2, R>(energy, energy_axes), has_energy_ = true;
   }
   bool valid() const { return table_.data() != nullptr; }
+  const FixedView<T, 2, R>& table() const { return table_; }
   R operator()(R sigma_a, R theta_d) const {
     const R x[2] = {sigma_a, std::fabs(theta_d)};
     R v = table_(x);
