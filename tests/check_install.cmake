@@ -67,6 +67,11 @@ if(NOT run_out MATCHES "np/TRT\\(theta_d=20 deg, sigma_a=0.5, beta=5 deg, phi=30
   message(FATAL_ERROR "unexpected sample-table output: ${run_out}")
 endif()
 message(STATUS "${run_out}")
+run("furnace" ${consumer}/furnace ${TABLE} 0 0 10 10 2000)
+if(NOT run_out MATCHES "theta_o +albedo")
+  message(FATAL_ERROR "unexpected furnace output: ${run_out}")
+endif()
+message(STATUS "${run_out}")
 run("sampler-only" ${consumer}/sampler-only)
 message(STATUS "${run_out}")
 
