@@ -301,30 +301,28 @@ class HairScattering {
     const double x[2] = {f.beta_m, theta_o};
     Lerp ls[kMaxLobes][3];
     double sum = 0.0;
-    std::vector<double> e;
     for (int p = 0; p < lobes_; ++p) {
       m_axis_[p].blend(x, pt.m[p], false);
       pt.c[p] = 0.0;
       if (!pt.m[p].ok) continue;
       const CosineMoments& mom = mom_[p];
-      e.assign(static_cast<std::size_t>(mom.cells()) + 1, 1.0);
       const Shaping& sh = shaping_[p];
-      if (sh.valid) {
+      if (sh.valid)
         for (int c = 0; c < 3; ++c) ls[p][c] = sh.sigma.locate(f.sigma_a[c]);
-        const std::size_t nt = static_cast<std::size_t>(sh.theta.axis.count);
-        for (int k = 0; k <= mom.cells(); ++k) {
-          const Lerp lt = sh.theta.locate(std::fabs(0.5 * (theta_o - (mom.lo() + k * mom.h()))));
-          double v = 0.0;
-          for (int c = 0; c < 3; ++c) {
-            const double* r0 = &sh.e[static_cast<std::size_t>(ls[p][c].i0) * nt];
-            const double* r1 = &sh.e[static_cast<std::size_t>(ls[p][c].i1) * nt];
-            const double w = ls[p][c].w;
-            v += (1.0 - w) * ((1.0 - lt.w) * r0[lt.i0] + lt.w * r0[lt.i1]) + w * ((1.0 - lt.w) * r1[lt.i0] + lt.w * r1[lt.i1]);
-          }
-          e[static_cast<std::size_t>(k)] = v / 3.0;
+      const std::size_t nt = static_cast<std::size_t>(sh.theta.axis.count);
+      // Ê at θi node k: the channels' energies, bilinear in (σa, θd) on the energy table's nodes.
+      pt.g[p].prepare(mom, pt.m[p].coef.data(), [&](int k) {
+        if (!sh.valid) return 1.0;
+        const Lerp lt = sh.theta.locate(std::fabs(0.5 * (theta_o - (mom.lo() + k * mom.h()))));
+        double v = 0.0;
+        for (int c = 0; c < 3; ++c) {
+          const double* r0 = &sh.e[static_cast<std::size_t>(ls[p][c].i0) * nt];
+          const double* r1 = &sh.e[static_cast<std::size_t>(ls[p][c].i1) * nt];
+          const double w = ls[p][c].w;
+          v += (1.0 - w) * ((1.0 - lt.w) * r0[lt.i0] + lt.w * r0[lt.i1]) + w * ((1.0 - lt.w) * r1[lt.i0] + lt.w * r1[lt.i1]);
         }
-      }
-      pt.g[p].prepare(mom, pt.m[p].coef.data(), e.data());
+        return v / 3.0;
+      });
       pt.c[p] = pt.g[p].total();
       sum += pt.c[p];
     }
@@ -341,14 +339,14 @@ class HairScattering {
       const NpLobe<T, double>& n = t_.np[p];
       if (!n.has_energy()) return;
       const FixedView<T, 2, double>& v = n.energy();
-      sh.sigma = PreparedAxis(v.axis(0).axis()), sh.theta = PreparedAxis(v.axis(1).axis());
+      sh.sigma = PreparedAxis(clamped(v.axis(0).axis())), sh.theta = PreparedAxis(clamped(v.axis(1).axis()));
       const std::size_t count = static_cast<std::size_t>(sh.sigma.axis.count) * static_cast<std::size_t>(sh.theta.axis.count);
       sh.e.assign(v.data(), v.data() + count);
     } else {
       if (!t_.np_residual.valid()) return;
       const Axis sa = t_.np_residual.table().axis(0).axis(), td = t_.np_residual.table().axis(1).axis();
       if (sa.count < 1 || td.count < 1) return;
-      sh.sigma = PreparedAxis(sa), sh.theta = PreparedAxis(td);
+      sh.sigma = PreparedAxis(clamped(sa)), sh.theta = PreparedAxis(clamped(td));
       sh.e.resize(static_cast<std::size_t>(sa.count) * static_cast<std::size_t>(td.count));
       for (int i = 0; i < sa.count; ++i)
         for (int j = 0; j < td.count; ++j)
@@ -395,6 +393,12 @@ class HairScattering {
       s += share[q] * (q < explicit_ ? n[q].value(n_axis_[band][q], a) / n[q].total : 1.0 / (2.0 * pi));
     }
     return s / norm;
+  }
+  // The axis with its ends clamped: θd and σa reach the shaping tables as |θd| ≤ π/2 and σa ≥ 0, so
+  // an even θd axis needs no fold there (and locate() no remainder).
+  static Axis clamped(Axis a) {
+    a.wrap = Wrap::clamp;
+    return a;
   }
   static double fold(double phi) {
     const double pi = 3.14159265358979323846;

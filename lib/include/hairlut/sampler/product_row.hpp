@@ -60,11 +60,16 @@ class ProductRow {
   /// coef: 4 coefficients per cell (c0 + c1 t + c2 t² + c3 t³), e: cells + 1 factors ≥ 0 (NaN or
   /// negative read as 0). The moments fix the axis.
   void prepare(const CosineMoments& mom, const double* coef, const double* e) {
+    prepare(mom, coef, [e](int k) { return e[k]; });
+  }
+  /// The same with the node factors from e_of(k), called only for the nodes of cells that are not
+  /// cut (see below).
+  template <class EOf>
+  void prepare(const CosineMoments& mom, const double* coef, EOf&& e_of) {
     mom_ = &mom;
     const int n = mom.cells();
     coef_.assign(coef, coef + static_cast<std::size_t>(n) * 4);
-    e_.resize(static_cast<std::size_t>(n) + 1);
-    for (int k = 0; k <= n; ++k) e_[static_cast<std::size_t>(k)] = e[k] > 0.0 && e[k] < HUGE_VAL ? e[k] : 0.0;
+    e_.assign(static_cast<std::size_t>(n) + 1, 0.0);
     // Each cell's positive pieces, once: none, the whole cell, or those between its roots. A cell
     // whose Bernstein coefficients all lie below kCut of the row's largest is cut (no mass, value
     // 0): the far tails of a narrow blended lobe, where the interpolant only rings about 0.
@@ -80,6 +85,13 @@ class ProductRow {
       const double* c = &coef_[static_cast<std::size_t>(k) * 4];
       const double b0 = c[0], b1 = c[0] + c[1] / 3.0, b2 = c[0] + (2.0 * c[1] + c[2]) / 3.0, b3 = c[0] + c[1] + c[2] + c[3];
       if (std::max({b0, b1, b2, b3}) <= cut) continue;
+      for (int j = k; j <= k + 1; ++j) {
+        double& e = e_[static_cast<std::size_t>(j)];
+        if (e == 0.0) {
+          const double v = e_of(j);
+          e = v > 0.0 && v < HUGE_VAL ? v : -1.0;  // −1: asked, no energy (read as 0 below)
+        }
+      }
       if (b0 > 0.0 && b1 > 0.0 && b2 > 0.0 && b3 > 0.0) {
         kind_[static_cast<std::size_t>(k)] = 1;
       } else if (b0 > 0.0 || b1 > 0.0 || b2 > 0.0 || b3 > 0.0) {
@@ -91,6 +103,7 @@ class ProductRow {
         }
       }
     }
+    for (double& e : e_) e = std::max(e, 0.0);
     cum_.resize(static_cast<std::size_t>(n) + 1);
     cum_[0] = 0.0;
     for (int k = 0; k < n; ++k) cum_[static_cast<std::size_t>(k) + 1] = cum_[static_cast<std::size_t>(k)] + cell_mass(k, 1.0);
