@@ -308,6 +308,13 @@ TEST_CASE("HairScattering: pdf() is the density sample() reports, u = 0 and 1 in
     const sampler::ScatteringSample s = rt.sample(f, wo, u);
     REQUIRE(s.pdf > 0.0);
     CHECK(rt.pdf(f, wo, s.wi) == Approx(s.pdf).epsilon(1e-9));
+    // A shading point built once answers as the single calls do.
+    const Runtime::ShadingPoint sp = rt.at(f, wo);
+    const sampler::ScatteringSample s2 = sp.sample(u);
+    CHECK(s2.pdf == s.pdf);
+    CHECK(s2.wi[0] == s.wi[0]);
+    CHECK(sp.pdf(s.wi) == rt.pdf(f, wo, s.wi));
+    CHECK(sp.albedo() == rt.albedo(f, wo));
     double rgb[3];
     rt.eval(f, wo, s.wi, rgb);
     for (int c = 0; c < 3; ++c) CHECK(s.weight[c] == Approx(rgb[c] / s.pdf).epsilon(1e-6));

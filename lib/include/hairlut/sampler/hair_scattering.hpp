@@ -72,6 +72,44 @@ class HairScattering {
   static constexpr int kMaxLobes = HairTables<T, double>::kMaxLobes + 1;  ///< explicit + residual
   static constexpr int kMaxBands = HairTables<T, double>::kMaxBetaBands;
 
+ private:
+  // A density along one axis at one lookup: the mixture path where it is exact, else the
+  // blended row (axis_sampling.hpp).
+  struct Density {
+    typename AxisSampler<T>::Mix mix;
+    AxisRow row;
+    bool mixed = false;
+    double total = 0.0;
+    void at(const AxisSampler<T>& s, const double* x) {
+      mixed = s.mix(x, mix);
+      if (mixed) {
+        total = mix.total;
+      } else {
+        s.blend(x, row);
+        total = row.ok ? row.total : 0.0;
+      }
+      if (!(total > 0.0)) total = 0.0;
+    }
+    double value(const AxisSampler<T>& s, double x) const { return mixed ? s.mix_value(mix, x) : s.value(row, x); }
+    double sample(const AxisSampler<T>& s, double u) const { return mixed ? s.sample_mix(mix, u) : s.sample(row, u); }
+  };
+  // What depends on the fibre and θo only: each lobe's θi density (M̃_p cos θi over θi) and the
+  // mixture weights c_p of step 1.
+  struct Point {
+    double theta_o = 0.0;
+    AxisRow m[kMaxLobes];      // M̃_p along θi at (β_m, θo)
+    ProductRow g[kMaxLobes];   // M̃_p Ê_p cos θi along θi
+    double c[kMaxLobes] = {};  // each lobe's share of m: its total over the sum
+    double total = 0.0;        // G
+  };
+  // The lobe energies on the nodes of their energy table (σa × θd, linear in both), for Ê.
+  struct Shaping {
+    std::vector<double> e;  // [σa node][θd node]
+    PreparedAxis sigma, theta;
+    bool valid = false;
+  };
+
+ public:
   HairScattering() = default;
   /// From the typed views (which must outlive this object). np_data (optional) holds the stored
   /// sampling data of the N_p tables along φ, np_data[band · kMaxLobes + p] (table_sampling.hpp
@@ -155,130 +193,119 @@ class HairScattering {
     }
   }
 
-  /// The normalisation of sample()'s θi density at wo: ∫ S dω averaged over the channels, with each
-  /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
-  /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fibre the
-  /// mean of the sample weights at this wo; 0 where nothing can be sampled.
-  double albedo(const Fibre& f, const double* wo) const {
-    double to, po;
-    fibre_direction_angles(wo, to, po);
-    Point pt;
-    if (!valid_ || !(to == to) || !at_theta_o(f, to, pt)) return 0.0;
-    return pt.total;
-  }
-
-  /// The pdf per unit solid angle with which sample(f, wo, ·) draws wi.
-  double pdf(const Fibre& f, const double* wo, const double* wi) const {
-    double to, po, ti, pi;
-    fibre_direction_angles(wo, to, po);
-    fibre_direction_angles(wi, ti, pi);
-    return pdf(f, to, ti, po - pi);
-  }
-  double pdf(const Fibre& f, double theta_o, double theta_i, double phi) const {
-    if (!valid_ || !(theta_o == theta_o) || !(theta_i == theta_i) || !(phi == phi)) return 0.0;
-    Point pt;
-    if (!at_theta_o(f, theta_o, pt)) return 0.0;
-    const double m = theta_density(pt, theta_i);
-    if (!(m > 0.0)) return 0.0;
-    double share[kMaxLobes];
-    Density n[kMaxLobes];
-    const double norm = phi_stage(f, pt, theta_i, share, n);
-    return norm > 0.0 ? m * phi_sum(f, share, n, norm, phi) : 0.0;
-  }
-
-  /// Draws wi for wo from three uniform numbers in [0, 1): u[0] the lobe of θi's mixture and
-  /// then the lobe at θi, u[1] θi, u[2] φ. Returns the direction, S / pdf per channel and the pdf
-  /// per unit solid angle (see the top of this file).
-  ScatteringSample sample(const Fibre& f, const double* wo, const double* u) const {
-    ScatteringSample s;
-    double to, po;
-    fibre_direction_angles(wo, to, po);
-    if (!valid_ || !(to == to) || !(po == po)) return s;
-    Point pt;
-    if (!at_theta_o(f, to, pt)) return s;
-    // 1. θi from the mixture: the component by u0, then its inverse CDF at u1.
-    double u0 = open_unit(u[0]);
-    int p = -1;
-    for (int k = 0; k < lobes_; ++k) {
-      if (!(pt.c[k] > 0.0)) continue;
-      p = k;
-      if (u0 < pt.c[k]) break;
-      u0 -= pt.c[k];
+  /// What sample(), pdf() and albedo() share at one shading point, a fibre and wo: each lobe's θi
+  /// density. Built by at(); a renderer that draws a direction and also weighs light directions
+  /// by pdf() at the same wo builds it once. Holds a pointer to its HairScattering.
+  class ShadingPoint {
+   public:
+    /// False when nothing can be sampled here (no energy, a NaN wo, an invalid runtime).
+    bool valid() const { return ok_; }
+    /// Draws wi from three uniform numbers in [0, 1): u[0] the lobe of θi's mixture and then the
+    /// lobe at θi, u[1] θi, u[2] φ. Returns the direction, S / pdf per channel and the pdf per
+    /// unit solid angle (see the top of this file).
+    ScatteringSample sample(const double* u) const {
+      ScatteringSample s;
+      if (!ok_) return s;
+      const HairScattering& r = *rt_;
+      // 1. θi from the mixture: the component by u0, then its inverse CDF at u1.
+      double u0 = open_unit(u[0]);
+      int p = -1;
+      for (int k = 0; k < r.lobes_; ++k) {
+        if (!(pt_.c[k] > 0.0)) continue;
+        p = k;
+        if (u0 < pt_.c[k]) break;
+        u0 -= pt_.c[k];
+      }
+      if (p < 0) return s;
+      u0 = std::min(std::max(u0 / pt_.c[p], 0.0), 1.0);
+      const double ti = pt_.g[p].sample(open_unit(u[1]));
+      if (!(ti == ti)) return s;
+      const double m = r.theta_density(pt_, ti);
+      // 2. The lobe at θi, by what is left of u0, in proportion to share_q Z^φ_q.
+      double share[kMaxLobes];
+      Density n[kMaxLobes];
+      const double norm = m > 0.0 ? r.phi_stage(f_, pt_, ti, share, n) : 0.0;
+      if (!(norm > 0.0)) return s;
+      u0 = open_unit(u0) * norm;
+      int q = -1;
+      for (int k = 0; k < r.lobes_; ++k) {
+        if (!(share[k] > 0.0)) continue;
+        q = k;
+        if (u0 < share[k]) break;
+        u0 -= share[k];
+      }
+      if (q < 0) return s;
+      // 3. φ from lobe q.
+      const int band = r.t_.band_of(f_.beta_n);
+      const double pi = 3.14159265358979323846;
+      const double phi = q < r.explicit_ ? n[q].sample(r.n_axis_[band][q], open_unit(u[2])) : (2.0 * open_unit(u[2]) - 1.0) * pi;
+      if (!(phi == phi)) return s;
+      const double pdf = m * r.phi_sum(f_, share, n, norm, phi);
+      if (!(pdf > 0.0)) return s;
+      const double phi_i = po_ - phi, cti = std::cos(ti);
+      s.wi[0] = std::sin(ti), s.wi[1] = cti * std::cos(phi_i), s.wi[2] = cti * std::sin(phi_i);
+      s.theta_i = ti, s.phi = phi, s.pdf = pdf, s.lobe = q;
+      double rgb[3];
+      r.eval(f_, pt_.theta_o, ti, phi, rgb);
+      for (int c = 0; c < 3; ++c) s.weight[c] = rgb[c] / pdf;
+      return s;
     }
-    if (p < 0) return s;
-    u0 = std::min(std::max(u0 / pt.c[p], 0.0), 1.0);
-    const double ti = pt.g[p].sample(open_unit(u[1]));
-    if (!(ti == ti)) return s;
-    const double m = theta_density(pt, ti);
-    // 2. The lobe at θi, by what is left of u0, in proportion to share_q Z^φ_q.
-    double share[kMaxLobes];
-    Density n[kMaxLobes];
-    const double norm = m > 0.0 ? phi_stage(f, pt, ti, share, n) : 0.0;
-    if (!(norm > 0.0)) return s;
-    u0 = open_unit(u0) * norm;
-    int q = -1;
-    for (int k = 0; k < lobes_; ++k) {
-      if (!(share[k] > 0.0)) continue;
-      q = k;
-      if (u0 < share[k]) break;
-      u0 -= share[k];
+    /// The pdf per unit solid angle with which sample() draws wi.
+    double pdf(const double* wi) const {
+      double ti, pi;
+      fibre_direction_angles(wi, ti, pi);
+      return pdf(ti, po_ - pi);
     }
-    if (q < 0) return s;
-    // 3. φ from lobe q.
-    const int band = t_.band_of(f.beta_n);
-    const double pi = 3.14159265358979323846;
-    const double phi = q < explicit_ ? n[q].sample(n_axis_[band][q], open_unit(u[2])) : (2.0 * open_unit(u[2]) - 1.0) * pi;
-    if (!(phi == phi)) return s;
-    const double pphi = phi_sum(f, share, n, norm, phi);
-    const double pdf = m * pphi;
-    if (!(pdf > 0.0) || !(phi == phi)) return s;
-    const double phi_i = po - phi;
-    const double cti = std::cos(ti);
-    s.wi[0] = std::sin(ti), s.wi[1] = cti * std::cos(phi_i), s.wi[2] = cti * std::sin(phi_i);
-    s.theta_i = ti, s.phi = phi, s.pdf = pdf, s.lobe = q;
-    double rgb[3];
-    eval(f, to, ti, phi, rgb);
-    for (int c = 0; c < 3; ++c) s.weight[c] = rgb[c] / pdf;
-    return s;
+    /// The same at θi and φ = φo − φi [rad].
+    double pdf(double theta_i, double phi) const {
+      if (!ok_ || !(theta_i == theta_i) || !(phi == phi)) return 0.0;
+      const HairScattering& r = *rt_;
+      const double m = r.theta_density(pt_, theta_i);
+      if (!(m > 0.0)) return 0.0;
+      double share[kMaxLobes];
+      Density n[kMaxLobes];
+      const double norm = r.phi_stage(f_, pt_, theta_i, share, n);
+      return norm > 0.0 ? m * r.phi_sum(f_, share, n, norm, phi) : 0.0;
+    }
+    /// S(wo, wi) per channel.
+    void eval(const double* wi, double* rgb) const {
+      double ti, pi;
+      fibre_direction_angles(wi, ti, pi);
+      rt_->eval(f_, pt_.theta_o, ti, po_ - pi, rgb);
+    }
+    /// The normalisation of sample()'s θi density: ∫ S dω averaged over the channels, with each
+    /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
+    /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fibre
+    /// the mean of the sample weights at this wo; 0 where nothing can be sampled.
+    double albedo() const { return ok_ ? pt_.total : 0.0; }
+
+   private:
+    friend class HairScattering;
+    const HairScattering* rt_ = nullptr;
+    Fibre f_;
+    double po_ = 0.0;
+    Point pt_;
+    bool ok_ = false;
+  };
+
+  /// The shading point of fibre f seen from wo (a unit vector in the fibre frame).
+  ShadingPoint at(const Fibre& f, const double* wo) const {
+    ShadingPoint sp;
+    sp.rt_ = this, sp.f_ = f;
+    double to;
+    fibre_direction_angles(wo, to, sp.po_);
+    sp.pt_.theta_o = to;
+    sp.ok_ = valid_ && to == to && sp.po_ == sp.po_ && at_theta_o(f, to, sp.pt_);
+    return sp;
   }
+  /// at(f, wo).sample(u).
+  ScatteringSample sample(const Fibre& f, const double* wo, const double* u) const { return at(f, wo).sample(u); }
+  /// at(f, wo).pdf(wi).
+  double pdf(const Fibre& f, const double* wo, const double* wi) const { return at(f, wo).pdf(wi); }
+  /// at(f, wo).albedo().
+  double albedo(const Fibre& f, const double* wo) const { return at(f, wo).albedo(); }
 
  private:
-  // A density along one axis at one lookup: the mixture path where it is exact, else the
-  // blended row (axis_sampling.hpp).
-  struct Density {
-    typename AxisSampler<T>::Mix mix;
-    AxisRow row;
-    bool mixed = false;
-    double total = 0.0;
-    void at(const AxisSampler<T>& s, const double* x) {
-      mixed = s.mix(x, mix);
-      if (mixed) {
-        total = mix.total;
-      } else {
-        s.blend(x, row);
-        total = row.ok ? row.total : 0.0;
-      }
-      if (!(total > 0.0)) total = 0.0;
-    }
-    double value(const AxisSampler<T>& s, double x) const { return mixed ? s.mix_value(mix, x) : s.value(row, x); }
-    double sample(const AxisSampler<T>& s, double u) const { return mixed ? s.sample_mix(mix, u) : s.sample(row, u); }
-  };
-  // What depends on the fibre and θo only: each lobe's θi density (M̃_p cos θi over θi) and the
-  // mixture weights c_p of step 1.
-  struct Point {
-    double theta_o = 0.0;
-    AxisRow m[kMaxLobes];      // M̃_p along θi at (β_m, θo)
-    ProductRow g[kMaxLobes];   // M̃_p Ê_p cos θi along θi
-    double c[kMaxLobes] = {};  // each lobe's share of m: its total over the sum
-    double total = 0.0;        // G
-  };
-  // The lobe energies on the nodes of their energy table (σa × θd, linear in both), for Ê.
-  struct Shaping {
-    std::vector<double> e;  // [σa node][θd node]
-    PreparedAxis sigma, theta;
-    bool valid = false;
-  };
-
   static double open_unit(double u) {
     constexpr double eps = 9.094947017729282e-13;  // 2^-40
     if (!(u == u)) u = 0.0;
