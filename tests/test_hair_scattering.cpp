@@ -7,7 +7,8 @@
 //     Hair.WhiteFurnace, Hair.HOnTheEdge, Hair.WhiteFurnaceSampled, Hair.SamplingWeights,
 //     Hair.SamplingConsistency;
 //   Mitsuba 3 src/bsdfs/tests/test_hair.py at commit 0fec507e35a820a2fc0f3079686a3ee34b5697ad:
-//     test04_sample_numeric.
+//     test04_sample_numeric, and test06_chi2 with the χ² test of src/python/python/chi2.py (same
+//     domain, resolution, sample count, pooling and significance level).
 // Both peers take roughness in [0, 1]; their plugins map it to the Bessel M_p's variance
 // v = (0.726 β_m + 0.812 β_m² + 3.7 β_m²⁰)² and to a logistic scale s = √(π/8) (0.265 β_n + 1.194
 // β_n² + 5.372 β_n²²). hairlut's β_m is √v and its β_n the standard deviation of a Gaussian, taken
@@ -24,10 +25,12 @@
 #include <hairlut/util/angles.hpp>
 
 #include <algorithm>
+#include <boost/math/special_functions/gamma.hpp>
 #include <cmath>
 #include <fstream>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "catch.hpp"
@@ -348,5 +351,97 @@ TEST_CASE("HairScattering: sampled densities integrate to one over the sphere", 
       INFO("tilted " << tilted << " beta_m " << f.beta_m << " theta_o " << to);
       CHECK(s == Approx(1.0).epsilon(2e-3));
     }
+  }
+}
+
+TEST_CASE("HairScattering: Mitsuba 3 test06_chi2, samples distributed as pdf() says", "[scattering]") {
+  // Mitsuba's ChiSquareTest on its SphericalDomain: bins uniform in (azimuth, cos of the polar angle)
+  // — here the fibre frame's φi = atan2(z, y) and x = sin θi, the same equal-area grid — res 301
+  // giving 301 × 150 bins, 10⁶ samples, expected counts from pdf() integrated over each bin (4 × 4
+  // midpoints, Mitsuba's ires 4), bins expected below 5 pooled, significance 0.01 with the Šidák
+  // correction over the configurations run here (Mitsuba runs each at 0.01). Mitsuba's roughness
+  // grid (long 0.2 … 1, azimuthal 0.8 … 1) maps beyond the default tables' 45° for every azimuthal
+  // value, so the azimuthal roughness runs over pbrt's 0.2 and 0.6 instead (12° and 45°, clamped), and
+  // the longitudinal over Mitsuba's ends 0.2 and 1 (10° and 45°, clamped);
+  // wi of Mitsuba's θ 0 and 0.99 π/4 at φ π/2, and σa 0.8, as there; the shipped (tilted) tables.
+  const Runtime& rt = runtime(true);
+  const int na = 301, nb = 150;
+  const long count = 1000000;
+  std::vector<std::array<double, 4>> configs;  // long, azimuthal, θ, φ of wo
+  for (double bm : {0.2, 1.0})
+    for (double bn : {0.2, 0.6})
+      for (double th : {0.0, 0.99 * kPi / 4.0})
+        configs.push_back({bm, bn, th, kPi / 2.0});
+  const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / static_cast<double>(configs.size()));
+  struct Result {
+    bool valid = false;
+    double chi2 = 0.0, p = 0.0;
+    int dof = 0;
+  };
+  std::vector<Result> results(configs.size());
+  // One configuration per task on two threads (each with its own seed); the checks follow on this
+  // thread (Catch's assertions are not thread-safe).
+  auto run = [&](std::size_t ci) {
+    const auto& c = configs[ci];
+    Rng rng(4 + ci);
+    Result& res = results[ci];
+    const sampler::Fibre f = fibre(rt, c[0], c[1], 0.8);
+    const double wo[3] = {std::sin(c[2]) * std::cos(c[3]), std::sin(c[2]) * std::sin(c[3]), std::cos(c[2])};
+    // Mitsuba's wi is (sin θ cos φ, sin θ sin φ, cos θ) with z the surface normal; the hair frame's x
+    // is along the fibre, so its first component is the fibre-frame x here.
+    const Runtime::ShadingPoint sp = rt.at(f, wo);
+    res.valid = sp.valid();
+    if (!res.valid) return;
+    std::vector<double> observed(static_cast<std::size_t>(na * nb), 0.0), expected(observed.size(), 0.0);
+    for (long i = 0; i < count; ++i) {
+      const double u[3] = {rng(), rng(), rng()};
+      const sampler::ScatteringSample s = sp.sample(u);
+      if (!(s.pdf > 0.0)) continue;
+      const double az = std::atan2(s.wi[2], s.wi[1]);
+      const int a = std::clamp(static_cast<int>((az + kPi) / (2.0 * kPi) * na), 0, na - 1);
+      const int b = std::clamp(static_cast<int>((s.wi[0] + 1.0) / 2.0 * nb), 0, nb - 1);
+      observed[static_cast<std::size_t>(a * nb + b)] += 1.0;
+    }
+    const double cell = (2.0 * kPi / na) * (2.0 / nb) / 16.0;
+    for (int a = 0; a < na; ++a)
+      for (int b = 0; b < nb; ++b) {
+        double sum = 0.0;
+        for (int i = 0; i < 4; ++i)
+          for (int j = 0; j < 4; ++j) {
+            const double az = -kPi + (a + (i + 0.5) / 4.0) * 2.0 * kPi / na, x = -1.0 + (b + (j + 0.5) / 4.0) * 2.0 / nb;
+            const double r = std::sqrt(std::max(0.0, 1.0 - x * x)), wi[3] = {x, r * std::cos(az), r * std::sin(az)};
+            sum += sp.pdf(wi);
+          }
+        expected[static_cast<std::size_t>(a * nb + b)] = sum * cell * count;
+      }
+    // Pool the bins expected below 5 (in increasing order of expectation, as Mitsuba does), then χ².
+    std::vector<std::size_t> order(observed.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return expected[x] < expected[y]; });
+    double pool_o = 0.0, pool_e = 0.0;
+    for (std::size_t k : order) {
+      if (expected[k] < 5.0) {
+        pool_o += observed[k], pool_e += expected[k];
+        if (pool_e >= 5.0) res.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e, ++res.dof, pool_o = pool_e = 0.0;
+        continue;
+      }
+      res.chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+      ++res.dof;
+    }
+    if (pool_e > 0.0) res.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e, ++res.dof;
+    res.p = boost::math::gamma_q(0.5 * (res.dof - 1), 0.5 * res.chi2);
+  };
+  std::thread second([&] {
+    for (std::size_t ci = 1; ci < configs.size(); ci += 2) run(ci);
+  });
+  for (std::size_t ci = 0; ci < configs.size(); ci += 2) run(ci);
+  second.join();
+  for (std::size_t ci = 0; ci < configs.size(); ++ci) {
+    const auto& c = configs[ci];
+    const Result& r = results[ci];
+    INFO("long " << c[0] << " azimuthal " << c[1] << " theta " << c[2] << ": chi2 " << r.chi2 << " with " << r.dof - 1 << " dof, p " << r.p
+                 << " (alpha " << alpha << ")");
+    REQUIRE(r.valid);
+    CHECK(r.p > alpha);
   }
 }
