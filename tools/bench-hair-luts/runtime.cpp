@@ -185,6 +185,8 @@ json bench_runtime(const Settings& st) {
                  {"hairlut_shading_point_ns", rt_point},
                  {"white_fibre_weights", weights}};
   std::ostringstream md, csv;
+  md << "Machine: " << st.machine.value("cpu", std::string("?")) << ", load average " << load_average() << "; command: bench-hair-luts --only runtime --out "
+     << st.out_dir << (st.quick ? " --quick" : "") << "; " << result["timing"].get<std::string>() << ".\n\n";
   md << "| call | pbrt-v4 (float) ns | hairlut HairScattering ns | hairlut / pbrt | target |\n|---|---|---|---|---|\n"
      << "| sample | " << fmt(pbrt_sample) << " | " << fmt(rt_sample) << " | " << fmt(rt_sample / pbrt_sample) << " | <= 1 |\n"
      << "| pdf | " << fmt(pbrt_pdf) << " | " << fmt(rt_pdf) << " | " << fmt(rt_pdf / pbrt_pdf) << " | <= 1 |\n"
