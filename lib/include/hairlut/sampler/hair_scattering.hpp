@@ -4,7 +4,8 @@
 // Header-only and dependency-free (C++17, with sampler_fibre.hpp and axis_sampling.hpp). Built once
 // from the typed views of a table set (HairTables: tensor or β-band N_p, M_p, the residual), then
 // const and shareable between threads. A fibre is plain data (Fibre: RGB σa, β_m, β_n): there is no
-// per-fibre setup, so σa may change per strand or per shading point.
+// per-fibre setup, so σa may change per strand or per shading point. Fibre::tilt adds a cuticle
+// scale angle to the tilts the tables were baked with.
 //
 // Frame and angles (pbrt's hair frame): x along the fibre from root to tip, y–z the normal plane;
 // θ = asin x, φ = atan2(z, y). wo is the direction the renderer holds (towards the viewer or the
@@ -184,7 +185,7 @@ class HairScattering {
     const double theta_d = 0.5 * (theta_o - theta_i);
     const NpLobe<T, double>* np = t_.np_at(f.beta_n);
     for (int p = 0; p < lobes_; ++p) {
-      const double m = mp(p, f.beta_m, theta_i, theta_o);
+      const double m = mp(p, f.beta_m, theta_i, held(f, p, theta_o));
       if (!(m > 0.0)) continue;
       for (int c = 0; c < 3; ++c) {
         const double n = p < explicit_ ? np[p](f.beta_n, f.sigma_a[c], theta_d, phi) : t_.np_residual(f.sigma_a[c], theta_d);
@@ -311,6 +312,14 @@ class HairScattering {
     if (!(u == u)) u = 0.0;
     return eps + std::min(std::max(u, 0.0), 1.0) * (1.0 - 2.0 * eps);
   }
+  // The held angle at which lobe p's M_p table is read: θo moved by the fibre's extra tilt (see
+  // Fibre::tilt), folded back across a pole as the baker folds a tilted angle.
+  double held(const Fibre& f, int p, double theta_o) const {
+    if (f.tilt == 0.0 || p >= explicit_ || p > 2) return theta_o;
+    const double shift = p == 0 ? 2.0 * f.tilt : p == 1 ? -f.tilt : -4.0 * f.tilt, half_pi = 1.57079632679489661923;
+    const double t = theta_o - shift;
+    return t > half_pi ? 2.0 * half_pi - t : t < -half_pi ? -2.0 * half_pi - t : t;
+  }
   double mp(int p, double beta_m, double theta_i, double theta_o) const {
     return p < explicit_ ? t_.mp[p](beta_m, theta_i, theta_o) : t_.mp_residual(beta_m, theta_i, theta_o);
   }
@@ -325,10 +334,10 @@ class HairScattering {
   }
   bool at_theta_o(const Fibre& f, double theta_o, Point& pt) const {
     pt.theta_o = theta_o;
-    const double x[2] = {f.beta_m, theta_o};
     Lerp ls[kMaxLobes][3];
     double sum = 0.0;
     for (int p = 0; p < lobes_; ++p) {
+      const double x[2] = {f.beta_m, held(f, p, theta_o)};
       m_axis_[p].blend(x, pt.m[p], false);
       pt.c[p] = 0.0;
       if (!pt.m[p].ok) continue;

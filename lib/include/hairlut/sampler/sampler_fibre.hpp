@@ -214,6 +214,10 @@ struct Fibre {
   double sigma_a[3] = {0.0, 0.0, 0.0};
   double beta_m = 0.0;
   double beta_n = 0.0;
+  /// A cuticle scale angle α [rad] added to the tilts the M_p tables were baked with, in pbrt-v4's
+  /// convention: R's lobe moves by 2α, TT's by −α and TRT's by −4α (hairlut's α_p; TRRT and the
+  /// residual not at all, as in pbrt). Read by HairScattering only.
+  double tilt = 0.0;
 };
 
 /// S(θi, θr, φ) per channel for one fibre, from the tables only.
