@@ -1,6 +1,7 @@
 // render-hair-luts: renders a small patch of parallel hair fibres lit by a directional light and a
-// uniform environment, once from baked tables through the header-only sampler (sampling.hpp, as an
-// engine would: eval for the light, importance sampling for the environment) and once from direct
+// uniform environment, once from baked tables as a renderer reads them (generic tables through the
+// renderer runtime hair_scattering.hpp, a material's tables through sampling.hpp: eval for the light,
+// importance sampling for the environment) and once from direct
 // evaluation of the physics (d'Eon's M_p, N_p by the baker's quadrature, exact lobe energies for
 // the residual), and writes both beside their difference as PNG. Thin: the physics and the table
 // reading live in the library.
@@ -8,9 +9,10 @@
 // The picture: fibres run down the image, waving in the image plane and leaning towards and away
 // from the camera, which looks along −z
 // (orthographic). Each fibre is shaded by its far-field scattering function, so a fibre's colour
-// depends on its tangent only: L = L_sun · S(θl, θv, φ) + L_env · ∫ S(θv, θr, φ) dω, the
-// environment term being the directional albedo from the view direction (the environment's
-// radiance scattered towards the viewer for a reciprocal S; with tilted lobes it stands in for it).
+// depends on its tangent only: L = L_sun · S(wo = view, wi = light) + L_env · ∫ S(wo = view, wi) dωi,
+// the environment's radiance scattered towards the viewer (the runtime holds wo, the tables' θr; the
+// lobe sampler of a material's tables holds θi = θv instead, which equals it for a reciprocal S and
+// stands in for it with tilted lobes).
 // The tables' image estimates that integral from samples drawn by the tables' sampler; the direct
 // image uses the same directions with the physics' S, so sampling noise cancels in the difference
 // and what remains is interpolation error.
@@ -27,6 +29,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <hairlut/physics/attenuation.hpp>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
@@ -37,6 +40,7 @@
 #include <hairlut/physics/melanin.hpp>
 #include <hairlut/bake/np_point.hpp>
 #include <hairlut/io/table_io.hpp>
+#include <hairlut/tables/hair_views.hpp>
 #include <hairlut/tables/table_sampling.hpp>
 #include <hairlut/report/validate.hpp>
 #include <nlohmann/json.hpp>
@@ -290,6 +294,15 @@ int main(int argc, char** argv) {
       }
       // Shade every (fibre, row): the tangent is the same across a fibre's width.
       std::vector<double> table_px(static_cast<std::size_t>(fibres * height * 3)), direct_px(table_px.size()), bound_px(table_px.size());
+      // Generic tables through the renderer runtime (one fibre, RGB at once; the view direction held,
+      // as a path tracer holds wo); a material's tables through the lobe sampler of sampling.hpp.
+      std::optional<hairlut::sampler::HairScattering<float>> runtime;
+      hairlut::sampler::Fibre rt_fibre;
+      if (look.group.empty()) {
+        runtime.emplace(hairlut::hair_scattering<float>(set));
+        for (int c = 0; c < 3; ++c) rt_fibre.sigma_a[c] = look.sigma_a[c];
+        rt_fibre.beta_m = rt_fibre.beta_n = look.fibre[0].beta;
+      }
       for (int c = 0; c < 3; ++c) {
         const hairlut::sampler::FibreSampler<float> fibre(h.lobes.data(), static_cast<int>(h.lobes.size()), look.fibre[c]);
         const HairSampler<double>& smp = fibre.sampler();
@@ -317,15 +330,33 @@ int main(int argc, char** argv) {
             double phi = pv - pl;
             phi = std::remainder(phi, 2.0 * kPi);
             const FibreCoordinates& f = look.fibre[c];
-            double lt = l_sun * smp.eval(f, tl, tv, phi), ld = l_sun * direct_s(look, c, eta, path, tl, tv, phi);
+            double lt = 0.0, ld = l_sun * direct_s(look, c, eta, path, tl, tv, phi);
             double lb = l_sun * bound(f, tl, tv, phi, row);
             double et = 0.0, ed = 0.0, eb = 0.0;
-            for (int k = 0; k < env_samples; ++k) {
-              const auto s = smp.sample(f, tv, u(rng), u(rng), u(rng), ws);
-              if (!(s.pdf > 0.0)) continue;
-              et += s.value / s.pdf;
-              ed += direct_s(look, c, eta, path, tv, s.theta_r, s.phi) / s.pdf;
-              eb += bound(f, tv, s.theta_r, s.phi, row) / s.pdf;
+            if (runtime) {
+              // S(wo = view, wi = light), then the environment through samples of wi at wo.
+              double rgb_s[3];
+              runtime->eval(rt_fibre, tv, tl, phi, rgb_s);
+              lt = l_sun * rgb_s[c];
+              const double wo[3] = {std::sin(tv), std::cos(tv), 0.0};
+              const auto point = runtime->at(rt_fibre, wo);
+              for (int k = 0; k < env_samples; ++k) {
+                const double uu[3] = {u(rng), u(rng), u(rng)};
+                const auto s = point.sample(uu);
+                if (!(s.pdf > 0.0)) continue;
+                et += s.weight[c];
+                ed += direct_s(look, c, eta, path, s.theta_i, tv, s.phi) / s.pdf;
+                eb += bound(f, s.theta_i, tv, s.phi, row) / s.pdf;
+              }
+            } else {
+              lt = l_sun * smp.eval(f, tl, tv, phi);
+              for (int k = 0; k < env_samples; ++k) {
+                const auto s = smp.sample(f, tv, u(rng), u(rng), u(rng), ws);
+                if (!(s.pdf > 0.0)) continue;
+                et += s.value / s.pdf;
+                ed += direct_s(look, c, eta, path, tv, s.theta_r, s.phi) / s.pdf;
+                eb += bound(f, tv, s.theta_r, s.phi, row) / s.pdf;
+              }
             }
             lt += l_env * et / env_samples, ld += l_env * ed / env_samples, lb += l_env * eb / env_samples;
             const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);
