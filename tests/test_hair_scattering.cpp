@@ -22,6 +22,7 @@
 #include <hairlut/physics/lobe_energy.hpp>
 #include <hairlut/physics/longitudinal_mp.hpp>
 #include <hairlut/tables/hair_views.hpp>
+#include <hairlut/tables/table_sampling.hpp>
 #include <hairlut/util/angles.hpp>
 
 #include <algorithm>
@@ -465,4 +466,47 @@ TEST_CASE("HairScattering: Mitsuba 3 test06_chi2, samples distributed as pdf() s
     REQUIRE(r.valid);
     CHECK(r.p > alpha);
   }
+}
+
+TEST_CASE("HairScattering: a set baked in beta bands serves each band with the residual", "[scattering][bands]") {
+  // Untilted, white: in every band the weights equal the albedo at wo (all lobes share M_p), and the
+  // residual is one of the lobes sampled.
+  const nlohmann::json j = nlohmann::json::parse(R"({
+    "name": "bands", "lobes": { "explicit": ["R", "TT", "TRT"], "residual": true },
+    "tables": {
+      "np": { "normalize": "energy",
+        "axes": { "theta_d": { "count": 12, "range_deg": [0, 85], "interpolation": "cubic" },
+                  "phi": { "count": 24, "symmetry": "even", "interpolation": "cubic" },
+                  "sigma_a": { "count": 4, "range": [0, 4], "spacing": "sqrt", "interpolation": "cubic", "lo_end": "mirror" },
+                  "beta": { "count": 3, "range_deg": [4, 30], "spacing": "log" } },
+        "beta_bands": [ { "beta": { "count": 3, "range_deg": [4, 10], "spacing": "log", "interpolation": "cubic" } },
+                        { "beta": { "count": 3, "range_deg": [10, 30], "interpolation": "cubic" }, "phi": { "count": 16 } } ] },
+      "mp": { "axes": { "theta_i": { "count": 37, "range_deg": [-90, 90] }, "theta_r": { "count": 37, "range_deg": [-90, 90] },
+                        "beta": { "count": 3, "range_deg": [5, 20] } } } },
+    "output": { "basename": "bands", "formats": ["hdf5"] }
+  })");
+  const TableSet set = bake(parse_config(j, "bands.json", "."));
+  const Runtime rt = hair_scattering<float>(set);
+  REQUIRE(rt.valid());
+  REQUIRE(rt.lobes() == 4);
+  Rng rng(29);
+  for (double beta_n_deg : {6.0, 20.0}) {
+    sampler::Fibre f;
+    f.beta_m = radians(10.0), f.beta_n = radians(beta_n_deg);
+    int residual = 0;
+    for (int i = 0; i < 2000; ++i) {
+      double wo[3];
+      uniform_sphere(rng(), rng(), wo);
+      const double u[3] = {rng(), rng(), rng()};
+      const sampler::ScatteringSample s = rt.sample(f, wo, u);
+      REQUIRE(s.pdf > 0.0);
+      CHECK(average(s.weight) / rt.albedo(f, wo) == Approx(1.0).epsilon(1e-3));
+      CHECK(rt.pdf(f, wo, s.wi) == Approx(s.pdf).epsilon(1e-9));
+      residual += s.lobe == 3;
+    }
+    INFO("beta_n " << beta_n_deg << " deg: " << residual << " of 2000 samples from the residual");
+    CHECK(residual > 0);
+  }
+  // The lobe sampler's loader gives every band the residual too.
+  for (int band : {0, 1}) CHECK(hairlut::hair_tables(set, "", band).lobes.size() == 4);
 }

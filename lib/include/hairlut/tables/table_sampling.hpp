@@ -5,6 +5,7 @@
 // stored next to those tables (docs/table-format.md, "Sampling data"): made, found and checked.
 #pragma once
 
+#include <algorithm>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -83,7 +84,9 @@ inline HairTables hair_tables(const TableSet& set, const std::string& group, int
   for (const Table& t : set.tables) {
     if (t.quantity != "N_p") continue;
     if (generic ? t.group != "np" : (t.group != group || t.name.rfind("np_", 0) != 0)) continue;
-    if (t.attributes.contains("beta_band") ? t.attributes["beta_band"].value("index", 0) != beta_band : beta_band != 0) continue;
+    // A banded table serves its own band; one without a β axis (the residual) serves every band.
+    const bool has_beta = std::any_of(t.axes.begin(), t.axes.end(), [](const GridAxis& a) { return a.name == "beta"; });
+    if (t.attributes.contains("beta_band") ? t.attributes["beta_band"].value("index", 0) != beta_band : beta_band != 0 && has_beta) continue;
     const std::string lobe = t.attributes.value("lobe", std::string());
     const std::string mp = generic ? "mp/" + lobe : group + "/mp_" + lobe;
     const std::string energy = generic ? "np/energy_" + lobe : group + "/energy_" + lobe;
