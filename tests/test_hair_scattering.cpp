@@ -510,3 +510,38 @@ TEST_CASE("HairScattering: a set baked in beta bands serves each band with the r
   // The lobe sampler's loader gives every band the residual too.
   for (int band : {0, 1}) CHECK(hairlut::hair_tables(set, "", band).lobes.size() == 4);
 }
+
+TEST_CASE("HairScattering: finite, nonnegative values and a sample at every extreme of a fibre", "[scattering][stress]") {
+  // σa from 0 to 1e300, β from 1e-9 to 1e9 rad (clamped to the tables' ranges), tilts up to 1.5 rad,
+  // wo along the fibre, u at 0 and 1.
+  const Runtime& rt = runtime(true);
+  Rng rng(31);
+  const double sas[] = {0.0, 1e-12, 0.5, 16.0, 1e3, 1e300}, betas[] = {1e-9, 0.01, 0.3, 0.785, 2.0, 1e9}, tilts[] = {0.0, 0.05, -0.3, 1.5};
+  long cases = 0, unsampled = 0, bad = 0;
+  for (double sa : sas)
+    for (double b : betas)
+      for (double t : tilts)
+        for (int i = 0; i < 30; ++i) {
+          sampler::Fibre f;
+          f.sigma_a[0] = sa, f.sigma_a[1] = 0.5 * sa, f.sigma_a[2] = 0.0;
+          f.beta_m = b, f.beta_n = betas[i % 6], f.tilt = t;
+          const double z = i % 10 == 0 ? 1.0 : i % 10 == 1 ? -1.0 : 1.0 - 2.0 * rng(), r = std::sqrt(std::max(0.0, 1.0 - z * z)), a = 2.0 * kPi * rng();
+          const double wo[3] = {z, r * std::cos(a), r * std::sin(a)};
+          const double u[3] = {i % 7 == 0 ? 0.0 : rng(), i % 5 == 0 ? 0.0 : rng(), i % 3 == 0 ? 1.0 : rng()};
+          const sampler::ScatteringSample s = rt.sample(f, wo, u);
+          ++cases;
+          if (!(s.pdf > 0.0)) {
+            ++unsampled;
+            continue;
+          }
+          double rgb[3];
+          rt.eval(f, wo, s.wi, rgb);
+          const double p = rt.pdf(f, wo, s.wi);
+          bool ok = std::isfinite(s.pdf) && std::isfinite(p) && p > 0.0;
+          for (int c = 0; c < 3; ++c) ok = ok && std::isfinite(s.weight[c]) && s.weight[c] >= 0.0 && std::isfinite(rgb[c]) && rgb[c] >= 0.0;
+          bad += !ok;
+        }
+  INFO(cases << " cases, " << unsampled << " without a sample");
+  CHECK(unsampled == 0);
+  CHECK(bad == 0);
+}
