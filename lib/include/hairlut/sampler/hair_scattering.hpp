@@ -1,7 +1,7 @@
 // hairlut::sampler::HairScattering — what a renderer calls per shading point: eval, sample and pdf
 // of S = Σ_p M_p N_p from d'Eon 2011 tables, with directions in the fibre frame.
 //
-// Header-only and dependency-free (C++17, with sampler_fibre.hpp and axis_sampling.hpp). Built once
+// Header-only and dependency-free (C++17, with sampler_fibre.hpp, axis_sampling.hpp and product_row.hpp). Built once
 // from the typed views of a table set (HairTables: tensor or β-band N_p, M_p, the residual), then
 // const and shareable between threads. A fibre is plain data (Fibre: RGB σa, β_m, β_n): there is no
 // per-fibre setup, so σa may change per strand or per shading point. Fibre::tilt adds a cuticle
@@ -28,7 +28,7 @@
 //      interpolation of Ê (Ē: the tables' energies, averaged over the three channels);
 //   3. φ from lobe q's interpolated N_p shape at (β_n, σ̄a, θd), σ̄a the mean of the channels
 //      (Z^φ_q its integral over φ); the residual is uniform in φ.
-// Each stage inverts the interpolant's own piecewise-polynomial CDF (axis_sampling.hpp), so
+// Each stage inverts its density's own piecewise-polynomial CDF (product_row.hpp, axis_sampling.hpp), so
 //   pdf = m(θi) / cos θi · Σ_q π_q(θi) n_q(φ) / Z^φ_q   per unit solid angle (dω = cos θi dθi dφ),
 // and a sample's weight S / pdf is, in pbrt's terms, f |cos θ| / pdf (S = ∫ over dω carries the cos).
 // Each u ∈ [0, 1) is mapped into [ε, 1 − ε] (ε = 2⁻⁴⁰) so that u = 0 never lands on a zero of the
@@ -94,8 +94,8 @@ class HairScattering {
     double value(const AxisSampler<T>& s, double x) const { return mixed ? s.mix_value(mix, x) : s.value(row, x); }
     double sample(const AxisSampler<T>& s, double u) const { return mixed ? s.sample_mix(mix, u) : s.sample(row, u); }
   };
-  // What depends on the fibre and θo only: each lobe's θi density (M̃_p cos θi over θi) and the
-  // mixture weights c_p of step 1.
+  // What depends on the fibre and θo only: each lobe's M̃_p row along θi, its product row M̃_p Ê_p
+  // cos θi, and the lobe's share c_p of step 1's density.
   struct Point {
     double theta_o = 0.0;
     AxisRow m[kMaxLobes];      // M̃_p along θi at (β_m, θo)
@@ -391,7 +391,7 @@ class HairScattering {
     }
     sh.valid = !sh.e.empty();
   }
-  // m(θi) / cos θi = Σ_p c_p M̃_p(θi) / Z_p: the θ factor of the pdf per unit solid angle (m, the
+  // m(θi) / cos θi = Σ_p M̃_p(θi) Ê_p(θi) / G: the θ factor of the pdf per unit solid angle (m, the
   // density of θi per radian, carries the cos θi of dω).
   double theta_density(const Point& pt, double theta_i) const {
     double m = 0.0;
