@@ -183,11 +183,16 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnaceSampled, importance-sampled 
   }
 }
 
-TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre (untilted tables)", "[scattering]") {
-  const Runtime& rt = runtime(false);
-  Rng rng(13);
+// pbrt-v4's SamplingWeights loop (β_m 0.1 … 0.9, β_n 0.4 … 0.8, 10,000 samples each, wo uniform on
+// the sphere, σa 0): the samples whose weight, divided by the albedo at wo when asked, lies outside
+// (0.99, 1.01), and the range of those values.
+struct WeightSpread {
   int outside = 0, total = 0;
   double lo = 1.0, hi = 1.0;
+};
+WeightSpread pbrt_sampling_weights(const Runtime& rt, unsigned long long seed, bool over_albedo) {
+  WeightSpread r;
+  Rng rng(seed);
   for (double bm = 0.1; bm < 1.0; bm += 0.2)
     for (double bn = 0.4; bn < 1.0; bn += 0.2) {
       const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
@@ -197,42 +202,29 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight o
         const double u[3] = {rng(), rng(), rng()};
         const sampler::ScatteringSample s = rt.sample(f, wo, u);
         if (!(s.pdf > 0.0)) continue;
-        const double w = average(s.weight);
-        ++total;
-        lo = std::min(lo, w), hi = std::max(hi, w);
-        if (!(w > 0.99 && w < 1.01)) ++outside;
+        const double w = average(s.weight) / (over_albedo ? rt.albedo(f, wo) : 1.0);
+        ++r.total;
+        r.lo = std::min(r.lo, w), r.hi = std::max(r.hi, w);
+        if (!(w > 0.99 && w < 1.01)) ++r.outside;
       }
     }
-  INFO(total << " samples, weights in [" << lo << ", " << hi << "]");
-  CHECK(total == 150000);
-  CHECK(outside == 0);
+  return r;
+}
+
+TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre (untilted tables)", "[scattering]") {
+  const WeightSpread r = pbrt_sampling_weights(runtime(false), 13, false);
+  INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
+  CHECK(r.total == 150000);
+  CHECK(r.outside == 0);
 }
 
 TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights on tilted tables, every weight is the albedo at wo to 1%", "[scattering]") {
   // Tilted d'Eon lobes do not conserve energy (their albedo at wo is the mean weight there, and it
   // is not 1 near grazing), so the weights' spread about it is what measures the sampling.
-  const Runtime& rt = runtime(true);
-  Rng rng(19);
-  int outside = 0, total = 0;
-  double lo = 1.0, hi = 1.0;
-  for (double bm = 0.1; bm < 1.0; bm += 0.2)
-    for (double bn = 0.4; bn < 1.0; bn += 0.2) {
-      const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
-      for (int i = 0; i < 10000; ++i) {
-        double wo[3];
-        uniform_sphere(rng(), rng(), wo);
-        const double u[3] = {rng(), rng(), rng()};
-        const sampler::ScatteringSample s = rt.sample(f, wo, u);
-        if (!(s.pdf > 0.0)) continue;
-        const double w = average(s.weight) / rt.albedo(f, wo);
-        ++total;
-        lo = std::min(lo, w), hi = std::max(hi, w);
-        if (!(w > 0.99 && w < 1.01)) ++outside;
-      }
-    }
-  INFO(total << " samples, weight / albedo in [" << lo << ", " << hi << "]");
-  CHECK(total == 150000);
-  CHECK(outside == 0);
+  const WeightSpread r = pbrt_sampling_weights(runtime(true), 19, true);
+  INFO(r.total << " samples, weight / albedo in [" << r.lo << ", " << r.hi << "]");
+  CHECK(r.total == 150000);
+  CHECK(r.outside == 0);
 }
 
 TEST_CASE("HairScattering: the albedo of tilted tables is the model's, grazing included", "[scattering]") {

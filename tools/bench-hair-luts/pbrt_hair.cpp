@@ -242,14 +242,7 @@ PbrtHair::Sampled PbrtHair::sample_f(PbrtVec3 wo, float uc, float u0, float u1) 
   const float phi_i = phi_o + dphi;
   Sampled r;
   r.wi = {sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i)};
-  float pdf = 0.0f;
-  for (int q = 0; q < kPMax; ++q) {
-    float s, c;
-    tilted(q, sin_o, cos_o, sin2k_, cos2k_, s, c);
-    pdf += longitudinal(cos_i, std::abs(c), sin_i, s, v_[q]) * apdf[static_cast<std::size_t>(q)] * azimuthal(dphi, q, s_, gamma_o, gamma_t);
-  }
-  pdf += longitudinal(cos_i, cos_o, sin_i, sin_o, v_[kPMax]) * apdf[kPMax] * (1.0f / (2.0f * kPi));
-  r.pdf = pdf;
+  r.pdf = mixture_pdf(sin_o, cos_o, sin_i, cos_i, dphi, gamma_o, gamma_t, apdf);
   r.f = f(wo, r.wi);
   return r;
 }
@@ -262,7 +255,13 @@ float PbrtHair::pdf(PbrtVec3 wo, PbrtVec3 wi) const {
   const float etap = safe_sqrt(eta_ * eta_ - sq(sin_o)) / cos_o;
   const float gamma_o = safe_asin(h_), gamma_t = safe_asin(h_ / etap);
   const auto apdf = ap_pdf(cos_o, eta_, h_, sigma_a_);
-  const float phi = phi_i - phi_o;
+  return mixture_pdf(sin_o, cos_o, sin_i, cos_i, phi_i - phi_o, gamma_o, gamma_t, apdf);
+}
+
+// Σ_p M_p(θi; tilted θo) · A_p pdf · N_p(φ) and the tail's M_p / 2π: the pdf Sample_f and PDF sum
+// the same way.
+float PbrtHair::mixture_pdf(float sin_o, float cos_o, float sin_i, float cos_i, float phi, float gamma_o, float gamma_t,
+                            const std::array<float, kPMax + 1>& apdf) const {
   float pdf = 0.0f;
   for (int q = 0; q < kPMax; ++q) {
     float s, c;

@@ -39,6 +39,8 @@ class PbrtHair {
   float pdf(PbrtVec3 wo, PbrtVec3 wi) const;
 
  private:
+  float mixture_pdf(float sin_o, float cos_o, float sin_i, float cos_i, float phi, float gamma_o, float gamma_t,
+                    const std::array<float, kPMax + 1>& apdf) const;
   float h_, eta_;
   Spectrum sigma_a_;
   float v_[kPMax + 1];
