@@ -586,3 +586,36 @@ TEST_CASE("HairScattering: eval is the tables' S as TableView reads each table",
   INFO("worst |eval - TableView's S| / max(S, 1e-3): " << worst);
   CHECK(worst < 1e-5);
 }
+
+TEST_CASE("HairScattering: stored sampling data that do not describe their table are not used", "[scattering][hostile]") {
+  // A file's checksum can be recomputed after an edit: the loader checks the stored prefix masses
+  // against the table's values, and the runtime then computes its own.
+  const TableSet& clean = tilted_tables();
+  const Table* tt = clean.find("np/TT");
+  REQUIRE(tt);
+  CHECK(stored_sampling_data(clean, *tt).cdf != nullptr);
+  for (int edit = 0; edit < 3; ++edit) {
+    TableSet doctored = clean;
+    Table* mass = const_cast<Table*>(doctored.find("sampling/np/TT_mass"));
+    Table* cdf = const_cast<Table*>(doctored.find("sampling/np/TT_cdf"));
+    Table* bound = const_cast<Table*>(doctored.find("sampling/np/TT_clamp_bound"));
+    REQUIRE((mass && cdf && bound));
+    if (edit == 0) mass->f64[7] = 1e300;
+    if (edit == 1) cdf->f64[cdf->f64.size() / 2] = std::nan("");
+    if (edit == 2) bound->f32[3] = -1.0f;
+    INFO("edit " << edit);
+    CHECK(stored_sampling_data(doctored, *doctored.find("np/TT")).cdf == nullptr);
+    // The validator's comparison still sees them, NaN included.
+    if (edit < 2)
+      for (const SamplingDataCheck& c : check_sampling_data(doctored, 2))
+        if (c.table == "np/TT") CHECK(std::max(c.max_cdf_difference, c.max_mass_difference) > 1.0);
+    // The runtime of the doctored file samples as the clean one does.
+    const Runtime a = hair_scattering<float>(doctored);
+    const Runtime& b = runtime(true);
+    const sampler::Fibre f = fibre(b, 0.3, 0.3, 0.5);
+    const double wo[3] = {0.3, 0.9539392014169456, 0.0}, u[3] = {0.4, 0.5, 0.6};
+    const sampler::ScatteringSample sa = a.sample(f, wo, u), sb = b.sample(f, wo, u);
+    CHECK(sa.pdf == Approx(sb.pdf).epsilon(1e-9));
+    CHECK(a.albedo(f, wo) == Approx(b.albedo(f, wo)).epsilon(1e-12));
+  }
+}

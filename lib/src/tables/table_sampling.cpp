@@ -161,7 +161,9 @@ void append_sampling_tables(TableSet& set, int threads, const SamplingProgress& 
   for (Table& t : add) set.tables.push_back(std::move(t));
 }
 
-sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t) {
+namespace {
+// The stored arrays of t's sampling data, checked for precision and shape only.
+sampler::AxisData stored_arrays(const TableSet& set, const Table& t) {
   sampler::AxisData d;
   const Table* c = set.find(sampling_path(t, "cdf"));
   const Table* m = set.find(sampling_path(t, "mass"));
@@ -176,6 +178,25 @@ sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t) {
   d.clamp_bound = k->f32.data();
   return d;
 }
+}  // namespace
+
+sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t) {
+  const sampler::AxisData d = stored_arrays(set, t);
+  if (!d.cdf) return d;
+  const std::size_t n = grid_values(t.axes);
+  // Trusted only when they are this table's (a checksum proves the file unchanged, not that its
+  // sampling data describe its values): otherwise the sampler computes its own.
+  const auto measure = sampled_measure(t);
+  std::vector<sampler::Axis> axes;
+  for (const GridAxis& a : t.axes) axes.push_back(a.view());
+  const int dims = static_cast<int>(axes.size());
+  bool ok = false;
+  if (measure && t.precision == Precision::float32 && t.f32.size() == n)
+    ok = sampler::AxisSampler<float>(t.f32.data(), axes.data(), dims, *measure, d).matches(d);
+  else if (measure && t.precision == Precision::float64 && t.f64.size() == n)
+    ok = sampler::AxisSampler<double>(t.f64.data(), axes.data(), dims, *measure, d).matches(d);
+  return ok ? d : sampler::AxisData();
+}
 
 std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set, int threads) {
   std::vector<SamplingDataCheck> out;
@@ -184,7 +205,7 @@ std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set, int thre
     if (!m || !supported(t, *m)) continue;
     SamplingDataCheck r;
     r.table = t.path();
-    const sampler::AxisData d = stored_sampling_data(set, t);
+    const sampler::AxisData d = stored_arrays(set, t);  // compared below even where the sampler would not use them
     if (!d.cdf) {
       r.present = set.find(sampling_path(t, "cdf")) || set.find(sampling_path(t, "mass")) || set.find(sampling_path(t, "clamp_bound"));
       r.problem = r.present ? "stored sampling data have the wrong precision or shape" : "no stored sampling data";
@@ -201,8 +222,10 @@ std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set, int thre
       double scale = 0.0;
       for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::fabs(cdf[s * n + k]));
       const double norm = scale > 0.0 ? scale : 1.0;
-      for (std::size_t k = 0; k < n; ++k) r.max_cdf_difference = std::max(r.max_cdf_difference, std::fabs(cdf[s * n + k] - d.cdf[s * n + k]) / norm);
-      r.max_mass_difference = std::max(r.max_mass_difference, std::fabs(mass[s] - d.mass[s]) / norm);
+      // A NaN difference counts as infinite (std::max would drop it).
+      auto worse = [](double& worst, double diff) { worst = diff == diff ? std::max(worst, diff) : HUGE_VAL; };
+      for (std::size_t k = 0; k < n; ++k) worse(r.max_cdf_difference, std::fabs(cdf[s * n + k] - d.cdf[s * n + k]) / norm);
+      worse(r.max_mass_difference, std::fabs(mass[s] - d.mass[s]) / norm);
       bool clean = true;
       for (std::size_t k = 0; k + 1 < n; ++k) {
         const float a = bound[s * n + k], b = d.clamp_bound[s * n + k];

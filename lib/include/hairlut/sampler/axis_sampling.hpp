@@ -338,21 +338,33 @@ class AxisSampler {
     mass.assign(slices_, 0.0);
     bound.assign(slices_ * static_cast<std::size_t>(n_), 0.0f);
     if (!supported_) return;
-    const std::size_t n = static_cast<std::size_t>(n_), cells = n - 1;
+    const std::size_t cells = static_cast<std::size_t>(n_) - 1;
     std::vector<double> bern(slices_ * cells * 4);  // each slice's cells in Bernstein form
-    for (std::size_t s = 0; s < slices_; ++s) {
-      const T* v = data_ + s * n;
-      double* cum = &cdf[s * n];
-      for (int k = 0; k + 1 < n_; ++k) {
-        double c[4];
-        cell_coef(v, k, c);
-        bernstein_of_cubic(c, &bern[(s * cells + static_cast<std::size_t>(k)) * 4]);
-        const double cell = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
-        cum[k + 1] = cum[k] + cell;
-      }
-      mass[s] = cum[n - 1] * (even_ ? 2.0 : 1.0);
-    }
+    prefix_masses(cdf.data(), mass.data(), bern.data());
     clamp_bounds(bern.data(), axes_, stride_, dims_, n_, h_, bound, std::forward<RunBlocks>(run_blocks));
+  }
+  /// Whether stored sampling data (slices() × n prefix masses, slices() masses, slices() × n clamp
+  /// bounds) are those of this table: the prefix masses and masses recomputed as build_data does and
+  /// equal to within 1e-12 of each slice's largest |prefix| (rounding where a compiler contracts or
+  /// a libm's cos differs), and every clamp bound finite and ≥ 0 (they are not recomputed: that is
+  /// most of build_data's cost). A file whose checksum was recomputed after an edit of its sampling
+  /// data fails here; a NaN anywhere fails.
+  bool matches(const AxisData& stored) const {
+    if (!supported_ || !stored.cdf || !stored.mass || !stored.clamp_bound) return false;
+    const std::size_t n = static_cast<std::size_t>(n_);
+    std::vector<double> cdf(slices_ * n, 0.0), mass(slices_, 0.0);
+    prefix_masses(cdf.data(), mass.data(), nullptr);
+    for (std::size_t s = 0; s < slices_; ++s) {
+      double scale = 0.0;
+      for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::fabs(cdf[s * n + k]));
+      const double tol = 1e-12 * scale;
+      for (std::size_t k = 0; k < n; ++k)
+        if (!(std::fabs(cdf[s * n + k] - stored.cdf[s * n + k]) <= tol)) return false;
+      if (!(std::fabs(mass[s] - stored.mass[s]) <= 2.0 * tol)) return false;
+    }
+    for (std::size_t i = 0; i < slices_ * n; ++i)
+      if (!(stored.clamp_bound[i] >= 0.0f) || !(stored.clamp_bound[i] < HUGE_VALF)) return false;
+    return true;
   }
 
   /// Draws x in proportion to the density from u ∈ [0, 1); returns NaN when the row has no mass.
@@ -378,6 +390,24 @@ class AxisSampler {
   }
 
  private:
+  // Per slice the prefix masses of its unclamped interpolant at the n nodes and its mass (build_data's
+  // first part), and, when bern is not null, each cell in Bernstein form.
+  void prefix_masses(double* cdf, double* mass, double* bern) const {
+    const std::size_t n = static_cast<std::size_t>(n_), cells = n - 1;
+    for (std::size_t s = 0; s < slices_; ++s) {
+      const T* v = data_ + s * n;
+      double* cum = &cdf[s * n];
+      cum[0] = 0.0;
+      for (int k = 0; k + 1 < n_; ++k) {
+        double c[4];
+        cell_coef(v, k, c);
+        if (bern) bernstein_of_cubic(c, &bern[(s * cells + static_cast<std::size_t>(k)) * 4]);
+        const double cell = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
+        cum[k + 1] = cum[k] + cell;
+      }
+      mass[s] = cum[n - 1] * (even_ ? 2.0 : 1.0);
+    }
+  }
   // The t ∈ [0, 1] of cell k (polynomial c, clamped at 0) where the mass from 0 reaches m:
   // F(t) = ∫_0^t density by cell_mass, Newton on [lo, hi], bisection when a step leaves the
   // bracket; to rounding.

@@ -35,8 +35,9 @@ std::vector<Table> sampling_tables(const TableSet& set, int threads = 0, const S
 /// Appends sampling_tables(set, threads, progress) to the set (the baker does, after the tables
 /// are complete).
 void append_sampling_tables(TableSet& set, int threads = 0, const SamplingProgress& progress = {});
-/// The stored sampling data of table t (pointers into the set), or empty when the set has none
-/// of the right precision and shape (the sampler then computes them).
+/// The stored sampling data of table t (pointers into the set), or empty when the set has none of
+/// the right precision and shape, or when they are not t's own (AxisSampler::matches: prefix masses
+/// recomputed from t's values, clamp bounds finite and ≥ 0); the sampler then computes them.
 sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t);
 
 /// Stored sampling data against what the sampler computes from the stored values.
