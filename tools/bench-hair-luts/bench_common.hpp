@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -34,6 +35,17 @@ double best_ns(std::size_t n, int repeats, F&& f) {
   }
   return best;
 }
+
+/// Uniform doubles in [0, 1) from SplitMix64: fixed pseudo-random points, the same on every machine.
+struct SplitMix {
+  std::uint64_t state;
+  double operator()() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
+  }
+};
 
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

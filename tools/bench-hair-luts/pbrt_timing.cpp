@@ -20,13 +20,7 @@ struct Sample {
 };
 
 std::vector<Sample> pbrt_samples(std::size_t n, int hs) {
-  std::uint64_t state = 12345;
-  auto uniform = [&]() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
-  };
+  SplitMix uniform{12345};
   auto dir = [&]() {
     const double z = 2.0 * uniform() - 1.0, a = 2.0 * 3.141592653589793 * uniform(), r = std::sqrt(1.0 - z * z);
     return PbrtVec3{static_cast<float>(z), static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a))};

@@ -22,13 +22,7 @@ struct Point {
 };
 
 std::vector<Point> points(std::size_t n, int hs) {
-  std::uint64_t state = 424242;
-  auto uniform = [&]() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
-  };
+  SplitMix uniform{424242};
   std::vector<Point> p(n);
   for (Point& x : p) {
     const double z = 2.0 * uniform() - 1.0, a = 2.0 * kPiD * uniform(), r = std::sqrt(1.0 - z * z);

@@ -422,11 +422,11 @@ class HairScattering {
   // Σ_q π_q n_q(φ) / Z^φ_q [1/rad].
   double phi_sum(const Fibre& f, const double* share, const Density* n, double norm, double phi) const {
     const int band = t_.band_of(f.beta_n);
-    const double pi = 3.14159265358979323846, a = fold(phi);
+    const double pi = 3.14159265358979323846;
     double s = 0.0;
     for (int q = 0; q < lobes_; ++q) {
       if (!(share[q] > 0.0)) continue;
-      s += share[q] * (q < explicit_ ? n[q].value(n_axis_[band][q], a) / n[q].total : 1.0 / (2.0 * pi));
+      s += share[q] * (q < explicit_ ? n[q].value(n_axis_[band][q], detail::fold_phi(phi, n_axes_[band][q][3])) / n[q].total : 1.0 / (2.0 * pi));
     }
     return s / norm;
   }
@@ -435,10 +435,6 @@ class HairScattering {
   static Axis clamped(Axis a) {
     a.wrap = Wrap::clamp;
     return a;
-  }
-  static double fold(double phi) {
-    const double pi = 3.14159265358979323846;
-    return std::fabs(phi) <= pi ? std::fabs(phi) : std::fabs(std::remainder(phi, 2.0 * pi));
   }
 
   HairTables<T, double> t_;
