@@ -48,6 +48,12 @@ const Table* factor_of(const TableSet& set, const Table& t) {
   return &require<T>(set, f, {"sigma_a", "theta_d"});
 }
 
+// The same nodes and interpolation (names and labels aside).
+bool same_axis(const GridAxis& a, const GridAxis& b) {
+  return a.spacing == b.spacing && a.placement == b.placement && a.wrap == b.wrap && a.interpolation == b.interpolation && a.lo_end == b.lo_end &&
+         a.lo == b.lo && a.hi == b.hi && a.count == b.count && a.values == b.values;
+}
+
 }  // namespace
 
 template <class T, class R>
@@ -128,6 +134,51 @@ sampler::HairScattering<T> hair_scattering(const TableSet& set) {
 
 template sampler::HairScattering<float> hair_scattering<float>(const TableSet&);
 template sampler::HairScattering<double> hair_scattering<double>(const TableSet&);
+
+template <class T>
+sampler::HairScattering<T> hair_scattering(const TableSet& set, std::string_view group) {
+  if (group.empty() || group == "np" || group == "mp") return hair_scattering<T>(set);
+  const std::string g(group);
+  if (g.rfind("materials/", 0) != 0) throw DomainError("table group " + g + ": not a material (materials/<name>) or the generic tables (\"\")");
+  const auto& lobes = set.metadata.at("lobes");
+  sampler::MaterialTables<T> m;
+  if (lobes.empty() || lobes.size() > static_cast<std::size_t>(m.kMaxLobes))
+    throw DomainError("table set: " + std::to_string(lobes.size()) + " lobes, the runtime reads 1 to " + std::to_string(m.kMaxLobes));
+  m.lobes = static_cast<int>(lobes.size());
+  // Every lobe's tables on the first lobe's axes: the runtime interleaves them per node.
+  auto same = [&](const Table& t, const Table& first) {
+    for (std::size_t d = 0; d < t.axes.size(); ++d)
+      if (!same_axis(t.axes[d], first.axes[d])) throw DomainError("table " + t.path() + ": axis " + t.axes[d].name + " differs from " + first.path() + "'s");
+  };
+  const Table* n0 = nullptr;
+  const Table* m0 = nullptr;
+  for (int p = 0; p < m.lobes; ++p) {
+    const std::string lobe = lobes[static_cast<std::size_t>(p)].get<std::string>();
+    const Table& n = require<T>(set, g + "/np_" + lobe, {"channel", "theta_d", "phi"});
+    const Table& mt = require<T>(set, g + "/mp_" + lobe, {"theta_i", "theta_r"});
+    if (n.axes[0].count != 3) throw DomainError("table " + n.path() + ": " + std::to_string(n.axes[0].count) + " channels, the runtime reads 3");
+    if (!n0) n0 = &n, m0 = &mt;
+    same(n, *n0), same(mt, *m0);
+    m.np[p] = values<T>(n), m.mp[p] = values<T>(mt);
+  }
+  m.theta_d = n0->axes[1].view(), m.phi = n0->axes[2].view();
+  m.theta_i = m0->axes[0].view(), m.theta_r = m0->axes[1].view();
+  if (set.find(g + "/np_residual")) {
+    const Table& n = require<T>(set, g + "/np_residual", {"channel", "theta_d"});
+    const Table& mt = require<T>(set, g + "/mp_residual", {"theta_i", "theta_r"});
+    if (n.axes[0].count != 3) throw DomainError("table " + n.path() + ": " + std::to_string(n.axes[0].count) + " channels, the runtime reads 3");
+    if (!same_axis(n.axes[1], n0->axes[1])) throw DomainError("table " + n.path() + ": axis theta_d differs from " + n0->path() + "'s");
+    same(mt, *m0);
+    m.np_residual = values<T>(n), m.mp_residual = values<T>(mt);
+  }
+  sampler::HairScattering<T> r(m);
+  if (!r.valid())
+    throw DomainError("table group " + g + ": the runtime reads linear, edge-placed axes with theta_i over [-90, 90] deg, phi over [0, 180] deg and theta_d within [0, 90] deg");
+  return r;
+}
+
+template sampler::HairScattering<float> hair_scattering<float>(const TableSet&, std::string_view);
+template sampler::HairScattering<double> hair_scattering<double>(const TableSet&, std::string_view);
 
 template <class T, class R>
 sampler::FourierNp<T, R> fourier_np(const TableSet& set, std::string_view lobe) {

@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "hairlut/sampler/axis_sampling.hpp"
+#include "hairlut/sampler/material_scattering.hpp"
 #include "hairlut/sampler/product_row.hpp"
 #include "hairlut/sampler/sampler_fibre.hpp"
 
@@ -155,6 +156,13 @@ class HairScattering {
       }
     valid_ = ok;
   }
+  /// From the tables of one material (MaterialTables, copied): σa and β are the material's, so
+  /// every call ignores the Fibre's fields (material_scattering.hpp says how it samples).
+  explicit HairScattering(const MaterialTables<T>& m) : mat_(m) {
+    material_ = true;
+    valid_ = mat_.valid();
+    lobes_ = mat_.lobes();
+  }
   HairScattering(const HairScattering&) = delete;
   HairScattering& operator=(const HairScattering&) = delete;
   // The samplers point into this object's own copies (heap buffers, which a move keeps in place).
@@ -163,6 +171,8 @@ class HairScattering {
 
   /// False when a table is missing or its sampled axis is one the sampler cannot invert.
   bool valid() const { return valid_; }
+  /// True when built from one material's tables (the Fibre's fields are then not read).
+  bool material() const { return material_; }
   /// Explicit lobes plus the residual (its index is lobes() − 1 when the tables have one).
   int lobes() const { return lobes_; }
   const HairTables<T, double>& tables() const { return t_; }
@@ -180,6 +190,10 @@ class HairScattering {
     rgb[0] = rgb[1] = rgb[2] = 0.0;
     if (!(theta_o == theta_o) || !(theta_i == theta_i) || !(phi == phi)) {
       rgb[0] = rgb[1] = rgb[2] = theta_o + theta_i + phi;
+      return;
+    }
+    if (material_) {
+      if (valid_) mat_.eval(theta_o, theta_i, phi, rgb);
       return;
     }
     const double theta_d = 0.5 * (theta_o - theta_i);
@@ -208,6 +222,16 @@ class HairScattering {
       ScatteringSample s;
       if (!ok_) return s;
       const HairScattering& r = *rt_;
+      if (r.material_) {
+        const double v[3] = {open_unit(u[0]), open_unit(u[1]), open_unit(u[2])};
+        const typename MaterialScattering<T>::Draw d = r.mat_.sample(mpt_, v);
+        if (!(d.pdf > 0.0)) return s;
+        const double phi_i = po_ - d.phi, cti = std::cos(d.theta_i);
+        s.wi[0] = std::sin(d.theta_i), s.wi[1] = cti * std::cos(phi_i), s.wi[2] = cti * std::sin(phi_i);
+        s.theta_i = d.theta_i, s.phi = d.phi, s.pdf = d.pdf, s.lobe = d.lobe;
+        for (int c = 0; c < 3; ++c) s.weight[c] = d.rgb[c] / d.pdf;
+        return s;
+      }
       // 1. θi from the mixture: the component by u0, then its inverse CDF at u1.
       double u0 = open_unit(u[0]);
       int p = -1;
@@ -261,6 +285,7 @@ class HairScattering {
     double pdf(double theta_i, double phi) const {
       if (!ok_ || !(theta_i == theta_i) || !(phi == phi)) return 0.0;
       const HairScattering& r = *rt_;
+      if (r.material_) return r.mat_.pdf(mpt_, theta_i, phi);
       const double m = r.theta_density(pt_, theta_i);
       if (!(m > 0.0)) return 0.0;
       double share[kMaxLobes];
@@ -278,7 +303,7 @@ class HairScattering {
     /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
     /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fibre
     /// the mean of the sample weights at this wo; 0 where nothing can be sampled.
-    double albedo() const { return ok_ ? pt_.total : 0.0; }
+    double albedo() const { return ok_ ? (rt_->material_ ? rt_->mat_.albedo(mpt_) : pt_.total) : 0.0; }
 
    private:
     friend class HairScattering;
@@ -286,6 +311,7 @@ class HairScattering {
     Fibre f_;
     double po_ = 0.0;
     Point pt_;
+    typename MaterialScattering<T>::Point mpt_;
     bool ok_ = false;
   };
 
@@ -296,6 +322,11 @@ class HairScattering {
     double to;
     fibre_direction_angles(wo, to, sp.po_);
     sp.pt_.theta_o = to;
+    if (material_) {
+      if (to == to && sp.po_ == sp.po_) sp.mpt_ = mat_.at(to, sp.po_);
+      sp.ok_ = valid_ && sp.mpt_.ok;
+      return sp;
+    }
     sp.ok_ = valid_ && to == to && sp.po_ == sp.po_ && at_theta_o(f, to, sp.pt_);
     return sp;
   }
@@ -439,7 +470,8 @@ class HairScattering {
 
   HairTables<T, double> t_;
   int explicit_ = 0, lobes_ = 0;
-  bool valid_ = false;
+  bool valid_ = false, material_ = false;
+  MaterialScattering<T> mat_;
   std::vector<T> mt_[kMaxLobes];
   Axis mt_axes_[kMaxLobes][3];
   AxisSampler<T> m_axis_[kMaxLobes];

@@ -29,6 +29,12 @@ sampler::HairTables<T, R> hair_tables(const TableSet& set);
 /// table's sampled axis is one the runtime cannot invert.
 template <class T>
 sampler::HairScattering<T> hair_scattering(const TableSet& set);
+/// The runtime over one table group: "" for the generic tables (as above) or "materials/<name>",
+/// whose tables fix σa and β (the runtime copies them; `set` need not outlive it). Throws
+/// DomainError naming the table that is missing, on other axes, or on axes the runtime cannot
+/// sample exactly (material_scattering.hpp).
+template <class T>
+sampler::HairScattering<T> hair_scattering(const TableSet& set, std::string_view group);
 
 /// N_p of one lobe of a set baked in the Fourier representation (tables.np.representation
 /// "fourier"; fourier_tables.hpp): the view of np_fourier/<lobe> ("R", "TT", ..., or "residual",

@@ -1,0 +1,417 @@
+// hairlut::sampler::MaterialScattering — what HairScattering runs for the tables of one material
+// (materials/<name>/np_<lobe>, mp_<lobe>, np_residual, mp_residual; docs/table-format.md): S, its
+// importance sampling and pdf, at the cost of a few bilinear lookups.
+//
+// A material's tables fix σa (RGB) and each lobe's β, so N_p is RGB over (θd, φ) and M_p is over
+// (θi, θr), both interpolated linearly. Linear interpolation has nonnegative weights, so every
+// density below is a mixture of stored rows and is sampled exactly, with no per-call row building:
+//   1. θi from q(θi) = [(1 − w) G_r(θi) + w G_{r+1}(θi)] / [(1 − w) ‖G_r‖ + w ‖G_{r+1}‖], where
+//      r, w locate θo on M_p's θr axis and G_r is, on M_p's θi nodes and linear between them,
+//      Σ_p M_p(θi, θr_r) Z_p(θd) cos θi with θd = (θr_r − θi)/2 and Z_p(θd) = ∫ N̄_p dφ (N̄: the
+//      channels' mean). Between θi nodes M_p is linear, so q differs from the true marginal
+//      Σ_p M_p Z_p cos θi only through Z_p cos θi's curvature and θd read at θr_r for θo;
+//   2. the lobe q at θi in exact proportion to M_q(θi, θo) Z_q(θd);
+//   3. φ from N̄_q(θd, ·): N_p is linear in t = t(θd) (the θd axis's spacing) between its θd rows
+//      k, k + 1, so this density is the mixture of the two rows with weights (1 − w_t) Z_q[k] and
+//      w_t Z_q[k+1], each row piecewise linear in φ (even: |φ| from the row, the sign by halves).
+//      The residual is uniform in φ.
+// The pdf per unit solid angle is then
+//   pdf(θi, φ) = q(θi) / cos θi · S̄(θi, φ) / S̄_φ(θi),   S̄ = Σ_q M_q N̄_q, S̄_φ = Σ_q M_q Z_q,
+// so that for a white fibre the weight S / pdf = S̄_φ cos θi / q(θi): the exact θi marginal over
+// its piecewise-linear stand-in, ≈ the albedo at θo.
+//
+// Header-only, C++17, no dependencies beyond sampler.hpp's axis definitions. The tables are copied
+// (values that are negative, NaN or infinite read as 0), so the object owns everything it reads.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "hairlut/sampler/sampler.hpp"
+
+namespace hairlut {
+namespace sampler {
+
+/// The tables of one material: per explicit lobe N_p over (channel, θd, φ) and M_p over (θi, θr);
+/// the residual's N over (channel, θd) (uniform in φ) and its M over (θi, θr). Row-major, 3
+/// channels. Pointers into the caller's arrays, read only while MaterialScattering is built.
+template <class T>
+struct MaterialTables {
+  static constexpr int kMaxLobes = 7;
+  int lobes = 0;                   ///< explicit lobes (R, TT, ...)
+  const T* np[kMaxLobes] = {};     ///< [channel][θd][φ]
+  const T* mp[kMaxLobes] = {};     ///< [θi][θr]
+  const T* np_residual = nullptr;  ///< [channel][θd]; null: no residual
+  const T* mp_residual = nullptr;  ///< [θi][θr]
+  Axis theta_d, phi;               ///< N_p's axes after the channel
+  Axis theta_i, theta_r;           ///< M_p's axes
+};
+
+template <class T>
+class MaterialScattering {
+ public:
+  /// What at() holds for one wo: where θo falls on the θr axis and the mixture of step 1.
+  struct Point {
+    double theta_o = 0.0, phi_o = 0.0;
+    int r = 0;                     // θr cell
+    double w = 0.0;                // weight of node r + 1
+    double a0 = 0.0, a1 = 0.0;     // (1 − w) ‖G_r‖, w ‖G_{r+1}‖
+    bool ok = false;
+  };
+  /// A drawn direction in angles (HairScattering turns it into a vector).
+  struct Draw {
+    double theta_i = 0.0, phi = 0.0, pdf = 0.0, rgb[3] = {0.0, 0.0, 0.0};
+    int lobe = -1;
+  };
+
+  MaterialScattering() = default;
+  explicit MaterialScattering(const MaterialTables<T>& t) {
+    P_ = t.lobes;
+    res_ = t.np_residual != nullptr && t.mp_residual != nullptr;
+    L_ = P_ + (res_ ? 1 : 0);
+    if (P_ < 1 || P_ > MaterialTables<T>::kMaxLobes || !supported(t)) return;
+    for (int p = 0; p < P_; ++p)
+      if (!t.np[p] || !t.mp[p]) return;
+    nt_ = t.theta_d.count, nf_ = t.phi.count, ni_ = t.theta_i.count, nr_ = t.theta_r.count;
+    td_ = Located(t.theta_d), ph_ = Located(t.phi), ti_ = Located(t.theta_i), tr_ = Located(t.theta_r);
+    P4_ = (P_ + 3) / 4 * 4, SM_ = (L_ + 3) / 4 * 4, SN_ = 3 * P4_;
+    const std::size_t nt = static_cast<std::size_t>(nt_), nf = static_cast<std::size_t>(nf_), ni = static_cast<std::size_t>(ni_),
+                      nr = static_cast<std::size_t>(nr_);
+    // M_p interleaved per node, θr outermost: [θr][θi][lobe].
+    mp_.assign(nr * ni * static_cast<std::size_t>(SM_), 0.0f);
+    for (int p = 0; p < L_; ++p) {
+      const T* m = p < P_ ? t.mp[p] : t.mp_residual;
+      for (std::size_t i = 0; i < ni; ++i)
+        for (std::size_t r = 0; r < nr; ++r) mp_[(r * ni + i) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p)] = clean(m[i * nr + r]);
+    }
+    // N_p interleaved per node: [θd][φ][channel][lobe]; the residual [θd][channel].
+    np_.assign(nt * nf * static_cast<std::size_t>(SN_), 0.0f);
+    for (int p = 0; p < P_; ++p)
+      for (std::size_t c = 0; c < 3; ++c)
+        for (std::size_t k = 0; k < nt; ++k)
+          for (std::size_t j = 0; j < nf; ++j)
+            np_[(k * nf + j) * static_cast<std::size_t>(SN_) + c * static_cast<std::size_t>(P4_) + static_cast<std::size_t>(p)] =
+                clean(t.np[p][(c * nt + k) * nf + j]);
+    nres_.assign(nt * 4, 0.0f);
+    if (res_)
+      for (std::size_t c = 0; c < 3; ++c)
+        for (std::size_t k = 0; k < nt; ++k) nres_[k * 4 + c] = clean(t.np_residual[c * nt + k]);
+    // Step 3's rows: N̄_p per θd node along φ ∈ [0, π], their prefix masses, and Z_p = ∫ over
+    // [−π, π] (twice the half) per θd node; the residual's Z is 2π N̄.
+    const double pi = 3.14159265358979323846, hf = pi / (nf_ - 1);
+    nbar_.assign(static_cast<std::size_t>(P_) * nt * nf, 0.0);
+    ncum_.assign(static_cast<std::size_t>(P_) * nt * nf, 0.0);
+    z_.assign(nt * static_cast<std::size_t>(SM_), 0.0);
+    for (int p = 0; p < L_; ++p)
+      for (std::size_t k = 0; k < nt; ++k) {
+        if (p == P_) {
+          z_[k * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p)] = 2.0 * pi * (double(nres_[k * 4]) + nres_[k * 4 + 1] + nres_[k * 4 + 2]) / 3.0;
+          continue;
+        }
+        double* row = &nbar_[(static_cast<std::size_t>(p) * nt + k) * nf];
+        double* cum = &ncum_[(static_cast<std::size_t>(p) * nt + k) * nf];
+        for (std::size_t j = 0; j < nf; ++j) {
+          const float* v = &np_[(k * nf + j) * static_cast<std::size_t>(SN_) + static_cast<std::size_t>(p)];
+          row[j] = (double(v[0]) + v[P4_] + v[2 * P4_]) / 3.0;
+        }
+        cum[0] = 0.0;
+        for (std::size_t j = 1; j < nf; ++j) cum[j] = cum[j - 1] + 0.5 * hf * (row[j - 1] + row[j]);
+        z_[k * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p)] = 2.0 * cum[nf - 1];
+      }
+    // Step 1's rows G_r: on each θi cell, Σ_p M_p Z_p cos θi with M_p linear (as stored) and
+    // Z_p cos θi linear between its values at the cell's nodes, a quadratic in the cell's own
+    // coordinate s ∈ [0, 1], A + B s + C s² (≥ 0: a sum of products of nonnegative linears);
+    // reading Z_p cos θi linearly, not M_p Z_p cos θi, keeps the steep M_p of a narrow lobe exact.
+    // The θi cells are split in kSplit: M_p stays linear on each part, and Z_p cos θi, which
+    // bends fastest where the θd nodes crowd towards 90° and cos θi falls to 0, is read on a finer
+    // step.
+    nq_ = (ni_ - 1) * static_cast<int>(kSplit) + 1, hq_ = ti_.h / static_cast<double>(kSplit);
+    const std::size_t nq = static_cast<std::size_t>(nq_), nc = nq - 1;
+    gq_.assign(nr * nc * 3, 0.0);
+    gcum_.assign(nr * nq, 0.0);
+    std::vector<double> mq(nq * static_cast<std::size_t>(SM_)), zc(nq * static_cast<std::size_t>(SM_));
+    for (std::size_t r = 0; r < nr; ++r) {
+      const double tr = node(t.theta_r, static_cast<int>(r));
+      for (std::size_t i = 0; i < nq; ++i) {
+        const double ti = i + 1 == nq ? t.theta_i.hi : t.theta_i.lo + static_cast<double>(i) * hq_;
+        const Cell d = td_.at(std::fabs(0.5 * (tr - ti)));
+        const std::size_t a = std::min(i / kSplit, ni - 2);
+        const double f = static_cast<double>(i - a * kSplit) / static_cast<double>(kSplit), c = std::max(0.0, std::cos(ti));
+        const float* m0 = &mp_[(r * ni + a) * static_cast<std::size_t>(SM_)];
+        for (int p = 0; p < L_; ++p) {
+          const std::size_t o = i * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p);
+          mq[o] = (1.0 - f) * m0[p] + f * m0[SM_ + p];
+          zc[o] = lerp(z_, d, p) * c;
+        }
+      }
+      double* cum = &gcum_[r * nq];
+      cum[0] = 0.0;
+      for (std::size_t i = 0; i < nc; ++i) {
+        const double* m0 = &mq[i * static_cast<std::size_t>(SM_)];
+        const double* m1 = m0 + SM_;
+        const double* g0 = &zc[i * static_cast<std::size_t>(SM_)];
+        const double* g1 = g0 + SM_;
+        double A = 0.0, B = 0.0, C = 0.0;
+        for (int p = 0; p < L_; ++p) {
+          const double dm = m1[p] - m0[p], dg = g1[p] - g0[p];
+          A += m0[p] * g0[p], B += m0[p] * dg + dm * g0[p], C += dm * dg;
+        }
+        double* q = &gq_[(r * nc + i) * 3];
+        q[0] = A, q[1] = B, q[2] = C;
+        cum[i + 1] = cum[i] + hq_ * std::max(0.0, A + 0.5 * B + C / 3.0);
+      }
+    }
+    valid_ = true;
+  }
+
+  bool valid() const { return valid_; }
+  int lobes() const { return L_; }
+
+  /// S per channel at θo, θi, φ = φo − φi [rad] (finite arguments).
+  void eval(double theta_o, double theta_i, double phi, double* rgb) const {
+    Terms s;
+    terms(theta_o, theta_i, phi, s);
+    rgb[0] = s.rgb[0], rgb[1] = s.rgb[1], rgb[2] = s.rgb[2];
+  }
+  /// Step 1's mixture at θo; not ok where no lobe has energy.
+  Point at(double theta_o, double phi_o) const {
+    Point pt;
+    pt.theta_o = theta_o, pt.phi_o = phi_o;
+    const Cell c = tr_.at(theta_o);
+    pt.r = c.i, pt.w = c.w;
+    const std::size_t n = static_cast<std::size_t>(nq_ - 1);
+    pt.a0 = (1.0 - c.w) * gcum_[static_cast<std::size_t>(c.i) * static_cast<std::size_t>(nq_) + n];
+    pt.a1 = c.w * gcum_[static_cast<std::size_t>(c.i + 1) * static_cast<std::size_t>(nq_) + n];
+    const double total = pt.a0 + pt.a1;
+    pt.ok = valid_ && total > 0.0 && total < HUGE_VAL;
+    return pt;
+  }
+  /// ∫ S̄ dω at the point's θo as step 1 holds it: the mean weight of a white fibre.
+  double albedo(const Point& pt) const { return pt.ok ? pt.a0 + pt.a1 : 0.0; }
+  /// The pdf per unit solid angle of drawing (θi, φ) at the point; also S there per channel.
+  double pdf(const Point& pt, double theta_i, double phi, double* rgb = nullptr) const {
+    if (!pt.ok) return 0.0;
+    Terms s;
+    terms(pt.theta_o, theta_i, phi, s);
+    if (rgb) rgb[0] = s.rgb[0], rgb[1] = s.rgb[1], rgb[2] = s.rgb[2];
+    return density(pt, theta_i, s);
+  }
+  /// Draws (θi, φ) from u ∈ [0, 1)³ (already kept off 0 and 1 by the caller).
+  Draw sample(const Point& pt, const double* u) const {
+    Draw d;
+    if (!pt.ok) return d;
+    // 1. The θr row by u0, then θi from that row by u1.
+    double u0 = u[0] * (pt.a0 + pt.a1);
+    int r = pt.r;
+    if (u0 < pt.a0 || !(pt.a1 > 0.0)) {
+      u0 = pt.a0 > 0.0 ? u0 / pt.a0 : 0.5;
+    } else {
+      u0 = (u0 - pt.a0) / pt.a1, ++r;
+    }
+    u0 = std::min(std::max(u0, 0.0), 1.0);
+    const double ti = invert_quadratic_row(&gq_[static_cast<std::size_t>(r) * static_cast<std::size_t>(nq_ - 1) * 3],
+                                           &gcum_[static_cast<std::size_t>(r) * static_cast<std::size_t>(nq_)], nq_, ti_.lo, hq_, u[1]);
+    // 2. The lobe at θi in proportion to M_q Z_q.
+    const double td = std::fabs(0.5 * (pt.theta_o - ti));
+    const Cell ci = ti_.at(ti), co = tr_.at(pt.theta_o), cd = td_.at(td);
+    double m[8], share[8], norm = 0.0;
+    mp_at(ci, co, m);
+    for (int p = 0; p < L_; ++p) norm += share[p] = m[p] * lerp(z_, cd, p);
+    if (!(norm > 0.0) || !(norm < HUGE_VAL)) return d;
+    u0 *= norm;
+    int q = -1;
+    for (int p = 0; p < L_; ++p) {
+      if (!(share[p] > 0.0)) continue;
+      q = p;
+      if (u0 < share[p]) break;
+      u0 -= share[p];
+    }
+    if (q < 0) return d;
+    u0 = std::min(std::max(u0 / share[q], 0.0), 1.0);
+    // 3. φ: the residual uniformly; a lobe from its θd row k or k + 1 by u0, |φ| by u2 folded.
+    const double pi = 3.14159265358979323846;
+    double phi;
+    if (q == P_) {
+      phi = (2.0 * u[2] - 1.0) * pi;
+    } else {
+      const std::size_t nt = static_cast<std::size_t>(nt_), nf = static_cast<std::size_t>(nf_);
+      const double b0 = (1.0 - cd.w) * z_[static_cast<std::size_t>(cd.i) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(q)];
+      const double b1 = cd.w * z_[static_cast<std::size_t>(cd.i + 1) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(q)];
+      const std::size_t k = static_cast<std::size_t>(cd.i) + (u0 * (b0 + b1) < b0 || !(b1 > 0.0) ? 0 : 1);
+      const std::size_t o = (static_cast<std::size_t>(q) * nt + k) * nf;
+      const double v = std::fabs(2.0 * u[2] - 1.0);
+      phi = invert_row(&nbar_[o], &ncum_[o], nf_, 0.0, ph_.h, v);
+      if (u[2] < 0.5) phi = -phi;
+    }
+    Terms s;
+    terms(pt.theta_o, ti, phi, s);
+    d.pdf = density(pt, ti, s);
+    if (!(d.pdf > 0.0) || !(d.pdf < HUGE_VAL)) {
+      d.pdf = 0.0;
+      return d;
+    }
+    d.theta_i = ti, d.phi = phi, d.lobe = q;
+    d.rgb[0] = s.rgb[0], d.rgb[1] = s.rgb[1], d.rgb[2] = s.rgb[2];
+    return d;
+  }
+
+ private:
+  struct Cell {
+    int i = 0;
+    double w = 0.0;
+  };
+  // An axis located in its mapped coordinate t (linear between nodes in t), its ends held.
+  struct Located {
+    Spacing spacing = Spacing::uniform;
+    double lo = 0.0, hi = 1.0, t0 = 0.0, scale = 0.0, h = 0.0;
+    int last = 1;
+    Located() = default;
+    explicit Located(const Axis& a) : spacing(a.spacing), lo(a.lo), hi(a.hi), last(a.count - 1) {
+      t0 = mapped(a.spacing, a.lo);
+      scale = last / (mapped(a.spacing, a.hi) - t0);
+      h = (a.hi - a.lo) / last;
+    }
+    Cell at(double x) const {
+      x = std::min(std::max(x, lo), hi);
+      double s = (mapped(spacing, x) - t0) * scale;
+      s = std::min(std::max(s, 0.0), static_cast<double>(last));
+      Cell c;
+      c.i = std::min(static_cast<int>(s), last - 1);
+      c.w = s - c.i;
+      return c;
+    }
+  };
+  struct Terms {
+    double rgb[3] = {0.0, 0.0, 0.0};
+    double s_phi = 0.0;  // Σ_q M_q Z_q
+  };
+
+  // What the file must hold for the sampling above to be exact: linear, edge-placed, mapped axes
+  // (no explicit nodes), φ over [0, π] even, θi over the whole [−π/2, π/2].
+  static bool supported(const MaterialTables<T>& t) {
+    const double pi = 3.14159265358979323846;
+    auto plain = [](const Axis& a) {
+      return a.count >= 2 && a.interpolation == Interpolation::linear && a.placement == Placement::edges && a.spacing != Spacing::explicit_values &&
+             a.wrap != Wrap::periodic && a.lo < a.hi && std::isfinite(a.lo) && std::isfinite(a.hi) && a.count <= (1 << 20);
+    };
+    return plain(t.theta_d) && plain(t.phi) && plain(t.theta_i) && plain(t.theta_r) && t.theta_d.lo >= 0.0 && t.theta_d.hi <= 0.5 * pi + 1e-12 &&
+           (t.theta_d.spacing == Spacing::uniform || t.theta_d.spacing == Spacing::cos) && t.phi.spacing == Spacing::uniform &&
+           t.phi.wrap == Wrap::even && t.phi.lo == 0.0 && std::fabs(t.phi.hi - pi) < 1e-12 && t.theta_i.spacing == Spacing::uniform &&
+           t.theta_r.spacing == Spacing::uniform && std::fabs(t.theta_i.lo + 0.5 * pi) < 1e-12 && std::fabs(t.theta_i.hi - 0.5 * pi) < 1e-12 &&
+           t.theta_r.lo >= -0.5 * pi - 1e-12 && t.theta_r.hi <= 0.5 * pi + 1e-12;
+  }
+  static float clean(T v) {
+    const double x = static_cast<double>(v);
+    return x > 0.0 && x < 3.0e38 ? static_cast<float>(x) : 0.0f;
+  }
+  double lerp(const std::vector<double>& a, const Cell& c, int p) const {
+    const std::size_t o = static_cast<std::size_t>(c.i) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p);
+    return (1.0 - c.w) * a[o] + c.w * a[o + static_cast<std::size_t>(SM_)];
+  }
+  // M_p of every lobe at (θi cell, θr cell), bilinear.
+  void mp_at(const Cell& ci, const Cell& co, double* m) const {
+    const std::size_t S = static_cast<std::size_t>(SM_), ni = static_cast<std::size_t>(ni_);
+    const float* a = &mp_[(static_cast<std::size_t>(co.i) * ni + static_cast<std::size_t>(ci.i)) * S];
+    const float* b = a + ni * S;
+    const double w00 = (1.0 - co.w) * (1.0 - ci.w), w01 = (1.0 - co.w) * ci.w, w10 = co.w * (1.0 - ci.w), w11 = co.w * ci.w;
+    for (int p = 0; p < L_; ++p) m[p] = w00 * a[p] + w01 * a[S + p] + w10 * b[p] + w11 * b[S + p];
+  }
+  // M_p, N_p and Z_p at (θo, θi, φ): S per channel and S̄_φ.
+  void terms(double theta_o, double theta_i, double phi, Terms& s) const {
+    const double pi = 3.14159265358979323846;
+    const double td = std::fabs(0.5 * (theta_o - theta_i));
+    double f = std::fabs(phi);
+    if (f > pi) f = std::fabs(f - 2.0 * pi * std::floor(f / (2.0 * pi) + 0.5));
+    const Cell ci = ti_.at(theta_i), co = tr_.at(theta_o), cd = td_.at(td), cf = ph_.at(f);
+    double m[8];
+    mp_at(ci, co, m);
+    const std::size_t S = static_cast<std::size_t>(SN_), nf = static_cast<std::size_t>(nf_);
+    const float* a = &np_[(static_cast<std::size_t>(cd.i) * nf + static_cast<std::size_t>(cf.i)) * S];
+    const float* b = a + nf * S;
+    const double w00 = (1.0 - cd.w) * (1.0 - cf.w), w01 = (1.0 - cd.w) * cf.w, w10 = cd.w * (1.0 - cf.w), w11 = cd.w * cf.w;
+    for (int c = 0; c < 3; ++c) {
+      double v = 0.0;
+      for (int p = 0; p < P_; ++p) {
+        const int o = c * P4_ + p;
+        v += m[p] * (w00 * a[o] + w01 * a[S + o] + w10 * b[o] + w11 * b[S + o]);
+      }
+      s.rgb[c] = v;
+    }
+    if (res_) {
+      const float* r = &nres_[static_cast<std::size_t>(cd.i) * 4];
+      for (int c = 0; c < 3; ++c) s.rgb[c] += m[P_] * ((1.0 - cd.w) * r[c] + cd.w * r[4 + c]);
+    }
+    double sp = 0.0;
+    for (int p = 0; p < L_; ++p) sp += m[p] * lerp(z_, cd, p);
+    s.s_phi = sp;
+  }
+  // q(θi) / cos θi · S̄ / S̄_φ.
+  double density(const Point& pt, double theta_i, const Terms& s) const {
+    const double c = std::cos(theta_i), sbar = (s.rgb[0] + s.rgb[1] + s.rgb[2]) / 3.0;
+    if (!(c > 0.0) || !(s.s_phi > 0.0) || !(sbar > 0.0)) return 0.0;
+    const std::size_t nc = static_cast<std::size_t>(nq_ - 1);
+    const double sq = std::min(std::max((theta_i - ti_.lo) / hq_, 0.0), static_cast<double>(nc));
+    const std::size_t k = std::min(static_cast<std::size_t>(sq), nc - 1);
+    const double* g0 = &gq_[(static_cast<std::size_t>(pt.r) * nc + k) * 3];
+    const double* g1 = g0 + 3 * nc;
+    const double x = sq - static_cast<double>(k);
+    const double q = (1.0 - pt.w) * (g0[0] + x * (g0[1] + x * g0[2])) + pt.w * (g1[0] + x * (g1[1] + x * g1[2]));
+    return q / (pt.a0 + pt.a1) / c * sbar / s.s_phi;
+  }
+  // The inverse CDF of a piecewise-linear density on n uniform nodes from x0 with step h (values
+  // v, prefix masses cum), at u ∈ [0, 1].
+  static double invert_row(const double* v, const double* cum, int n, double x0, double h, double u) {
+    const double target = u * cum[n - 1];
+    int k = static_cast<int>(std::upper_bound(cum + 1, cum + n, target) - (cum + 1));
+    k = std::min(std::max(k, 0), n - 2);
+    // Skip cells of no mass (a target on their left edge).
+    const double m = std::max(0.0, target - cum[k]) / h, a = v[k], b = v[k + 1];
+    // (b − a)/2 t² + a t = m, t ∈ [0, 1], in the form without cancellation.
+    const double disc = std::max(0.0, a * a + 2.0 * (b - a) * m);
+    double t = a + std::sqrt(disc) > 0.0 ? 2.0 * m / (a + std::sqrt(disc)) : 0.5;
+    t = std::min(std::max(t, 0.0), 1.0);
+    return x0 + (k + t) * h;
+  }
+
+  // The inverse CDF of a density that is A + B s + C s² on cell k of n uniform nodes (s ∈ [0, 1]
+  // the cell's coordinate, coefficients q[3k…3k+2]), prefix masses cum, at u ∈ [0, 1]: Newton
+  // on the cell's cubic CDF, kept inside a shrinking bracket.
+  static double invert_quadratic_row(const double* q, const double* cum, int n, double x0, double h, double u) {
+    const double target = u * cum[n - 1];
+    int k = static_cast<int>(std::upper_bound(cum + 1, cum + n, target) - (cum + 1));
+    k = std::min(std::max(k, 0), n - 2);
+    const double A = q[3 * k], B = q[3 * k + 1], C = q[3 * k + 2];
+    const double m = std::max(0.0, target - cum[k]) / h, total = A + 0.5 * B + C / 3.0;
+    if (!(total > 0.0)) return x0 + (k + 0.5) * h;
+    double lo = 0.0, hi = 1.0, t = std::min(1.0, m / total);
+    for (int it = 0; it < 12; ++it) {
+      const double f = t * (A + t * (0.5 * B + t * C / 3.0)) - m, d = A + t * (B + t * C);
+      if (f > 0.0) hi = t;
+      else lo = t;
+      double next = d > 0.0 ? t - f / d : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(next - t) < 1e-13) {
+        t = next;
+        break;
+      }
+      t = next;
+    }
+    return x0 + (k + t) * h;
+  }
+
+  static constexpr std::size_t kSplit = 4;
+
+  bool valid_ = false, res_ = false;
+  int nq_ = 0;       // θi nodes of step 1's rows
+  double hq_ = 0.0;  // and their step
+  int P_ = 0, L_ = 0, P4_ = 0, SM_ = 0, SN_ = 0;
+  int nt_ = 0, nf_ = 0, ni_ = 0, nr_ = 0;
+  Located td_, ph_, ti_, tr_;
+  std::vector<float> mp_, np_, nres_;
+  std::vector<double> z_, nbar_, ncum_, gq_, gcum_;
+};
+
+}  // namespace sampler
+}  // namespace hairlut
