@@ -36,9 +36,15 @@
 #include <vector>
 
 #include "catch.hpp"
+#include "peer_hair_tests.hpp"
 
 using namespace hairlut;
 using Runtime = sampler::HairScattering<float>;
+using peer::average;
+using peer::pbrt_beta_m;
+using peer::pbrt_beta_n;
+using peer::Rng;
+using peer::uniform_sphere;
 
 namespace {
 
@@ -65,11 +71,6 @@ const Runtime& runtime(bool tilted) {
   return tilted ? t : u;
 }
 
-double pbrt_beta_m(double b) { return 0.726 * b + 0.812 * b * b + 3.7 * std::pow(b, 20); }
-double pbrt_beta_n(double b) {
-  const double s = std::sqrt(kPi / 8.0) * (0.265 * b + 1.194 * b * b + 5.372 * std::pow(b, 22));
-  return kPi * s / std::sqrt(3.0);
-}
 // A fibre of σa (grey) with pbrt-style roughness, clamped to the tables' β ranges.
 sampler::Fibre fibre(const Runtime& rt, double pbrt_m, double pbrt_n, double sigma_a) {
   const auto& t = rt.tables();
@@ -81,16 +82,6 @@ sampler::Fibre fibre(const Runtime& rt, double pbrt_m, double pbrt_n, double sig
   return f;
 }
 
-struct Rng {
-  std::mt19937_64 g;
-  explicit Rng(unsigned long long seed) : g(seed) {}
-  double operator()() { return std::uniform_real_distribution<double>(0.0, 1.0)(g); }
-};
-void uniform_sphere(double u0, double u1, double* w) {
-  const double z = 1.0 - 2.0 * u0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), a = 2.0 * kPi * u1;
-  w[0] = r * std::cos(a), w[1] = r * std::sin(a), w[2] = z;
-}
-double average(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3.0; }
 
 // The model's own albedo at θo for a white fibre (σa = 0): Σ_p ∫ M(v, θi, θo − α_p) e_p(θd) cos θi
 // dθi with the exact Bessel M_p and lobe energies (physics, not tables), the shipped tilts unless
@@ -387,63 +378,16 @@ TEST_CASE("HairScattering: Mitsuba 3 test06_chi2, samples distributed as pdf() s
       for (double th : {0.0, 0.99 * kPi / 4.0})
         configs.push_back({bm, bn, th, kPi / 2.0});
   const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / static_cast<double>(configs.size()));
-  struct Result {
-    bool valid = false;
-    double chi2 = 0.0, p = 0.0;
-    int dof = 0;
-  };
-  std::vector<Result> results(configs.size());
+  std::vector<peer::Chi2> results(configs.size());
   // One configuration per task on two threads (each with its own seed); the checks follow on this
   // thread (Catch's assertions are not thread-safe).
   auto run = [&](std::size_t ci) {
     const auto& c = configs[ci];
-    Rng rng(4 + ci);
-    Result& res = results[ci];
     const sampler::Fibre f = fibre(rt, c[0], c[1], 0.8);
-    const double wo[3] = {std::sin(c[2]) * std::cos(c[3]), std::sin(c[2]) * std::sin(c[3]), std::cos(c[2])};
     // Mitsuba's wi is (sin θ cos φ, sin θ sin φ, cos θ) with z the surface normal; the hair frame's x
     // is along the fibre, so its first component is the fibre-frame x here.
-    const Runtime::ShadingPoint sp = rt.at(f, wo);
-    res.valid = sp.valid();
-    if (!res.valid) return;
-    std::vector<double> observed(static_cast<std::size_t>(na * nb), 0.0), expected(observed.size(), 0.0);
-    for (long i = 0; i < count; ++i) {
-      const double u[3] = {rng(), rng(), rng()};
-      const sampler::ScatteringSample s = sp.sample(u);
-      if (!(s.pdf > 0.0)) continue;
-      const double az = std::atan2(s.wi[2], s.wi[1]);
-      const int a = std::clamp(static_cast<int>((az + kPi) / (2.0 * kPi) * na), 0, na - 1);
-      const int b = std::clamp(static_cast<int>((s.wi[0] + 1.0) / 2.0 * nb), 0, nb - 1);
-      observed[static_cast<std::size_t>(a * nb + b)] += 1.0;
-    }
-    const double cell = (2.0 * kPi / na) * (2.0 / nb) / 16.0;
-    for (int a = 0; a < na; ++a)
-      for (int b = 0; b < nb; ++b) {
-        double sum = 0.0;
-        for (int i = 0; i < 4; ++i)
-          for (int j = 0; j < 4; ++j) {
-            const double az = -kPi + (a + (i + 0.5) / 4.0) * 2.0 * kPi / na, x = -1.0 + (b + (j + 0.5) / 4.0) * 2.0 / nb;
-            const double r = std::sqrt(std::max(0.0, 1.0 - x * x)), wi[3] = {x, r * std::cos(az), r * std::sin(az)};
-            sum += sp.pdf(wi);
-          }
-        expected[static_cast<std::size_t>(a * nb + b)] = sum * cell * count;
-      }
-    // Pool the bins expected below 5 (in increasing order of expectation, as Mitsuba does), then χ².
-    std::vector<std::size_t> order(observed.size());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return expected[x] < expected[y]; });
-    double pool_o = 0.0, pool_e = 0.0;
-    for (std::size_t k : order) {
-      if (expected[k] < 5.0) {
-        pool_o += observed[k], pool_e += expected[k];
-        if (pool_e >= 5.0) res.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e, ++res.dof, pool_o = pool_e = 0.0;
-        continue;
-      }
-      res.chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
-      ++res.dof;
-    }
-    if (pool_e > 0.0) res.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e, ++res.dof;
-    res.p = boost::math::gamma_q(0.5 * (res.dof - 1), 0.5 * res.chi2);
+    const double wo[3] = {std::sin(c[2]) * std::cos(c[3]), std::sin(c[2]) * std::sin(c[3]), std::cos(c[2])};
+    results[ci] = peer::chi2_sphere<float>(rt.at(f, wo), 4 + ci, na, nb, count);
   };
   std::thread second([&] {
     for (std::size_t ci = 1; ci < configs.size(); ci += 2) run(ci);
@@ -452,7 +396,7 @@ TEST_CASE("HairScattering: Mitsuba 3 test06_chi2, samples distributed as pdf() s
   second.join();
   for (std::size_t ci = 0; ci < configs.size(); ++ci) {
     const auto& c = configs[ci];
-    const Result& r = results[ci];
+    const peer::Chi2& r = results[ci];
     INFO("long " << c[0] << " azimuthal " << c[1] << " theta " << c[2] << ": chi2 " << r.chi2 << " with " << r.dof - 1 << " dof, p " << r.p
                  << " (alpha " << alpha << ")");
     REQUIRE(r.valid);

@@ -41,6 +41,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "hairlut/sampler/axis_sampling.hpp"
@@ -236,20 +237,20 @@ class HairScattering {
       double u0 = open_unit(u[0]);
       int p = -1;
       for (int k = 0; k < r.lobes_; ++k) {
-        if (!(pt_.c[k] > 0.0)) continue;
+        if (!(pt_->c[k] > 0.0)) continue;
         p = k;
-        if (u0 < pt_.c[k]) break;
-        u0 -= pt_.c[k];
+        if (u0 < pt_->c[k]) break;
+        u0 -= pt_->c[k];
       }
       if (p < 0) return s;
-      u0 = std::min(std::max(u0 / pt_.c[p], 0.0), 1.0);
-      const double ti = pt_.g[p].sample(open_unit(u[1]));
+      u0 = std::min(std::max(u0 / pt_->c[p], 0.0), 1.0);
+      const double ti = pt_->g[p].sample(open_unit(u[1]));
       if (!(ti == ti)) return s;
-      const double m = r.theta_density(pt_, ti);
+      const double m = r.theta_density(*pt_, ti);
       // 2. The lobe at θi, by what is left of u0, in proportion to share_q Z^φ_q.
       double share[kMaxLobes];
       Density n[kMaxLobes];
-      const double norm = m > 0.0 ? r.phi_stage(f_, pt_, ti, share, n) : 0.0;
+      const double norm = m > 0.0 ? r.phi_stage(f_, *pt_, ti, share, n) : 0.0;
       if (!(norm > 0.0)) return s;
       u0 = open_unit(u0) * norm;
       int q = -1;
@@ -271,7 +272,7 @@ class HairScattering {
       s.wi[0] = std::sin(ti), s.wi[1] = cti * std::cos(phi_i), s.wi[2] = cti * std::sin(phi_i);
       s.theta_i = ti, s.phi = phi, s.pdf = pdf, s.lobe = q;
       double rgb[3];
-      r.eval(f_, pt_.theta_o, ti, phi, rgb);
+      r.eval(f_, to_, ti, phi, rgb);
       for (int c = 0; c < 3; ++c) s.weight[c] = rgb[c] / pdf;
       return s;
     }
@@ -286,31 +287,31 @@ class HairScattering {
       if (!ok_ || !(theta_i == theta_i) || !(phi == phi)) return 0.0;
       const HairScattering& r = *rt_;
       if (r.material_) return r.mat_.pdf(mpt_, theta_i, phi);
-      const double m = r.theta_density(pt_, theta_i);
+      const double m = r.theta_density(*pt_, theta_i);
       if (!(m > 0.0)) return 0.0;
       double share[kMaxLobes];
       Density n[kMaxLobes];
-      const double norm = r.phi_stage(f_, pt_, theta_i, share, n);
+      const double norm = r.phi_stage(f_, *pt_, theta_i, share, n);
       return norm > 0.0 ? m * r.phi_sum(f_, share, n, norm, phi) : 0.0;
     }
     /// S(wo, wi) per channel.
     void eval(const double* wi, double* rgb) const {
       double ti, pi;
       fibre_direction_angles(wi, ti, pi);
-      rt_->eval(f_, pt_.theta_o, ti, po_ - pi, rgb);
+      rt_->eval(f_, to_, ti, po_ - pi, rgb);
     }
     /// The normalisation of sample()'s θi density: ∫ S dω averaged over the channels, with each
     /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
     /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fibre
     /// the mean of the sample weights at this wo; 0 where nothing can be sampled.
-    double albedo() const { return ok_ ? (rt_->material_ ? rt_->mat_.albedo(mpt_) : pt_.total) : 0.0; }
+    double albedo() const { return ok_ ? (rt_->material_ ? rt_->mat_.albedo(mpt_) : pt_->total) : 0.0; }
 
    private:
     friend class HairScattering;
     const HairScattering* rt_ = nullptr;
     Fibre f_;
-    double po_ = 0.0;
-    Point pt_;
+    double po_ = 0.0, to_ = 0.0;
+    std::optional<Point> pt_;  // generic tables (built only for them: its rows are large)
     typename MaterialScattering<T>::Point mpt_;
     bool ok_ = false;
   };
@@ -321,13 +322,14 @@ class HairScattering {
     sp.rt_ = this, sp.f_ = f;
     double to;
     fibre_direction_angles(wo, to, sp.po_);
-    sp.pt_.theta_o = to;
+    sp.to_ = to;
     if (material_) {
       if (to == to && sp.po_ == sp.po_) sp.mpt_ = mat_.at(to, sp.po_);
       sp.ok_ = valid_ && sp.mpt_.ok;
       return sp;
     }
-    sp.ok_ = valid_ && to == to && sp.po_ == sp.po_ && at_theta_o(f, to, sp.pt_);
+    sp.pt_.emplace();
+    sp.ok_ = valid_ && to == to && sp.po_ == sp.po_ && at_theta_o(f, to, *sp.pt_);
     return sp;
   }
   /// at(f, wo).sample(u).

@@ -1,0 +1,99 @@
+// What the ports of pbrt-v4's and Mitsuba 3's hair tests share (test_hair_scattering.cpp,
+// test_material_scattering.cpp): the peers' roughness mappings, their direction sampling and
+// Mitsuba's χ² test on the sphere.
+//   pbrt-v4 src/pbrt/bsdfs_test.cpp at commit 00aad0a68d6672d0e52f3d9c730406eee720f2b5;
+//   Mitsuba 3 src/bsdfs/tests/test_hair.py and src/python/python/chi2.py at commit
+//   0fec507e35a820a2fc0f3079686a3ee34b5697ad.
+#pragma once
+
+#include <hairlut/sampler/hair_scattering.hpp>
+
+#include <algorithm>
+#include <boost/math/special_functions/gamma.hpp>
+#include <cmath>
+#include <cstddef>
+#include <random>
+#include <vector>
+
+namespace peer {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The peers take roughness in [0, 1]; their plugins map it to the Bessel M_p's variance
+// v = (0.726 β_m + 0.812 β_m² + 3.7 β_m²⁰)² and to a logistic scale s = √(π/8) (0.265 β_n + 1.194
+// β_n² + 5.372 β_n²²). hairlut's β_m is √v and its β_n the standard deviation of a Gaussian, taken
+// as that of the logistic (π s / √3).
+inline double pbrt_beta_m(double b) { return 0.726 * b + 0.812 * b * b + 3.7 * std::pow(b, 20); }
+inline double pbrt_beta_n(double b) {
+  const double s = std::sqrt(kPi / 8.0) * (0.265 * b + 1.194 * b * b + 5.372 * std::pow(b, 22));
+  return kPi * s / std::sqrt(3.0);
+}
+
+struct Rng {
+  std::mt19937_64 g;
+  explicit Rng(unsigned long long seed) : g(seed) {}
+  double operator()() { return std::uniform_real_distribution<double>(0.0, 1.0)(g); }
+};
+inline void uniform_sphere(double u0, double u1, double* w) {
+  const double z = 1.0 - 2.0 * u0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), a = 2.0 * kPi * u1;
+  w[0] = r * std::cos(a), w[1] = r * std::sin(a), w[2] = z;
+}
+inline double average(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3.0; }
+
+struct Chi2 {
+  bool valid = false;
+  double chi2 = 0.0, p = 0.0;
+  int dof = 0;
+};
+// Mitsuba's ChiSquareTest on its SphericalDomain for one shading point: bins uniform in (azimuth,
+// cos of the polar angle) — here the fibre frame's φi = atan2(z, y) and x = sin θi, the same
+// equal-area grid — na × nb bins, `count` samples, expected counts from pdf() integrated over each
+// bin (4 × 4 midpoints, Mitsuba's ires 4), bins expected below 5 pooled in increasing order of
+// expectation, then the χ² p-value.
+template <class T>
+Chi2 chi2_sphere(const typename hairlut::sampler::HairScattering<T>::ShadingPoint& sp, unsigned long long seed, int na, int nb, long count) {
+  Chi2 res;
+  res.valid = sp.valid();
+  if (!res.valid) return res;
+  Rng rng(seed);
+  std::vector<double> observed(static_cast<std::size_t>(na * nb), 0.0), expected(observed.size(), 0.0);
+  for (long i = 0; i < count; ++i) {
+    const double u[3] = {rng(), rng(), rng()};
+    const hairlut::sampler::ScatteringSample s = sp.sample(u);
+    if (!(s.pdf > 0.0)) continue;
+    const double az = std::atan2(s.wi[2], s.wi[1]);
+    const int a = std::clamp(static_cast<int>((az + kPi) / (2.0 * kPi) * na), 0, na - 1);
+    const int b = std::clamp(static_cast<int>((s.wi[0] + 1.0) / 2.0 * nb), 0, nb - 1);
+    observed[static_cast<std::size_t>(a * nb + b)] += 1.0;
+  }
+  const double cell = (2.0 * kPi / na) * (2.0 / nb) / 16.0;
+  for (int a = 0; a < na; ++a)
+    for (int b = 0; b < nb; ++b) {
+      double sum = 0.0;
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+          const double az = -kPi + (a + (i + 0.5) / 4.0) * 2.0 * kPi / na, x = -1.0 + (b + (j + 0.5) / 4.0) * 2.0 / nb;
+          const double r = std::sqrt(std::max(0.0, 1.0 - x * x)), wi[3] = {x, r * std::cos(az), r * std::sin(az)};
+          sum += sp.pdf(wi);
+        }
+      expected[static_cast<std::size_t>(a * nb + b)] = sum * cell * static_cast<double>(count);
+    }
+  std::vector<std::size_t> order(observed.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return expected[x] < expected[y]; });
+  double pool_o = 0.0, pool_e = 0.0;
+  for (std::size_t k : order) {
+    if (expected[k] < 5.0) {
+      pool_o += observed[k], pool_e += expected[k];
+      if (pool_e >= 5.0) res.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e, ++res.dof, pool_o = pool_e = 0.0;
+      continue;
+    }
+    res.chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+    ++res.dof;
+  }
+  if (pool_e > 0.0) res.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e, ++res.dof;
+  res.p = boost::math::gamma_q(0.5 * (res.dof - 1), 0.5 * res.chi2);
+  return res;
+}
+
+}  // namespace peer

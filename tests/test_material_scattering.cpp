@@ -1,0 +1,393 @@
+// The renderer runtime on the tables of one material (HairScattering over materials/<name>;
+// material_scattering.hpp), tested as pbrt-v4 and Mitsuba 3 test their hair BSDFs (peer_hair_tests.hpp
+// names the files and commits), with their counts and tolerances.
+//
+// A material's tables fix its roughness, so each (β_m, β_n) pair of a peer's loop is a material of
+// its own: the sets below are baked in memory from the shipped per-show example config, untilted
+// and white (σa = 0) where the peers test energy, with M_p on 0.5° nodes so that the tables' own
+// normalisation error (a 4° lobe read linearly) stays below Mitsuba's 1e-3. The peers' roughness
+// maps as in peer_hair_tests.hpp, clamped to [2°, 45°] as the generic tables' β axis is.
+#include <hairlut/bake/bake.hpp>
+#include <hairlut/bake/config.hpp>
+#include <hairlut/tables/hair_views.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "catch.hpp"
+#include "peer_hair_tests.hpp"
+
+using namespace hairlut;
+using Runtime = sampler::HairScattering<float>;
+using peer::average;
+using peer::Rng;
+using peer::uniform_sphere;
+
+namespace {
+
+constexpr double kPiM = peer::kPi;
+
+double degrees_of(double rad) { return rad * 180.0 / kPiM; }
+std::string name_of(double bm, double bn) {
+  std::ostringstream s;
+  s << "m" << bm << "-n" << bn;
+  return s.str();
+}
+
+// The per-show example config with the given materials: peer roughness pairs (β_m, β_n), one grey
+// σa, tilts as shipped or none.
+TableSet bake_materials(const std::vector<std::pair<double, double>>& pairs, double sigma_a, bool tilted) {
+  std::ifstream in(std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/show-example.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  if (!tilted) j["lobes"].erase("tilt_deg");
+  j["tables"]["mp"]["axes"]["theta_i"]["count"] = 361;
+  j["tables"]["mp"]["axes"]["theta_r"]["count"] = 361;
+  j["scene"]["materials"] = nlohmann::json::array();
+  for (const auto& [bm, bn] : pairs) {
+    const double m = std::clamp(degrees_of(peer::pbrt_beta_m(bm)), 2.0, 45.0), n = std::clamp(degrees_of(peer::pbrt_beta_n(bn)), 2.0, 45.0);
+    j["scene"]["materials"].push_back({{"name", name_of(bm, bn)},
+                                       {"sigma_a", {sigma_a, sigma_a, sigma_a}},
+                                       {"beta_deg", {{"R", m}, {"residual", m}}},
+                                       {"beta_n_deg", {{"R", n}, {"residual", n}}}});
+  }
+  j["output"]["formats"] = {"hdf5"};
+  j["output"]["directory"] = ".";
+  BakeOptions options;
+  options.threads = 2;
+  return bake(parse_config(j, "materials.json", std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs"), options);
+}
+
+// The peers' loops, each pair a material; baked once per loop.
+std::vector<std::pair<double, double>> grid(std::vector<double> ms, std::vector<double> ns) {
+  std::vector<std::pair<double, double>> g;
+  for (double m : ms)
+    for (double n : ns) g.emplace_back(m, n);
+  return g;
+}
+struct MaterialSet {
+  TableSet set;
+  std::map<std::pair<double, double>, Runtime> rt;
+  MaterialSet(const std::vector<std::pair<double, double>>& pairs, double sigma_a, bool tilted) : set(bake_materials(pairs, sigma_a, tilted)) {
+    for (const auto& p : pairs) rt.emplace(p, hair_scattering<float>(set, "materials/" + name_of(p.first, p.second)));
+  }
+  const Runtime& operator()(double bm, double bn) const { return rt.at({bm, bn}); }
+};
+// pbrt's WhiteFurnace and WhiteFurnaceSampled grid (β_m, β_n = 0.1 … 0.9 step 0.2).
+const MaterialSet& pbrt_white() {
+  static const MaterialSet s(grid({0.1, 0.3, 0.5, 0.7, 0.9}, {0.1, 0.3, 0.5, 0.7, 0.9}), 0.0, false);
+  return s;
+}
+// The shipped per-show example: tilted, coloured materials as a show bakes them.
+const TableSet& show_tables() {
+  static const TableSet set = [] {
+    std::ifstream in(std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/show-example.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    j["output"]["formats"] = {"hdf5"};
+    j["output"]["directory"] = ".";
+    BakeOptions options;
+    options.threads = 2;
+    return bake(parse_config(j, "show-example.json", std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs"), options);
+  }();
+  return set;
+}
+const std::vector<std::string>& show_materials() {
+  static const std::vector<std::string> names = {"hero-blonde", "hero-brunette", "crowd-black", "white-beard"};
+  return names;
+}
+
+// S of a material composed from each of its tables as the generic TableView reads it.
+void reference_s(const TableSet& set, const std::string& group, double to, double ti, double phi, double* rgb) {
+  rgb[0] = rgb[1] = rgb[2] = 0.0;
+  std::vector<std::string> lobes;
+  for (const auto& l : set.metadata.at("lobes")) lobes.push_back(l.get<std::string>());
+  lobes.push_back("residual");
+  for (const std::string& l : lobes) {
+    const Table* m = set.find(group + "/mp_" + l);
+    const Table* n = set.find(group + "/np_" + l);
+    if (!m || !n) continue;
+    std::vector<sampler::Axis> ma, na;
+    for (const auto& a : m->axes) ma.push_back(a.view());
+    for (const auto& a : n->axes) na.push_back(a.view());
+    const sampler::TableView<float> mv(m->f32.data(), ma.data(), 2), nv(n->f32.data(), na.data(), static_cast<int>(na.size()));
+    const double xm[2] = {ti, to};
+    const double mval = mv(xm);
+    for (int c = 0; c < 3; ++c) {
+      const double xn[3] = {static_cast<double>(c), std::fabs(0.5 * (to - ti)), std::fabs(phi)};
+      rgb[c] += mval * nv(xn);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("MaterialScattering: eval is the material's S as TableView reads each table", "[scattering][material]") {
+  const TableSet& set = show_tables();
+  Rng rng(3);
+  const sampler::Fibre f;
+  for (const std::string& name : show_materials()) {
+    const Runtime rt = hair_scattering<float>(set, "materials/" + name);
+    REQUIRE(rt.valid());
+    REQUIRE(rt.material());
+    double worst = 0.0;
+    for (int i = 0; i < 3000; ++i) {
+      // Beyond the axes too: θd past the last node, φ past ±π.
+      const double to = (2.0 * rng() - 1.0) * 0.5 * kPiM, ti = (2.0 * rng() - 1.0) * 0.5 * kPiM, phi = (2.0 * rng() - 1.0) * 1.5 * kPiM;
+      double got[3], want[3];
+      rt.eval(f, to, ti, phi, got);
+      reference_s(set, "materials/" + name, to, ti, std::remainder(phi, 2.0 * kPiM), want);
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(got[c] - want[c]) / std::max(1e-6, want[c]));
+    }
+    INFO(name << ": worst relative difference " << worst);
+    CHECK(worst < 1e-12);
+  }
+}
+
+TEST_CASE("MaterialScattering: pdf integrates to one and albedo() is the integral of S", "[scattering][material]") {
+  // Midpoint rule in (θi, φ) on 1/16° × 1/8° cells, θo up to 0.05° from the poles.
+  const TableSet& set = show_tables();
+  const sampler::Fibre f;
+  for (const std::string& name : {std::string("white-beard"), std::string("hero-brunette")}) {
+    const Runtime rt = hair_scattering<float>(set, "materials/" + name);
+    for (double deg : {-89.95, -70.0, 0.0, 33.0, 89.95}) {
+      const double to = deg * kPiM / 180.0, wo[3] = {std::sin(to), std::cos(to), 0.0};
+      const Runtime::ShadingPoint sp = rt.at(f, wo);
+      REQUIRE(sp.valid());
+      const int nt = 2880, np = 1440;
+      double p = 0.0, s = 0.0;
+      for (int a = 0; a < nt; ++a)
+        for (int b = 0; b < np; ++b) {
+          const double ti = -0.5 * kPiM + (a + 0.5) * kPiM / nt, ph = -kPiM + 2.0 * kPiM * (b + 0.5) / np;
+          double rgb[3];
+          rt.eval(f, to, ti, ph, rgb);
+          p += sp.pdf(ti, ph) * std::cos(ti);
+          s += average(rgb) * std::cos(ti);
+        }
+      p *= (kPiM / nt) * (2.0 * kPiM / np), s *= (kPiM / nt) * (2.0 * kPiM / np);
+      INFO(name << " theta_o " << deg << ": integral of pdf " << p << ", of S " << s << ", albedo() " << sp.albedo());
+      CHECK(p == Approx(1.0).epsilon(1e-3));
+      CHECK(sp.albedo() == Approx(s).epsilon(2e-3));
+    }
+  }
+}
+
+TEST_CASE("MaterialScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurnaceSampled", "[scattering][material]") {
+  const MaterialSet& m = pbrt_white();
+  const sampler::Fibre f;
+  Rng rng(7);
+  double wo[3];
+  uniform_sphere(rng(), rng(), wo);
+  for (double bm = 0.1; bm < 1.0; bm += 0.2)
+    for (double bn = 0.1; bn < 1.0; bn += 0.2) {
+      const Runtime& rt = m(std::round(bm * 10) / 10, std::round(bn * 10) / 10);
+      const int count = (bm < 0.5 || bn < 0.5) ? 100000 : 20000;
+      double sum = 0.0;
+      for (int i = 0; i < count; ++i) {
+        double wi[3], rgb[3];
+        uniform_sphere(rng(), rng(), wi);
+        rt.eval(f, wo, wi, rgb);
+        sum += average(rgb);
+      }
+      const double uniform = sum / (count / (4.0 * kPiM));
+      double sampled = 0.0;
+      for (int i = 0; i < 10000; ++i) {
+        const double u[3] = {rng(), rng(), rng()};
+        const sampler::ScatteringSample s = rt.sample(f, wo, u);
+        if (s.pdf > 0.0) sampled += average(s.weight) / 10000;
+      }
+      INFO("pbrt beta_m " << bm << " beta_n " << bn << ": uniform " << uniform << ", sampled " << sampled);
+      CHECK(uniform >= 0.95);
+      CHECK(uniform <= 1.05);
+      CHECK(sampled >= 0.99);
+      CHECK(sampled <= 1.01);
+    }
+}
+
+TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre", "[scattering][material]") {
+  const MaterialSet m(grid({0.1, 0.3, 0.5, 0.7, 0.9}, {0.4, 0.6, 0.8}), 0.0, false);
+  const sampler::Fibre f;
+  Rng rng(13);
+  int total = 0, outside = 0;
+  double lo = 1.0, hi = 1.0;
+  for (const auto& [key, rt] : m.rt)
+    for (int i = 0; i < 10000; ++i) {
+      double wo[3];
+      uniform_sphere(rng(), rng(), wo);
+      const double u[3] = {rng(), rng(), rng()};
+      const sampler::ScatteringSample s = rt.sample(f, wo, u);
+      if (!(s.pdf > 0.0)) continue;
+      const double w = average(s.weight);
+      ++total, lo = std::min(lo, w), hi = std::max(hi, w);
+      if (!(w > 0.99 && w < 1.01)) ++outside;
+    }
+  INFO(total << " samples, weights in [" << lo << ", " << hi << "]");
+  CHECK(total == 150000);
+  CHECK(outside == 0);
+}
+
+TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingConsistency, importance and uniform estimates agree", "[scattering][material]") {
+  const MaterialSet m(grid({0.2, 0.4, 0.6, 0.8}, {0.4, 0.6, 0.8}), 0.25, false);
+  const sampler::Fibre f;
+  Rng rng(17);
+  for (const auto& [key, rt] : m.rt) {
+    const int count = 64 * 1024;
+    double wo[3];
+    uniform_sphere(rng(), rng(), wo);
+    auto li = [](const double* w) { return w[1] * w[1]; };  // pbrt's Li = w.z², its z our y
+    double importance = 0.0, uniform = 0.0;
+    for (int i = 0; i < count; ++i) {
+      const double u[3] = {rng(), rng(), rng()};
+      const sampler::ScatteringSample s = rt.sample(f, wo, u);
+      if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
+      double wi[3], rgb[3];
+      uniform_sphere(u[1], u[2], wi);
+      rt.eval(f, wo, wi, rgb);
+      uniform += average(rgb) * li(wi) * 4.0 * kPiM / count;
+    }
+    INFO("pbrt beta_m " << key.first << " beta_n " << key.second << ": importance " << importance << " uniform " << uniform);
+    CHECK(std::fabs(importance - uniform) / uniform < 0.05);
+  }
+}
+
+TEST_CASE("MaterialScattering: pbrt-v4 Hair.HOnTheEdge and the frame's edges give finite values", "[scattering][material]") {
+  const Runtime& rt = pbrt_white()(0.1, 0.1);
+  const sampler::Fibre f;
+  const double wo[3] = {0.54986966, 0.03359017, 0.83457476}, wi[3] = {-0.37383357, -0.91920084, 0.12376696};
+  const double along[3] = {1.0, 0.0, 0.0}, against[3] = {-1.0, 0.0, 0.0}, normal[3] = {0.0, 1.0, 0.0};
+  const double* dirs[5] = {wo, wi, along, against, normal};
+  for (const double* a : dirs)
+    for (const double* b : dirs) {
+      double rgb[3];
+      rt.eval(f, a, b, rgb);
+      for (double v : rgb) CHECK((std::isfinite(v) && v >= 0.0));
+      for (const double u0 : {0.0, 0.5, 1.0}) {
+        const double u[3] = {u0, u0, u0};
+        const sampler::ScatteringSample s = rt.sample(f, a, u);
+        CHECK(s.pdf > 0.0);
+        for (double w : s.weight) CHECK((std::isfinite(w) && w >= 0.0));
+      }
+      const double p = rt.pdf(f, a, b);
+      CHECK((std::isfinite(p) && p >= 0.0));
+    }
+}
+
+TEST_CASE("MaterialScattering: Mitsuba 3 test04_sample_numeric, every lane's luminance weight within 1e-3", "[scattering][material]") {
+  std::vector<std::pair<double, double>> pairs;
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b) pairs.emplace_back(0.1 + 0.89 * a / 4.0, 0.1 + 0.89 * b / 4.0);
+  const MaterialSet m(pairs, 0.0, false);
+  const sampler::Fibre f;
+  Rng rng(0);
+  double worst = 0.0;
+  int lanes = 0, bad = 0;
+  for (const auto& p : pairs) {
+    const Runtime& rt = m(p.first, p.second);
+    for (int i = 0; i < 100000; ++i) {
+      double wo[3];
+      uniform_sphere(rng(), rng(), wo);
+      const double u[3] = {rng(), rng(), rng()};
+      const sampler::ScatteringSample s = rt.sample(f, wo, u);
+      const double lum = s.pdf > 0.0 ? 0.212671 * s.weight[0] + 0.715160 * s.weight[1] + 0.072169 * s.weight[2] : 1.0;
+      worst = std::max(worst, std::fabs(lum - 1.0));
+      if (!(std::fabs(lum - 1.0) <= 1e-3)) ++bad;
+      ++lanes;
+    }
+  }
+  INFO(lanes << " lanes, worst |w - 1| " << worst);
+  CHECK(bad == 0);
+}
+
+TEST_CASE("MaterialScattering: Mitsuba 3 test06_chi2 on the shipped show's materials", "[scattering][material]") {
+  // Mitsuba's χ² (peer_hair_tests.hpp): 301 × 150 bins, 10⁶ samples, wo at Mitsuba's θ 0 and
+  // 0.99 π/4 (φ π/2) for each of the four tilted, coloured materials; significance 0.01 with the
+  // Šidák correction over the 8 configurations.
+  const TableSet& set = show_tables();
+  const sampler::Fibre f;
+  const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / 8.0);
+  int k = 0;
+  for (const std::string& name : show_materials()) {
+    const Runtime rt = hair_scattering<float>(set, "materials/" + name);
+    for (double th : {0.0, 0.99 * kPiM / 4.0}) {
+      const double wo[3] = {std::sin(th) * std::cos(kPiM / 2.0), std::sin(th) * std::sin(kPiM / 2.0), std::cos(th)};
+      const peer::Chi2 r = peer::chi2_sphere<float>(rt.at(f, wo), 40 + k++, 301, 150, 1000000);
+      INFO(name << " theta " << th << ": chi2 " << r.chi2 << " with " << r.dof - 1 << " dof, p " << r.p << " (alpha " << alpha << ")");
+      REQUIRE(r.valid);
+      CHECK(r.p > alpha);
+    }
+  }
+}
+
+TEST_CASE("MaterialScattering: tilted materials' weights are the albedo at wo, and pdf() is sample()'s density", "[scattering][material]") {
+  // Tilted d'Eon lobes do not conserve energy (docs/conventions.md, "Tilt"): the mean weight at wo
+  // is the albedo there, and the spread of the white material's weights about it measures the
+  // sampling. The coloured materials' weights are each channel's S over the channels' mean density,
+  // so for them the check is that pdf() and the weights are what sample() reports.
+  const TableSet& set = show_tables();
+  const sampler::Fibre f;
+  Rng rng(29);
+  for (const std::string& name : show_materials()) {
+    const Runtime rt = hair_scattering<float>(set, "materials/" + name);
+    int total = 0, outside1 = 0, outside10 = 0;
+    double lo = 1.0, hi = 1.0;
+    for (int i = 0; i < 20000; ++i) {
+      double wo[3];
+      uniform_sphere(rng(), rng(), wo);
+      double u[3] = {rng(), rng(), rng()};
+      if (i % 7 == 0) u[i % 3] = 0.0;
+      const Runtime::ShadingPoint sp = rt.at(f, wo);
+      const sampler::ScatteringSample s = sp.sample(u);
+      REQUIRE(s.pdf > 0.0);
+      CHECK(sp.pdf(s.wi) == Approx(s.pdf).epsilon(1e-9));
+      double rgb[3];
+      rt.eval(f, wo, s.wi, rgb);
+      for (int c = 0; c < 3; ++c) CHECK(s.weight[c] == Approx(rgb[c] / s.pdf).epsilon(1e-9));
+      if (name != "white-beard") continue;
+      const double r = average(s.weight) / sp.albedo();
+      ++total, lo = std::min(lo, r), hi = std::max(hi, r);
+      outside1 += !(r > 0.99 && r < 1.01), outside10 += !(r >= 0.9 && r <= 1.1);
+    }
+    if (name != "white-beard") continue;
+    INFO(total << " samples, weight / albedo in [" << lo << ", " << hi << "], " << outside1 << " outside (0.99, 1.01)");
+    CHECK(outside1 <= total / 100);
+    CHECK(outside10 == 0);
+  }
+}
+
+TEST_CASE("MaterialScattering: hostile values and axes", "[scattering][material][hostile]") {
+  TableSet set = show_tables();
+  const std::string g = "materials/hero-blonde";
+  SECTION("NaN, infinite and negative values read as 0") {
+    for (Table& t : set.tables)
+      if (t.group == g)
+        for (std::size_t k = 0; k < t.f32.size(); k += 5) t.f32[k] = k % 3 == 0 ? std::nanf("") : k % 3 == 1 ? -1e30f : INFINITY;
+    const Runtime rt = hair_scattering<float>(set, g);
+    REQUIRE(rt.valid());
+    const sampler::Fibre f;
+    Rng rng(31);
+    for (int i = 0; i < 5000; ++i) {
+      double wo[3], wi[3], rgb[3];
+      uniform_sphere(rng(), rng(), wo);
+      uniform_sphere(rng(), rng(), wi);
+      rt.eval(f, wo, wi, rgb);
+      for (double v : rgb) CHECK((std::isfinite(v) && v >= 0.0));
+      const double u[3] = {rng(), rng(), rng()};
+      const sampler::ScatteringSample s = rt.sample(f, wo, u);
+      CHECK((std::isfinite(s.pdf) && s.pdf >= 0.0));
+      for (double w : s.weight) CHECK((std::isfinite(w) && w >= 0.0));
+    }
+  }
+  SECTION("an axis the runtime cannot sample exactly is refused, naming the group") {
+    for (Table& t : set.tables)
+      if (t.group == g && t.name == "np_R") t.axes[2].interpolation = Interpolation::cubic;
+    CHECK_THROWS_WITH(hair_scattering<float>(set, g), Catch::Contains("np_R") || Catch::Contains(g));
+  }
+  SECTION("a missing table is named") {
+    set.tables.erase(std::remove_if(set.tables.begin(), set.tables.end(), [&](const Table& t) { return t.path() == g + "/mp_TT"; }), set.tables.end());
+    CHECK_THROWS_WITH(hair_scattering<float>(set, g), Catch::Contains("mp_TT"));
+  }
+}
