@@ -342,10 +342,12 @@ TEST_CASE("MaterialScattering: tilted materials' weights are the albedo at wo, a
       const Runtime::ShadingPoint sp = rt.at(f, wo);
       const sampler::ScatteringSample s = sp.sample(u);
       REQUIRE(s.pdf > 0.0);
-      CHECK(sp.pdf(s.wi) == Approx(s.pdf).epsilon(1e-9));
+      // pdf() reads wi back as angles (asin, atan2): 1e-7 leaves room for that round trip on the
+      // steepest lobes near grazing; a density that differs from sample()'s is off by percents.
+      CHECK(sp.pdf(s.wi) == Approx(s.pdf).epsilon(1e-7));
       double rgb[3];
       rt.eval(f, wo, s.wi, rgb);
-      for (int c = 0; c < 3; ++c) CHECK(s.weight[c] == Approx(rgb[c] / s.pdf).epsilon(1e-9));
+      for (int c = 0; c < 3; ++c) CHECK(s.weight[c] == Approx(rgb[c] / s.pdf).epsilon(1e-7));
       if (name != "white-beard") continue;
       const double r = average(s.weight) / sp.albedo();
       ++total, lo = std::min(lo, r), hi = std::max(hi, r);

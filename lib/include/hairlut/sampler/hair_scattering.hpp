@@ -71,6 +71,8 @@ inline void fibre_direction_angles(const double* w, double& theta, double& phi) 
 
 template <class T>
 class HairScattering {
+  using Mat = MaterialScattering<T>;
+
  public:
   static constexpr int kMaxLobes = HairTables<T, double>::kMaxLobes + 1;  ///< explicit + residual
   static constexpr int kMaxBands = HairTables<T, double>::kMaxBetaBands;
@@ -180,6 +182,16 @@ class HairScattering {
 
   /// S(wo, wi) per channel [1/sr] for unit vectors in the fibre frame.
   void eval(const Fibre& f, const double* wo, const double* wi, double* rgb) const {
+    if (material_ && valid_ && wo[0] == wo[0] && wi[0] == wi[0]) {
+      // The sines are the directions' components along the fibre, and |φ| (all the tables need:
+      // N_p is even in φ) is the angle between their projections on the normal plane.
+      const double cross = wo[1] * wi[2] - wo[2] * wi[1], dot = wo[1] * wi[1] + wo[2] * wi[2];
+      const double phi = std::atan2(std::fabs(cross), dot);
+      if (phi == phi) {
+        mat_.eval(Mat::incl_of_sin(wo[0]), Mat::incl_of_sin(wi[0]), phi, rgb);
+        return;
+      }
+    }
     double to, po, ti, pi;
     fibre_direction_angles(wo, to, po);
     fibre_direction_angles(wi, ti, pi);
@@ -194,7 +206,7 @@ class HairScattering {
       return;
     }
     if (material_) {
-      if (valid_) mat_.eval(theta_o, theta_i, phi, rgb);
+      if (valid_) mat_.eval(Mat::incl(theta_o), Mat::incl(theta_i), phi, rgb);
       return;
     }
     const double theta_d = 0.5 * (theta_o - theta_i);
@@ -225,10 +237,11 @@ class HairScattering {
       const HairScattering& r = *rt_;
       if (r.material_) {
         const double v[3] = {open_unit(u[0]), open_unit(u[1]), open_unit(u[2])};
-        const typename MaterialScattering<T>::Draw d = r.mat_.sample(mpt_, v);
+        const typename Mat::Draw d = r.mat_.sample(mpt_, v);
         if (!(d.pdf > 0.0)) return s;
-        const double phi_i = po_ - d.phi, cti = std::cos(d.theta_i);
-        s.wi[0] = std::sin(d.theta_i), s.wi[1] = cti * std::cos(phi_i), s.wi[2] = cti * std::sin(phi_i);
+        // φi = φo − φ by the angle-difference identities: no atan2 for φo.
+        const double cf = std::cos(d.phi), sf = std::sin(d.phi);
+        s.wi[0] = d.sin_i, s.wi[1] = d.cos_i * (cpo_ * cf + spo_ * sf), s.wi[2] = d.cos_i * (spo_ * cf - cpo_ * sf);
         s.theta_i = d.theta_i, s.phi = d.phi, s.pdf = d.pdf, s.lobe = d.lobe;
         for (int c = 0; c < 3; ++c) s.weight[c] = d.rgb[c] / d.pdf;
         return s;
@@ -278,6 +291,10 @@ class HairScattering {
     }
     /// The pdf per unit solid angle with which sample() draws wi.
     double pdf(const double* wi) const {
+      if (ok_ && rt_->material_) {
+        const double phi = azimuth(wi);
+        return wi[0] == wi[0] && phi == phi ? rt_->mat_.pdf(mpt_, Mat::incl_of_sin(wi[0]), phi) : 0.0;
+      }
       double ti, pi;
       fibre_direction_angles(wi, ti, pi);
       return pdf(ti, po_ - pi);
@@ -286,7 +303,7 @@ class HairScattering {
     double pdf(double theta_i, double phi) const {
       if (!ok_ || !(theta_i == theta_i) || !(phi == phi)) return 0.0;
       const HairScattering& r = *rt_;
-      if (r.material_) return r.mat_.pdf(mpt_, theta_i, phi);
+      if (r.material_) return r.mat_.pdf(mpt_, Mat::incl(theta_i), phi);
       const double m = r.theta_density(*pt_, theta_i);
       if (!(m > 0.0)) return 0.0;
       double share[kMaxLobes];
@@ -296,6 +313,13 @@ class HairScattering {
     }
     /// S(wo, wi) per channel.
     void eval(const double* wi, double* rgb) const {
+      if (rt_->material_ && rt_->valid_ && wi[0] == wi[0]) {
+        const double phi = azimuth(wi);
+        if (phi == phi) {
+          rt_->mat_.eval(mpt_.o, Mat::incl_of_sin(wi[0]), phi, rgb);
+          return;
+        }
+      }
       double ti, pi;
       fibre_direction_angles(wi, ti, pi);
       rt_->eval(f_, to_, ti, po_ - pi, rgb);
@@ -310,9 +334,17 @@ class HairScattering {
     friend class HairScattering;
     const HairScattering* rt_ = nullptr;
     Fibre f_;
+    // |φ| between wo and wi: the angle between their projections on the normal plane, from wo's
+    // unit projection (cos φo, sin φo).
+    double azimuth(const double* wi) const {
+      const double cross = cpo_ * wi[2] - spo_ * wi[1], dot = cpo_ * wi[1] + spo_ * wi[2];
+      return std::atan2(std::fabs(cross), dot);
+    }
+
     double po_ = 0.0, to_ = 0.0;
+    double cpo_ = 1.0, spo_ = 0.0;  // cos φo, sin φo (material tables)
     std::optional<Point> pt_;  // generic tables (built only for them: its rows are large)
-    typename MaterialScattering<T>::Point mpt_;
+    typename Mat::Point mpt_;
     bool ok_ = false;
   };
 
@@ -320,14 +352,18 @@ class HairScattering {
   ShadingPoint at(const Fibre& f, const double* wo) const {
     ShadingPoint sp;
     sp.rt_ = this, sp.f_ = f;
-    double to;
-    fibre_direction_angles(wo, to, sp.po_);
-    sp.to_ = to;
     if (material_) {
-      if (to == to && sp.po_ == sp.po_) sp.mpt_ = mat_.at(to, sp.po_);
+      const typename Mat::Incl o = Mat::incl_of_sin(wo[0]);
+      const double r = std::sqrt(wo[1] * wo[1] + wo[2] * wo[2]);
+      sp.to_ = o.theta;
+      if (r > 0.0) sp.cpo_ = wo[1] / r, sp.spo_ = wo[2] / r;  // else φo = 0, as atan2(0, 0)
+      if (o.theta == o.theta && r == r) sp.mpt_ = mat_.at(o);
       sp.ok_ = valid_ && sp.mpt_.ok;
       return sp;
     }
+    double to;
+    fibre_direction_angles(wo, to, sp.po_);
+    sp.to_ = to;
     sp.pt_.emplace();
     sp.ok_ = valid_ && to == to && sp.po_ == sp.po_ && at_theta_o(f, to, *sp.pt_);
     return sp;

@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "hairlut/sampler/sampler.hpp"
@@ -52,9 +53,21 @@ struct MaterialTables {
 template <class T>
 class MaterialScattering {
  public:
+  /// An inclination with its sine and cosine (cos ≥ 0): the runtime reads both, and a caller that
+  /// holds a direction has the sine already.
+  struct Incl {
+    double theta = 0.0, sin = 0.0, cos = 1.0;
+  };
+  static Incl incl(double theta) { return {theta, std::sin(theta), std::cos(theta)}; }
+  /// From the sine (a direction's component along the fibre), clamped to [−1, 1].
+  static Incl incl_of_sin(double s) {
+    s = std::min(std::max(s, -1.0), 1.0);
+    return {std::asin(s), s, std::sqrt(std::max(0.0, 1.0 - s * s))};
+  }
+
   /// What at() holds for one wo: where θo falls on the θr axis and the mixture of step 1.
   struct Point {
-    double theta_o = 0.0, phi_o = 0.0;
+    Incl o;
     int r = 0;                     // θr cell
     double w = 0.0;                // weight of node r + 1
     double a0 = 0.0, a1 = 0.0;     // (1 − w) ‖G_r‖, w ‖G_{r+1}‖
@@ -62,7 +75,7 @@ class MaterialScattering {
   };
   /// A drawn direction in angles (HairScattering turns it into a vector).
   struct Draw {
-    double theta_i = 0.0, phi = 0.0, pdf = 0.0, rgb[3] = {0.0, 0.0, 0.0};
+    double theta_i = 0.0, sin_i = 0.0, cos_i = 1.0, phi = 0.0, pdf = 0.0, rgb[3] = {0.0, 0.0, 0.0};
     int lobe = -1;
   };
 
@@ -120,6 +133,8 @@ class MaterialScattering {
         for (std::size_t j = 1; j < nf; ++j) cum[j] = cum[j - 1] + 0.5 * hf * (row[j - 1] + row[j]);
         z_[k * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p)] = 2.0 * cum[nf - 1];
       }
+    nguide_.assign(static_cast<std::size_t>(P_) * nt * kGuidePhi, 0);
+    for (std::size_t row = 0; row < static_cast<std::size_t>(P_) * nt; ++row) build_guide(&ncum_[row * nf], nf_, &nguide_[row * kGuidePhi], kGuidePhi);
     // Step 1's rows G_r: on each θi cell, Σ_p M_p Z_p cos θi with M_p linear (as stored) and
     // Z_p cos θi linear between its values at the cell's nodes, a quadratic in the cell's own
     // coordinate s ∈ [0, 1], A + B s + C s² (≥ 0: a sum of products of nonnegative linears);
@@ -163,23 +178,25 @@ class MaterialScattering {
         cum[i + 1] = cum[i] + hq_ * std::max(0.0, A + 0.5 * B + C / 3.0);
       }
     }
+    gguide_.assign(nr * kGuideTheta, 0);
+    for (std::size_t r = 0; r < nr; ++r) build_guide(&gcum_[r * nq], nq_, &gguide_[r * kGuideTheta], kGuideTheta);
     valid_ = true;
   }
 
   bool valid() const { return valid_; }
   int lobes() const { return L_; }
 
-  /// S per channel at θo, θi, φ = φo − φi [rad] (finite arguments).
-  void eval(double theta_o, double theta_i, double phi, double* rgb) const {
+  /// S per channel at θo, θi and φ = φo − φi [rad] (finite arguments).
+  void eval(const Incl& o, const Incl& i, double phi, double* rgb) const {
     Terms s;
-    terms(theta_o, theta_i, phi, s);
+    terms(o, i, phi, s);
     rgb[0] = s.rgb[0], rgb[1] = s.rgb[1], rgb[2] = s.rgb[2];
   }
   /// Step 1's mixture at θo; not ok where no lobe has energy.
-  Point at(double theta_o, double phi_o) const {
+  Point at(const Incl& o) const {
     Point pt;
-    pt.theta_o = theta_o, pt.phi_o = phi_o;
-    const Cell c = tr_.at(theta_o);
+    pt.o = o;
+    const Cell c = tr_.at(o.theta);
     pt.r = c.i, pt.w = c.w;
     const std::size_t n = static_cast<std::size_t>(nq_ - 1);
     pt.a0 = (1.0 - c.w) * gcum_[static_cast<std::size_t>(c.i) * static_cast<std::size_t>(nq_) + n];
@@ -190,13 +207,12 @@ class MaterialScattering {
   }
   /// ∫ S̄ dω at the point's θo as step 1 holds it: the mean weight of a white fibre.
   double albedo(const Point& pt) const { return pt.ok ? pt.a0 + pt.a1 : 0.0; }
-  /// The pdf per unit solid angle of drawing (θi, φ) at the point; also S there per channel.
-  double pdf(const Point& pt, double theta_i, double phi, double* rgb = nullptr) const {
+  /// The pdf per unit solid angle of drawing (θi, φ) at the point.
+  double pdf(const Point& pt, const Incl& i, double phi) const {
     if (!pt.ok) return 0.0;
     Terms s;
-    terms(pt.theta_o, theta_i, phi, s);
-    if (rgb) rgb[0] = s.rgb[0], rgb[1] = s.rgb[1], rgb[2] = s.rgb[2];
-    return density(pt, theta_i, s);
+    terms(pt.o, i, phi, s);
+    return density(pt, i, s);
   }
   /// Draws (θi, φ) from u ∈ [0, 1)³ (already kept off 0 and 1 by the caller).
   Draw sample(const Point& pt, const double* u) const {
@@ -211,14 +227,14 @@ class MaterialScattering {
       u0 = (u0 - pt.a0) / pt.a1, ++r;
     }
     u0 = std::min(std::max(u0, 0.0), 1.0);
-    const double ti = invert_quadratic_row(&gq_[static_cast<std::size_t>(r) * static_cast<std::size_t>(nq_ - 1) * 3],
-                                           &gcum_[static_cast<std::size_t>(r) * static_cast<std::size_t>(nq_)], nq_, ti_.lo, hq_, u[1]);
+    const std::size_t rr = static_cast<std::size_t>(r);
+    const Incl i = incl(invert_quadratic_row(&gq_[rr * static_cast<std::size_t>(nq_ - 1) * 3], &gcum_[rr * static_cast<std::size_t>(nq_)],
+                                             &gguide_[rr * kGuideTheta], kGuideTheta, nq_, ti_.lo, hq_, u[1]));
     // 2. The lobe at θi in proportion to M_q Z_q.
-    const double td = std::fabs(0.5 * (pt.theta_o - ti));
-    const Cell ci = ti_.at(ti), co = tr_.at(pt.theta_o), cd = td_.at(td);
-    double m[8], share[8], norm = 0.0;
-    mp_at(ci, co, m);
-    for (int p = 0; p < L_; ++p) norm += share[p] = m[p] * lerp(z_, cd, p);
+    Terms s;
+    locate(pt.o, i, 0.0, s);
+    double share[8], norm = 0.0;
+    for (int p = 0; p < L_; ++p) norm += share[p] = s.m[p] * lerp(z_, s.cd, p);
     if (!(norm > 0.0) || !(norm < HUGE_VAL)) return d;
     u0 *= norm;
     int q = -1;
@@ -236,23 +252,24 @@ class MaterialScattering {
     if (q == P_) {
       phi = (2.0 * u[2] - 1.0) * pi;
     } else {
+      const Cell& cd = s.cd;
       const std::size_t nt = static_cast<std::size_t>(nt_), nf = static_cast<std::size_t>(nf_);
       const double b0 = (1.0 - cd.w) * z_[static_cast<std::size_t>(cd.i) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(q)];
       const double b1 = cd.w * z_[static_cast<std::size_t>(cd.i + 1) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(q)];
       const std::size_t k = static_cast<std::size_t>(cd.i) + (u0 * (b0 + b1) < b0 || !(b1 > 0.0) ? 0 : 1);
-      const std::size_t o = (static_cast<std::size_t>(q) * nt + k) * nf;
+      const std::size_t row = static_cast<std::size_t>(q) * nt + k;
       const double v = std::fabs(2.0 * u[2] - 1.0);
-      phi = invert_row(&nbar_[o], &ncum_[o], nf_, 0.0, ph_.h, v);
+      phi = invert_row(&nbar_[row * nf], &ncum_[row * nf], &nguide_[row * kGuidePhi], kGuidePhi, nf_, ph_.h, v);
       if (u[2] < 0.5) phi = -phi;
     }
-    Terms s;
-    terms(pt.theta_o, ti, phi, s);
-    d.pdf = density(pt, ti, s);
+    s.cf = ph_.at(std::fabs(phi));
+    combine(s);
+    d.pdf = density(pt, i, s);
     if (!(d.pdf > 0.0) || !(d.pdf < HUGE_VAL)) {
       d.pdf = 0.0;
       return d;
     }
-    d.theta_i = ti, d.phi = phi, d.lobe = q;
+    d.theta_i = i.theta, d.sin_i = i.sin, d.cos_i = i.cos, d.phi = phi, d.lobe = q;
     d.rgb[0] = s.rgb[0], d.rgb[1] = s.rgb[1], d.rgb[2] = s.rgb[2];
     return d;
   }
@@ -273,9 +290,10 @@ class MaterialScattering {
       scale = last / (mapped(a.spacing, a.hi) - t0);
       h = (a.hi - a.lo) / last;
     }
-    Cell at(double x) const {
-      x = std::min(std::max(x, lo), hi);
-      double s = (mapped(spacing, x) - t0) * scale;
+    Cell at(double x) const { return at_t(mapped(spacing, std::min(std::max(x, lo), hi))); }
+    // At the mapped coordinate t itself (cos θd for a cos-spaced θd axis).
+    Cell at_t(double t) const {
+      double s = (t - t0) * scale;
       s = std::min(std::max(s, 0.0), static_cast<double>(last));
       Cell c;
       c.i = std::min(static_cast<int>(s), last - 1);
@@ -283,7 +301,10 @@ class MaterialScattering {
       return c;
     }
   };
+  // One evaluation: the cells of θi, θo, θd and φ, M_p of every lobe, then S per channel and S̄_φ.
   struct Terms {
+    Cell ci, co, cd, cf;
+    double m[8] = {};
     double rgb[3] = {0.0, 0.0, 0.0};
     double s_phi = 0.0;  // Σ_q M_q Z_q
   };
@@ -294,7 +315,7 @@ class MaterialScattering {
     const double pi = 3.14159265358979323846;
     auto plain = [](const Axis& a) {
       return a.count >= 2 && a.interpolation == Interpolation::linear && a.placement == Placement::edges && a.spacing != Spacing::explicit_values &&
-             a.wrap != Wrap::periodic && a.lo < a.hi && std::isfinite(a.lo) && std::isfinite(a.hi) && a.count <= (1 << 20);
+             a.wrap != Wrap::periodic && a.lo < a.hi && std::isfinite(a.lo) && std::isfinite(a.hi) && a.count <= 16384;  // cells fit the 16-bit guides
     };
     return plain(t.theta_d) && plain(t.phi) && plain(t.theta_i) && plain(t.theta_r) && t.theta_d.lo >= 0.0 && t.theta_d.hi <= 0.5 * pi + 1e-12 &&
            (t.theta_d.spacing == Spacing::uniform || t.theta_d.spacing == Spacing::cos) && t.phi.spacing == Spacing::uniform &&
@@ -310,97 +331,135 @@ class MaterialScattering {
     const std::size_t o = static_cast<std::size_t>(c.i) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p);
     return (1.0 - c.w) * a[o] + c.w * a[o + static_cast<std::size_t>(SM_)];
   }
-  // M_p of every lobe at (θi cell, θr cell), bilinear.
+  // M_p of every lobe at (θi cell, θr cell), bilinear; over the whole padded block (its padding
+  // holds zeros), with the block's size known at compile time where it is 4 or 8 so that the loop
+  // becomes vector operations.
   void mp_at(const Cell& ci, const Cell& co, double* m) const {
-    const std::size_t S = static_cast<std::size_t>(SM_), ni = static_cast<std::size_t>(ni_);
+    if (SM_ == 8) return mp_block<8>(ci, co, m);
+    if (SM_ == 4) return mp_block<4>(ci, co, m);
+    mp_block<0>(ci, co, m);
+  }
+  template <int N>
+  void mp_block(const Cell& ci, const Cell& co, double* m) const {
+    const int n = N ? N : SM_;
+    const std::size_t S = static_cast<std::size_t>(n), ni = static_cast<std::size_t>(ni_);
     const float* a = &mp_[(static_cast<std::size_t>(co.i) * ni + static_cast<std::size_t>(ci.i)) * S];
     const float* b = a + ni * S;
     const double w00 = (1.0 - co.w) * (1.0 - ci.w), w01 = (1.0 - co.w) * ci.w, w10 = co.w * (1.0 - ci.w), w11 = co.w * ci.w;
-    for (int p = 0; p < L_; ++p) m[p] = w00 * a[p] + w01 * a[S + p] + w10 * b[p] + w11 * b[S + p];
+    for (int p = 0; p < n; ++p) m[p] = w00 * a[p] + w01 * a[n + p] + w10 * b[p] + w11 * b[n + p];
   }
-  // M_p, N_p and Z_p at (θo, θi, φ): S per channel and S̄_φ.
-  void terms(double theta_o, double theta_i, double phi, Terms& s) const {
+  // The cells of (θo, θi, |φ| folded into [0, π]) and M_p there. cos θd comes from the sines and
+  // cosines, cos((θo − θi)/2) = √((1 + cos θo cos θi + sin θo sin θi)/2), for a cos-spaced θd axis.
+  void locate(const Incl& o, const Incl& i, double phi, Terms& s) const {
     const double pi = 3.14159265358979323846;
-    const double td = std::fabs(0.5 * (theta_o - theta_i));
     double f = std::fabs(phi);
     if (f > pi) f = std::fabs(f - 2.0 * pi * std::floor(f / (2.0 * pi) + 0.5));
-    const Cell ci = ti_.at(theta_i), co = tr_.at(theta_o), cd = td_.at(td), cf = ph_.at(f);
-    double m[8];
-    mp_at(ci, co, m);
+    s.ci = ti_.at(i.theta), s.co = tr_.at(o.theta), s.cf = ph_.at(f);
+    s.cd = td_.spacing == Spacing::cos ? td_.at_t(std::sqrt(std::max(0.0, 0.5 * (1.0 + o.cos * i.cos + o.sin * i.sin))))
+                                       : td_.at(std::fabs(0.5 * (o.theta - i.theta)));
+    mp_at(s.ci, s.co, s.m);
+  }
+  // S per channel and S̄_φ from the located cells (the lobe block's size fixed where it is 4).
+  void combine(Terms& s) const {
+    if (P4_ == 4) combine_block<4>(s);
+    else combine_block<0>(s);
+  }
+  template <int N>
+  void combine_block(Terms& s) const {
+    const int n = N ? N : P4_;
+    const Cell &cd = s.cd, &cf = s.cf;
     const std::size_t S = static_cast<std::size_t>(SN_), nf = static_cast<std::size_t>(nf_);
     const float* a = &np_[(static_cast<std::size_t>(cd.i) * nf + static_cast<std::size_t>(cf.i)) * S];
     const float* b = a + nf * S;
     const double w00 = (1.0 - cd.w) * (1.0 - cf.w), w01 = (1.0 - cd.w) * cf.w, w10 = cd.w * (1.0 - cf.w), w11 = cd.w * cf.w;
     for (int c = 0; c < 3; ++c) {
       double v = 0.0;
-      for (int p = 0; p < P_; ++p) {
-        const int o = c * P4_ + p;
-        v += m[p] * (w00 * a[o] + w01 * a[S + o] + w10 * b[o] + w11 * b[S + o]);
+      for (int p = 0; p < n; ++p) {
+        const int k = c * n + p;
+        v += s.m[p] * (w00 * a[k] + w01 * a[S + k] + w10 * b[k] + w11 * b[S + k]);
       }
       s.rgb[c] = v;
     }
     if (res_) {
       const float* r = &nres_[static_cast<std::size_t>(cd.i) * 4];
-      for (int c = 0; c < 3; ++c) s.rgb[c] += m[P_] * ((1.0 - cd.w) * r[c] + cd.w * r[4 + c]);
+      for (int c = 0; c < 3; ++c) s.rgb[c] += s.m[P_] * ((1.0 - cd.w) * r[c] + cd.w * r[4 + c]);
     }
+    const double* z0 = &z_[static_cast<std::size_t>(cd.i) * static_cast<std::size_t>(SM_)];
+    const double* z1 = z0 + SM_;
     double sp = 0.0;
-    for (int p = 0; p < L_; ++p) sp += m[p] * lerp(z_, cd, p);
+    for (int p = 0; p < L_; ++p) sp += s.m[p] * ((1.0 - cd.w) * z0[p] + cd.w * z1[p]);
     s.s_phi = sp;
   }
+  void terms(const Incl& o, const Incl& i, double phi, Terms& s) const {
+    locate(o, i, phi, s);
+    combine(s);
+  }
   // q(θi) / cos θi · S̄ / S̄_φ.
-  double density(const Point& pt, double theta_i, const Terms& s) const {
-    const double c = std::cos(theta_i), sbar = (s.rgb[0] + s.rgb[1] + s.rgb[2]) / 3.0;
-    if (!(c > 0.0) || !(s.s_phi > 0.0) || !(sbar > 0.0)) return 0.0;
+  double density(const Point& pt, const Incl& i, const Terms& s) const {
+    const double sbar = (s.rgb[0] + s.rgb[1] + s.rgb[2]) / 3.0;
+    if (!(i.cos > 0.0) || !(s.s_phi > 0.0) || !(sbar > 0.0)) return 0.0;
     const std::size_t nc = static_cast<std::size_t>(nq_ - 1);
-    const double sq = std::min(std::max((theta_i - ti_.lo) / hq_, 0.0), static_cast<double>(nc));
+    const double sq = std::min(std::max((i.theta - ti_.lo) / hq_, 0.0), static_cast<double>(nc));
     const std::size_t k = std::min(static_cast<std::size_t>(sq), nc - 1);
     const double* g0 = &gq_[(static_cast<std::size_t>(pt.r) * nc + k) * 3];
     const double* g1 = g0 + 3 * nc;
     const double x = sq - static_cast<double>(k);
     const double q = (1.0 - pt.w) * (g0[0] + x * (g0[1] + x * g0[2])) + pt.w * (g1[0] + x * (g1[1] + x * g1[2]));
-    return q / (pt.a0 + pt.a1) / c * sbar / s.s_phi;
+    return q / (pt.a0 + pt.a1) / i.cos * sbar / s.s_phi;
   }
-  // The inverse CDF of a piecewise-linear density on n uniform nodes from x0 with step h (values
-  // v, prefix masses cum), at u ∈ [0, 1].
-  static double invert_row(const double* v, const double* cum, int n, double x0, double h, double u) {
+  // Guide tables: for each of g equal parts of a row's mass, the cell where that part begins, so
+  // that a search starts there and steps forward over a cell or two instead of bisecting the row.
+  static void build_guide(const double* cum, int n, std::uint16_t* guide, int g) {
+    int k = 0;
+    for (int b = 0; b < g; ++b) {
+      const double target = static_cast<double>(b) / g * cum[n - 1];
+      while (k < n - 2 && cum[k + 1] <= target) ++k;
+      guide[b] = static_cast<std::uint16_t>(k);
+    }
+  }
+  // The cell holding `target` (= u · total): cum[k] ≤ target < cum[k + 1], cells of no mass skipped.
+  static int find_cell(const double* cum, int n, const std::uint16_t* guide, int g, double u, double target) {
+    int k = guide[std::min(static_cast<int>(u * g), g - 1)];
+    while (k < n - 2 && cum[k + 1] <= target) ++k;
+    return k;
+  }
+  // The inverse CDF of a piecewise-linear density on n uniform nodes from 0 with step h (values v,
+  // prefix masses cum), at u ∈ [0, 1].
+  static double invert_row(const double* v, const double* cum, const std::uint16_t* guide, int g, int n, double h, double u) {
     const double target = u * cum[n - 1];
-    int k = static_cast<int>(std::upper_bound(cum + 1, cum + n, target) - (cum + 1));
-    k = std::min(std::max(k, 0), n - 2);
-    // Skip cells of no mass (a target on their left edge).
+    const int k = find_cell(cum, n, guide, g, u, target);
     const double m = std::max(0.0, target - cum[k]) / h, a = v[k], b = v[k + 1];
     // (b − a)/2 t² + a t = m, t ∈ [0, 1], in the form without cancellation.
-    const double disc = std::max(0.0, a * a + 2.0 * (b - a) * m);
-    double t = a + std::sqrt(disc) > 0.0 ? 2.0 * m / (a + std::sqrt(disc)) : 0.5;
+    const double root = std::sqrt(std::max(0.0, a * a + 2.0 * (b - a) * m));
+    double t = a + root > 0.0 ? 2.0 * m / (a + root) : 0.5;
     t = std::min(std::max(t, 0.0), 1.0);
-    return x0 + (k + t) * h;
+    return (k + t) * h;
   }
-
   // The inverse CDF of a density that is A + B s + C s² on cell k of n uniform nodes (s ∈ [0, 1]
   // the cell's coordinate, coefficients q[3k…3k+2]), prefix masses cum, at u ∈ [0, 1]: Newton
-  // on the cell's cubic CDF, kept inside a shrinking bracket.
-  static double invert_quadratic_row(const double* q, const double* cum, int n, double x0, double h, double u) {
+  // on the cell's cubic CDF from the root of its quadratic part, kept inside a shrinking bracket.
+  static double invert_quadratic_row(const double* q, const double* cum, const std::uint16_t* guide, int g, int n, double x0, double h, double u) {
     const double target = u * cum[n - 1];
-    int k = static_cast<int>(std::upper_bound(cum + 1, cum + n, target) - (cum + 1));
-    k = std::min(std::max(k, 0), n - 2);
+    const int k = find_cell(cum, n, guide, g, u, target);
     const double A = q[3 * k], B = q[3 * k + 1], C = q[3 * k + 2];
     const double m = std::max(0.0, target - cum[k]) / h, total = A + 0.5 * B + C / 3.0;
     if (!(total > 0.0)) return x0 + (k + 0.5) * h;
-    double lo = 0.0, hi = 1.0, t = std::min(1.0, m / total);
+    const double root = std::sqrt(std::max(0.0, A * A + 2.0 * B * m));
+    double lo = 0.0, hi = 1.0, t = A + root > 0.0 ? std::min(1.0, 2.0 * m / (A + root)) : std::min(1.0, m / total);
     for (int it = 0; it < 12; ++it) {
       const double f = t * (A + t * (0.5 * B + t * C / 3.0)) - m, d = A + t * (B + t * C);
       if (f > 0.0) hi = t;
       else lo = t;
       double next = d > 0.0 ? t - f / d : 0.5 * (lo + hi);
       if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-      if (std::fabs(next - t) < 1e-13) {
-        t = next;
-        break;
-      }
+      const bool done = std::fabs(next - t) < 1e-10;  // of the cell: far below any table's resolution
       t = next;
+      if (done) break;
     }
     return x0 + (k + t) * h;
   }
 
+  static constexpr int kGuideTheta = 64, kGuidePhi = 32;
   static constexpr std::size_t kSplit = 4;
 
   bool valid_ = false, res_ = false;
@@ -411,6 +470,7 @@ class MaterialScattering {
   Located td_, ph_, ti_, tr_;
   std::vector<float> mp_, np_, nres_;
   std::vector<double> z_, nbar_, ncum_, gq_, gcum_;
+  std::vector<std::uint16_t> gguide_, nguide_;  // guides of step 1's and step 3's rows
 };
 
 }  // namespace sampler
