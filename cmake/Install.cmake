@@ -46,13 +46,21 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/hairlutConfig.cmake.in
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/hairlutConfigVersion.cmake COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/hairlutConfig.cmake ${PROJECT_BINARY_DIR}/hairlutConfigVersion.cmake DESTINATION ${HAIRLUT_CMAKE_DIR})
 
-# pkg-config: relocatable (prefix from the .pc file's own place).
+# pkg-config: relocatable (prefix from the .pc file's own place). A static libhairlut.a carries
+# undefined references to HDF5 (and its high-level library), OpenEXR, zlib and the OpenMP runtime,
+# so every consumer's link needs them: they go into Requires and Libs, not the .private fields that
+# only `pkg-config --static` reads. The OpenMP runtime is named by its libraries (libgomp for GCC)
+# rather than -fopenmp, so that a one-line compile-and-link does not compile the consumer with
+# OpenMP. A shared libhairlut records its own dependencies and needs none of this.
 if(HAIRLUT_STATIC)
-  set(HAIRLUT_PC_REQUIRES_PRIVATE "OpenEXR hdf5")
-  set(HAIRLUT_PC_LIBS_PRIVATE "-lhdf5_hl -fopenmp")
+  set(HAIRLUT_PC_REQUIRES_STATIC " OpenEXR hdf5 zlib")
+  set(HAIRLUT_PC_LIBS_STATIC " -lhdf5_hl")
+  foreach(_omp_lib IN LISTS OpenMP_CXX_LIB_NAMES)
+    string(APPEND HAIRLUT_PC_LIBS_STATIC " -l${_omp_lib}")
+  endforeach()
 else()
-  set(HAIRLUT_PC_REQUIRES_PRIVATE "")
-  set(HAIRLUT_PC_LIBS_PRIVATE "")
+  set(HAIRLUT_PC_REQUIRES_STATIC "")
+  set(HAIRLUT_PC_LIBS_STATIC "")
 endif()
 file(RELATIVE_PATH HAIRLUT_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
 string(REGEX REPLACE "/$" "" HAIRLUT_PC_TO_PREFIX "${HAIRLUT_PC_TO_PREFIX}")

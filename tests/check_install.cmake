@@ -2,8 +2,8 @@
 # a stranger would: checks the installed files, runs an installed tool, configures and builds the
 # consumer project SOURCE/examples/engine-consumer with find_package(hairlut CONFIG) against that
 # prefix only, runs it on TABLE, checks the package version rule and the sampler-only component,
-# compiles the consumer once more with the flags of the installed pkg-config file, and imports
-# the installed Python module with PYTHON when it was built.
+# compiles the consumer once more with the installed pkg-config file's flags (plain and --static),
+# and imports the installed Python module with PYTHON when it was built.
 # VERSION is the project version; CXX the C++ compiler; CONFIG the build configuration.
 function(run what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -95,15 +95,30 @@ endif()
 run("the package version and sampler component check" ${CMAKE_COMMAND} -S ${WORK}/package-check -B ${WORK}/package-check/build
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
 
-# pkg-config: the same consumer with the installed hairlut.pc's flags.
+# pkg-config: the same consumer built with the installed hairlut.pc's flags. The README's line,
+# `c++ -std=c++20 prog.cpp $(pkg-config --cflags --libs hairlut)`, has no --static: the installed
+# library is static, so the plain --libs must already name everything it links against. Compiled
+# once (--cflags) and linked with the plain --libs, which is what that line does, and with
+# --static --libs, which must link too.
 find_program(PKG_CONFIG pkg-config REQUIRED)
 set(ENV{PKG_CONFIG_PATH} ${libdir}/pkgconfig)
-run("pkg-config" ${PKG_CONFIG} --static --cflags --libs hairlut)
+run("pkg-config --cflags" ${PKG_CONFIG} --cflags hairlut)
 string(STRIP "${run_out}" flags)
 separate_arguments(flags UNIX_COMMAND "${flags}")
-run("compiling with pkg-config's flags" ${CXX} -std=c++20 -O1 ${SOURCE}/examples/engine-consumer/sample_table.cpp ${flags} -o ${WORK}/pc-sample-table)
-run("the pkg-config build" ${WORK}/pc-sample-table ${TABLE} TT 40 0.1 10 170)
-message(STATUS "${run_out}")
+run("compiling with `pkg-config --cflags hairlut`" ${CXX} -std=c++20 -O1 -c ${SOURCE}/examples/engine-consumer/sample_table.cpp ${flags}
+    -o ${WORK}/pc-sample-table.o)
+foreach(mode plain static)
+  if(mode STREQUAL "plain")
+    run("pkg-config --libs" ${PKG_CONFIG} --libs hairlut)
+  else()
+    run("pkg-config --static --libs" ${PKG_CONFIG} --static --libs hairlut)
+  endif()
+  string(STRIP "${run_out}" libs)
+  separate_arguments(libs UNIX_COMMAND "${libs}")
+  run("linking with pkg-config's ${mode} --libs (${libs})" ${CXX} ${WORK}/pc-sample-table.o ${libs} -o ${WORK}/pc-sample-table-${mode})
+  run("the pkg-config build (${mode} --libs)" ${WORK}/pc-sample-table-${mode} ${TABLE} TT 40 0.1 10 170)
+  message(STATUS "${mode}: ${run_out}")
+endforeach()
 
 # Code written against the flat header layout of hairlut 0.1 (hairlut/fresnel.hpp) still compiles: every
 # layer header has a forwarding header of its bare name, and each one includes its layer header.

@@ -17,7 +17,6 @@
 #include <hairlut/util/error.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/io/table_io.hpp>
-#include <hairlut/util/version.hpp>
 #include <optional>
 #include <string>
 
@@ -112,7 +111,6 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   app.add_flag("--force", force, "bake even if the outputs are up to date");
   app.add_flag("--quiet,-q", quiet, "no progress display and no summary");
   app.add_flag("--check", check, "validate the config and exit");
-  app.set_version_flag("--version", std::string("bake-hair-luts (hairlut) ") + hairlut::kVersion);
   if (const auto rc = hairlut::tools::parse_command_line(app, "bake-hair-luts", argc, argv)) return *rc;
   // The HDF5 deflate filter allocates and frees its buffers for every dataset; without a trim
   // threshold glibc hands the freed top of the heap back each time and the next dataset faults it

@@ -132,7 +132,7 @@ json bench_runtime(const Settings& s);   // runtime.cpp
 json bench_bands(const Settings& s);  // bands.cpp
 }
 
-int main(int argc, char** argv) {
+static int bench_main(int argc, char** argv) {
   hairlut_tools::install_cancel_handlers("bench-hair-luts");
   CLI::App app{"bench-hair-luts: run time against error of hairlut's N_p methods, bake targets, resolution and scaling"};
   std::string out_dir = "bench", bake_tool, generic_config;
@@ -143,8 +143,10 @@ int main(int argc, char** argv) {
   generic_config = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/generic.json";
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--slices", slices, "stress slices for the accuracy sweep")->check(CLI::Range(std::size_t{1}, std::size_t{100000}))->capture_default_str();
-  app.add_option("--bake-tool", bake_tool, "bake-hair-luts binary for the generic-table run")->capture_default_str();
-  app.add_option("--generic-config", generic_config, "config of the generic table")->capture_default_str();
+  // Checked when given (a missing input is a command-line error, exit 2); the defaults, which a
+  // quick run does not use, are not.
+  app.add_option("--bake-tool", bake_tool, "bake-hair-luts binary for the generic-table run")->check(CLI::ExistingFile)->capture_default_str();
+  app.add_option("--generic-config", generic_config, "config of the generic table")->check(CLI::ExistingFile)->capture_default_str();
   app.add_flag("--quick", quick, "a smoke run: fewer slices, no generic-table bake, fewer repeats");
   app.add_flag("--quiet,-q", quiet, "no progress on stderr");
   app.add_flag("--presets-only", presets_only, "only time the export presets (writes presets.json, presets.csv, presets.md)");
@@ -156,7 +158,8 @@ int main(int argc, char** argv) {
                  "also writes bench.json/csv/md and pareto.svg)")
       ->check(CLI::IsMember({"per-material", "end-to-end", "scaling", "pbrt", "presets", "lookup", "sampling", "runtime", "bands"}));
   app.footer("Example: bench-hair-luts --out bench/   (about a minute on 2 cores; --quick for seconds)\n\n"
-             "Exit status: 0 done, 2 bad command line (one line \"bench-hair-luts: error: ...\" on stderr).");
+             "Exit status: 0 done, 1 a section failed, 2 bad command line or a missing --bake-tool or --generic-config (one line\n"
+             "\"bench-hair-luts: error: ...\" on stderr), 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
   if (quick) slices = std::min<std::size_t>(slices, 16);
   const int repeats = quick ? 1 : 3;
@@ -428,4 +431,17 @@ int main(int argc, char** argv) {
     if (!quiet) std::printf("%s\nwrote %s/bench.json, bench.csv, bench.md, pareto.svg\n", md.str().c_str(), out_dir.c_str());
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  // A section that throws is a failed run (exit 1, one line), not an abort.
+  try {
+    return bench_main(argc, argv);
+  } catch (const hairlut::BakeCancelled&) {
+    std::fprintf(stderr, "\nbench-hair-luts: interrupted\n");
+    return hairlut_tools::cancel_exit_code();
+  } catch (const std::exception& e) {
+    hairlut::tools::print_error("bench-hair-luts", e.what());
+    return 1;
+  }
 }

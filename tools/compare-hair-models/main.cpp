@@ -14,7 +14,6 @@
 #include <hairlut/util/error.hpp>
 #include <hairlut/io/hdf5_io.hpp>
 #include <hairlut/physics/melanin.hpp>
-#include <hairlut/util/version.hpp>
 #include <string>
 #include <vector>
 
@@ -72,7 +71,6 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
   app.add_flag("--no-energy", no_energy, "skip the energy-per-theta_i curves (the slow part)");
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
-  app.set_version_flag("--version", std::string("compare-hair-models (hairlut) ") + hairlut::kVersion);
   if (const auto rc = hairlut::tools::parse_command_line(app, "compare-hair-models", argc, argv)) return *rc;
 
   hairlut::CompareSettings s;

@@ -73,7 +73,6 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   bool as_json = false;
   app.add_flag("--json", as_json, "print JSON instead of key = value lines");
-  app.set_version_flag("--version", std::string("hairlut-eval (hairlut) ") + hairlut::kVersion);
 
   // Fiber parameters shared by np, energy and furnace.
   double eta = 1.55, sigma_a = 0.0;

@@ -211,19 +211,28 @@ int main(int argc, char** argv) {
   app.add_option("--diff-gain", gain, "the difference panel shows |tables - direct| times this")->capture_default_str();
   app.add_flag("--check", check, "exit 1 when a pixel's difference exceeds its bound from the validator's accuracy");
   app.footer("Example: render-hair-luts --tables tables/default/hairlut-default.h5 --output-dir docs/images\n\n"
-             "Exit status: 0 done, 1 error or (with --check) a difference above its bound, 2 bad command line.");
+             "Exit status: 0 done, 1 error or (with --check) a difference above its bound, 2 bad command line or bad input\n"
+             "(a missing, unreadable or malformed --tables or --config).");
   if (const auto rc = hairlut::tools::parse_command_line(app, "render-hair-luts", argc, argv)) return *rc;
   height = width;
   if (tables.empty() == config.empty()) {
     hairlut::tools::print_error("render-hair-luts", "give exactly one of --tables and --config (see --help)");
     return 2;
   }
+  // A table file or config that cannot be read is bad input (exit 2, as in the other tools).
+  hairlut::TableSet set;
+  hairlut::BakeConfig bake_config;
   try {
-    hairlut::TableSet set;
     if (!tables.empty()) set = hairlut::load_tables(tables);
-    else {
+    else bake_config = hairlut::load_config(config);
+  } catch (const std::exception& e) {
+    hairlut::tools::print_error("render-hair-luts", e.what());
+    return 2;
+  }
+  try {
+    if (tables.empty()) {
       hairlut::BakeOptions opt;
-      set = hairlut::bake(hairlut::load_config(config), opt);
+      set = hairlut::bake(bake_config, opt);
     }
     const double eta = set.metadata.at("eta").get<double>();
     const hairlut::AbsorptionPath path = hairlut::parse_absorption_path(set.metadata.at("absorption_path").get<std::string>());
@@ -411,6 +420,10 @@ int main(int argc, char** argv) {
       hairlut::tools::print_error("render-hair-luts", "a pixel differs from direct evaluation by more than its bound");
       return 1;
     }
+  } catch (const hairlut::DomainError& e) {
+    // Tables that lack what a look needs, or hold values out of their domain: bad input.
+    hairlut::tools::print_error("render-hair-luts", e.what());
+    return 2;
   } catch (const std::exception& e) {
     hairlut::tools::print_error("render-hair-luts", e.what());
     return 1;

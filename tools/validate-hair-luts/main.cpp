@@ -15,7 +15,6 @@
 #include <hairlut/report/validate_engine.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/report/validate.hpp>
-#include <hairlut/util/version.hpp>
 #include <string>
 #include <vector>
 
@@ -51,7 +50,6 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}))
       ->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
-  app.set_version_flag("--version", std::string("validate-hair-luts (hairlut) ") + hairlut::kVersion);
   if (const auto rc = hairlut::tools::parse_command_line(app, "validate-hair-luts", argc, argv)) return *rc;
   if (file.empty() == config_path.empty()) {
     std::fprintf(stderr, "validate-hair-luts: error: give either a table file or --config (see --help)\n");
@@ -60,6 +58,12 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   if (max_points < 2) {
     std::fprintf(stderr, "validate-hair-luts: error: --max-points must be at least 2 (got %zu)\n", max_points);
     return 2;
+  }
+
+  // Before the work: a report that cannot be written would otherwise fail only after every check.
+  if (const auto why = hairlut::tools::unwritable_directory(out_dir)) {
+    hairlut::tools::print_error("validate-hair-luts", "--out " + *why);
+    return 1;
   }
 
   hairlut::ValidationOptions options;
@@ -71,7 +75,6 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   std::string source;
   try {
     // Clear the previous report first: a failed run must not leave one behind as if it were new.
-    // (An --out that cannot hold a report is an I/O failure, reported when the report is written.)
     std::error_code ignored;
     for (const char* name : {"report.html", "report.json", "report.md"}) std::filesystem::remove(std::filesystem::path(out_dir) / name, ignored);
     if (!config_path.empty()) {
