@@ -189,7 +189,8 @@ class MaterialScattering {
   /// S per channel at θo, θi and φ = φo − φi [rad] (finite arguments).
   void eval(const Incl& o, const Incl& i, double phi, double* rgb) const {
     Terms s;
-    terms(o, i, phi, s);
+    locate(o, i, phi, s);
+    combine(s, false);
     rgb[0] = s.rgb[0], rgb[1] = s.rgb[1], rgb[2] = s.rgb[2];
   }
   /// Step 1's mixture at θo; not ok where no lobe has energy.
@@ -360,12 +361,12 @@ class MaterialScattering {
     mp_at(s.ci, s.co, s.m);
   }
   // S per channel and S̄_φ from the located cells (the lobe block's size fixed where it is 4).
-  void combine(Terms& s) const {
-    if (P4_ == 4) combine_block<4>(s);
-    else combine_block<0>(s);
+  void combine(Terms& s, bool with_phi = true) const {
+    if (P4_ == 4) combine_block<4>(s, with_phi);
+    else combine_block<0>(s, with_phi);
   }
   template <int N>
-  void combine_block(Terms& s) const {
+  void combine_block(Terms& s, bool with_phi) const {
     const int n = N ? N : P4_;
     const Cell &cd = s.cd, &cf = s.cf;
     const std::size_t S = static_cast<std::size_t>(SN_), nf = static_cast<std::size_t>(nf_);
@@ -384,6 +385,7 @@ class MaterialScattering {
       const float* r = &nres_[static_cast<std::size_t>(cd.i) * 4];
       for (int c = 0; c < 3; ++c) s.rgb[c] += s.m[P_] * ((1.0 - cd.w) * r[c] + cd.w * r[4 + c]);
     }
+    if (!with_phi) return;
     const double* z0 = &z_[static_cast<std::size_t>(cd.i) * static_cast<std::size_t>(SM_)];
     const double* z1 = z0 + SM_;
     double sp = 0.0;
