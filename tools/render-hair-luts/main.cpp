@@ -1,7 +1,7 @@
 // render-hair-luts: renders a small patch of parallel hair fibres lit by a directional light and a
 // uniform environment, once from baked tables as a renderer reads them (generic tables through the
-// renderer runtime hair_scattering.hpp, a material's tables through sampling.hpp: eval for the light,
-// importance sampling for the environment) and once from direct
+// renderer runtime hair_scattering.hpp: eval for the light, importance sampling for the
+// environment) and once from direct
 // evaluation of the physics (d'Eon's M_p, N_p by the baker's quadrature, exact lobe energies for
 // the residual), and writes both beside their difference as PNG. Thin: the physics and the table
 // reading live in the library.
@@ -10,9 +10,7 @@
 // from the camera, which looks along −z
 // (orthographic). Each fibre is shaded by its far-field scattering function, so a fibre's colour
 // depends on its tangent only: L = L_sun · S(wo = view, wi = light) + L_env · ∫ S(wo = view, wi) dωi,
-// the environment's radiance scattered towards the viewer (the runtime holds wo, the tables' θr; the
-// lobe sampler of a material's tables holds θi = θv instead, which equals it for a reciprocal S and
-// stands in for it with tilted lobes).
+// the environment's radiance scattered towards the viewer (the runtime holds wo, the tables' θr).
 // The tables' image estimates that integral from samples drawn by the tables' sampler; the direct
 // image uses the same directions with the physics' S, so sampling noise cancels in the difference
 // and what remains is interpolation error.
@@ -29,7 +27,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <hairlut/physics/attenuation.hpp>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
@@ -56,7 +53,6 @@ namespace fs = std::filesystem;
 using hairlut::sampler::AxisRow;
 using hairlut::sampler::AxisSampler;
 using hairlut::sampler::FibreCoordinates;
-using hairlut::sampler::HairSampler;
 constexpr double kPi = 3.14159265358979323846;
 
 struct Vec {
@@ -303,19 +299,15 @@ int main(int argc, char** argv) {
       }
       // Shade every (fibre, row): the tangent is the same across a fibre's width.
       std::vector<double> table_px(static_cast<std::size_t>(fibres * height * 3)), direct_px(table_px.size()), bound_px(table_px.size());
-      // Generic tables through the renderer runtime (one fibre, RGB at once; the view direction held,
-      // as a path tracer holds wo); a material's tables through the lobe sampler of sampling.hpp.
-      std::optional<hairlut::sampler::HairScattering<float>> runtime;
+      // Every look through the renderer runtime (one fibre, RGB at once; the view direction held,
+      // as a path tracer holds wo). A material's runtime ignores the Fibre: its σa and β are baked.
+      const hairlut::sampler::HairScattering<float> runtime =
+          look.group.empty() ? hairlut::hair_scattering<float>(set) : hairlut::hair_scattering<float>(set, look.group);
+      if (!runtime.valid()) throw hairlut::DomainError((look.group.empty() ? std::string("tables") : look.group) + ": the runtime cannot read them");
       hairlut::sampler::Fibre rt_fibre;
-      if (look.group.empty()) {
-        runtime.emplace(hairlut::hair_scattering<float>(set));
-        for (int c = 0; c < 3; ++c) rt_fibre.sigma_a[c] = look.sigma_a[c];
-        rt_fibre.beta_m = rt_fibre.beta_n = look.fibre[0].beta;
-      }
+      for (int c = 0; c < 3; ++c) rt_fibre.sigma_a[c] = look.sigma_a[c];
+      rt_fibre.beta_m = rt_fibre.beta_n = look.fibre[0].beta;
       for (int c = 0; c < 3; ++c) {
-        const hairlut::sampler::FibreSampler<float> fibre(h.lobes.data(), static_cast<int>(h.lobes.size()), look.fibre[c]);
-        const HairSampler<double>& smp = fibre.sampler();
-        HairSampler<double>::Workspace ws;
         AxisRow row;
         std::mt19937_64 rng(12345u + static_cast<unsigned>(c));
         std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -342,30 +334,19 @@ int main(int argc, char** argv) {
             double lt = 0.0, ld = l_sun * direct_s(look, c, eta, path, tl, tv, phi);
             double lb = l_sun * bound(f, tl, tv, phi, row);
             double et = 0.0, ed = 0.0, eb = 0.0;
-            if (runtime) {
-              // S(wo = view, wi = light), then the environment through samples of wi at wo.
-              double rgb_s[3];
-              runtime->eval(rt_fibre, tv, tl, phi, rgb_s);
-              lt = l_sun * rgb_s[c];
-              const double wo[3] = {std::sin(tv), std::cos(tv), 0.0};
-              const auto point = runtime->at(rt_fibre, wo);
-              for (int k = 0; k < env_samples; ++k) {
-                const double uu[3] = {u(rng), u(rng), u(rng)};
-                const auto s = point.sample(uu);
-                if (!(s.pdf > 0.0)) continue;
-                et += s.weight[c];
-                ed += direct_s(look, c, eta, path, s.theta_i, tv, s.phi) / s.pdf;
-                eb += bound(f, s.theta_i, tv, s.phi, row) / s.pdf;
-              }
-            } else {
-              lt = l_sun * smp.eval(f, tl, tv, phi);
-              for (int k = 0; k < env_samples; ++k) {
-                const auto s = smp.sample(f, tv, u(rng), u(rng), u(rng), ws);
-                if (!(s.pdf > 0.0)) continue;
-                et += s.value / s.pdf;
-                ed += direct_s(look, c, eta, path, tv, s.theta_r, s.phi) / s.pdf;
-                eb += bound(f, tv, s.theta_r, s.phi, row) / s.pdf;
-              }
+            // S(wo = view, wi = light), then the environment through samples of wi at wo.
+            double rgb_s[3];
+            runtime.eval(rt_fibre, tv, tl, phi, rgb_s);
+            lt = l_sun * rgb_s[c];
+            const double wo[3] = {std::sin(tv), std::cos(tv), 0.0};
+            const auto point = runtime.at(rt_fibre, wo);
+            for (int k = 0; k < env_samples; ++k) {
+              const double uu[3] = {u(rng), u(rng), u(rng)};
+              const auto s = point.sample(uu);
+              if (!(s.pdf > 0.0)) continue;
+              et += s.weight[c];
+              ed += direct_s(look, c, eta, path, s.theta_i, tv, s.phi) / s.pdf;
+              eb += bound(f, s.theta_i, tv, s.phi, row) / s.pdf;
             }
             lt += l_env * et / env_samples, ld += l_env * ed / env_samples, lb += l_env * eb / env_samples;
             const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);

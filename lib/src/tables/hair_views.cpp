@@ -116,9 +116,60 @@ template sampler::HairTables<float, double> hair_tables<float, double>(const Tab
 template sampler::HairTables<double, float> hair_tables<double, float>(const TableSet&);
 template sampler::HairTables<double, double> hair_tables<double, double>(const TableSet&);
 
+namespace {
+
+// The runtime over a set whose N_p is a Fourier series: the series' views and the M_p tables.
+template <class T>
+sampler::HairScattering<T> fourier_scattering(const TableSet& set) {
+  const std::string model = set.metadata.value("model", std::string());
+  if (model != "deon2011") throw DomainError("table set: model " + (model.empty() ? std::string("(none)") : model) + ", the runtime reads deon2011 tables");
+  sampler::HairTables<T, double> h;
+  sampler::FourierSet<T> fs;
+  const auto& lobes = set.metadata.at("lobes");
+  if (lobes.empty() || lobes.size() > static_cast<std::size_t>(h.kMaxLobes))
+    throw DomainError("table set: " + std::to_string(lobes.size()) + " lobes, the runtime reads 1 to " + std::to_string(h.kMaxLobes));
+  h.lobes = static_cast<int>(lobes.size());
+  h.eta = set.metadata.value("eta", 0.0);
+  auto mp_of = [&](const std::string& lobe) {
+    const std::string path = "mp/" + lobe;
+    if (!set.find(path)) throw DomainError("table " + path + ": missing (the runtime needs M_p tables beside the Fourier N_p: tables.mp in the config)");
+    const Table& m = require<T>(set, path, {"beta", "theta_i", "theta_r"});
+    sampler::Axis ma[3];
+    axes_of<T>(m, ma);
+    return sampler::MpLobe<T, double>(values<T>(m), ma);
+  };
+  const Table* first = nullptr;
+  auto coefficients = [&](const std::string& lobe) {
+    const std::string path = std::string(kFourierGroup) + "/" + lobe;
+    const Table* t = set.find(path);
+    if (!t) throw DomainError("table " + path + ": missing (the set has no Fourier N_p of lobe " + lobe + ")");
+    if (!first) first = t;
+    if (t->axes.size() < 2 || first->axes.size() < 2 || !same_axis(t->axes[0], first->axes[0]) || !same_axis(t->axes[1], first->axes[1]))
+      throw DomainError("table " + path + ": its theta_d and sigma_a axes differ from " + first->path() + "'s");
+    return fourier_np<T, double>(set, lobe);
+  };
+  for (int p = 0; p < h.lobes; ++p) {
+    const std::string lobe = lobes[static_cast<std::size_t>(p)].get<std::string>();
+    fs.np[p] = coefficients(lobe);
+    h.mp[p] = mp_of(lobe);
+  }
+  fs.theta_d = first->axes[0].view(), fs.sigma_a = first->axes[1].view();
+  if (set.metadata.value("residual", false)) {
+    fs.residual = fourier_np<T, double>(set, "residual");
+    h.mp_residual = mp_of("residual");
+    h.has_residual = true;
+  }
+  sampler::HairScattering<T> r(h, fs);
+  if (!r.valid()) throw DomainError("table set: the runtime cannot sample its Fourier N_p or M_p tables (an M_p theta_i axis that is not uniform)");
+  return r;
+}
+
+}  // namespace
+
 template <class T>
 sampler::HairScattering<T> hair_scattering(const TableSet& set) {
   using Runtime = sampler::HairScattering<T>;
+  if (has_fourier_np(set)) return fourier_scattering<T>(set);
   const sampler::HairTables<T, double> views = hair_tables<T, double>(set);
   std::vector<sampler::AxisData> stored(static_cast<std::size_t>(Runtime::kMaxBands * Runtime::kMaxLobes));
   const auto& lobes = set.metadata.at("lobes");

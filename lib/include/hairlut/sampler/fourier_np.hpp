@@ -32,6 +32,7 @@
 // (Catmull–Rom, with the axis's end rules); other spacings make an invalid view (NaN).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -139,6 +140,50 @@ HAIRLUT_SAMPLER_INLINE void sincos_0_pi(R x0, R x1, R& c0, R& s0, R& c1, R& s1) 
 
 }  // namespace detail
 
+/// Σ_{n<count} a[n] cos nφ, by Clenshaw's recurrence (no clamp; NaN for a NaN φ).
+inline double fourier_cosine_sum(const double* a, int count, double phi) {
+  if (count < 1) return 0.0;
+  const double c2 = 2.0 * std::cos(phi);
+  double b1 = 0.0, b2 = 0.0;
+  for (int n = count - 1; n >= 1; --n) {
+    const double b = a[n] + c2 * b1 - b2;
+    b2 = b1, b1 = b;
+  }
+  return a[0] + 0.5 * c2 * b1 - b2;
+}
+
+/// |φ| ∈ [0, π] drawn from the density ∝ Σ a[n] cos nφ on [0, π] at u ∈ [0, 1], by inverting its
+/// CDF a_0 x + Σ_{n≥1} a_n sin(nx)/n (Clenshaw's recurrence for the sines) with Newton's method
+/// kept inside a bisection bracket. The series should be ≥ 0: where truncation leaves it slightly
+/// negative the CDF dips there, and the root found is one of the crossings (density off by that dip).
+/// Needs a[0] > 0; NaN for a NaN u.
+inline double fourier_sample_abs_phi(const double* a, int count, double u) {
+  const double pi = 3.14159265358979323846;
+  if (!(u == u) || count < 1 || !(a[0] > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  const double target = std::min(std::max(u, 0.0), 1.0) * a[0] * pi;
+  auto cdf = [&](double x, double& density) {
+    const double c2 = 2.0 * std::cos(x);
+    double s1 = 0.0, s2 = 0.0, k1 = 0.0, k2 = 0.0;  // sine sum of a_n/n, cosine sum of a_n
+    for (int n = count - 1; n >= 1; --n) {
+      const double s = a[n] / n + c2 * s1 - s2, k = a[n] + c2 * k1 - k2;
+      s2 = s1, s1 = s, k2 = k1, k1 = k;
+    }
+    density = a[0] + 0.5 * c2 * k1 - k2;
+    return a[0] * x + s1 * std::sin(x) - target;
+  };
+  double lo = 0.0, hi = pi, x = u * pi, d = 0.0;
+  for (int it = 0; it < 100; ++it) {
+    const double g = cdf(x, d);
+    if (g == 0.0) return x;
+    (g < 0.0 ? lo : hi) = x;
+    double next = d > 0.0 ? x - g / d : lo - 1.0;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::fabs(next - x) <= 1e-13 * pi || hi - lo <= 1e-13 * pi) return next;
+    x = next;
+  }
+  return x;
+}
+
 /// N_p of one lobe (or the residual's C_0) from a Fourier table: values [θd][σa][n] of type T
 /// (float as files store them, or double), arithmetic in R (double or float). The view points into
 /// the values (no copy) and is immutable after construction: one view may serve many threads.
@@ -235,6 +280,34 @@ class FourierNp {
     for (int i = 0; i < nt; ++i)
       for (int j = 0; j < ns; ++j) c0 += tt.w[i] * ts.w[j] * static_cast<R>(data_[tt.off[i] + ts.off[j]]);
     return c0 * absorption_(sg, cos_t);
+  }
+
+  /// The series of N_p at β, σa, θd as cosine amplitudes: out[n] = (2 − δ_n0) e^{−n²β²/2} c_n F / 2π,
+  /// so that N_p(φ) = max(0, Σ_n out[n] cos nφ) (operator() sums the same terms, and clamps).
+  /// out must hold params().terms values; returns how many it wrote (as many as operator() sums
+  /// at β: at least N(β) + 1, at most terms), 0 for a NaN argument or an invalid view. Folds and clamps as
+  /// operator(); the scalar form of its sum, for samplers that need the amplitudes themselves.
+  int series(R beta, R sigma_a, R theta_d, R* out) const {
+    if (!(beta == beta) || !(sigma_a == sigma_a) || !(theta_d == theta_d) || !eval_) return 0;
+    const R pi = static_cast<R>(3.14159265358979323846);
+    R th = std::fabs(theta_d);
+    if (th > pi) th = std::fabs(std::remainder(th, R(2) * pi));
+    if (!(th == th)) return 0;
+    th = th < theta_lo_ ? theta_lo_ : th > theta_hi_ ? theta_hi_ : th;
+    const R sg = sigma_a < sigma_lo_ ? sigma_lo_ : sigma_a > sigma_hi_ ? sigma_hi_ : sigma_a;
+    const R bt = beta < beta_min_ ? beta_min_ : beta;
+    const R cos_t = std::cos(th);
+    const FixedTaps<R> tt = theta_.taps(theta_cos_ ? -cos_t : th), ts = sigma_.taps(sigma_sqrt_ ? std::sqrt(sg) : sg);
+    const int nt = theta_.cubic() ? 4 : 2, ns = sigma_.cubic() ? 4 : 2, count = lookup_terms(bt);
+    const R scale = absorption_(sg, cos_t) * static_cast<R>(0.15915494309189533577), b = R(0.5) * bt * bt;
+    for (int n = 0; n < count; ++n) {
+      R c = R(0);
+      for (int i = 0; i < nt; ++i)
+        for (int j = 0; j < ns; ++j) c += tt.w[i] * ts.w[j] * static_cast<R>(data_[tt.off[i] + ts.off[j] + static_cast<std::size_t>(n)]);
+      const R fn = static_cast<R>(n);
+      out[n] = (n == 0 ? R(1) : R(2) * std::exp(-fn * fn * b)) * c * scale;
+    }
+    return count;
   }
 
   /// N_p [1/rad] at β, σa, θd, φ (radians; any sign of θd and φ); the residual's uniform value for a

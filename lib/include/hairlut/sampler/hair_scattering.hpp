@@ -2,8 +2,9 @@
 // of S = Σ_p M_p N_p from d'Eon 2011 tables, with directions in the fibre frame.
 //
 // Header-only and dependency-free (C++17, with sampler_fibre.hpp, axis_sampling.hpp and product_row.hpp). Built once
-// from the typed views of a table set (HairTables: tensor or β-band N_p, M_p, the residual), then
-// const and shareable between threads. A fibre is plain data (Fibre: RGB σa, β_m, β_n): there is no
+// from the typed views of a table set (HairTables: tensor or β-band N_p, M_p, the residual), from a
+// set whose N_p is a Fourier series (FourierSet, with M_p tables), or from one material's tables
+// (MaterialTables, material_scattering.hpp), then const and shareable between threads. A fibre is plain data (Fibre: RGB σa, β_m, β_n): there is no
 // per-fibre setup, so σa may change per strand or per shading point. Fibre::tilt adds a cuticle
 // scale angle to the tilts the tables were baked with.
 //
@@ -27,7 +28,9 @@
 //      Σ_q M̃_q Ē_q Z^φ_q / Σ_p M̃_p Ê_p, which differs from a constant only by the linear
 //      interpolation of Ê (Ē: the tables' energies, averaged over the three channels);
 //   3. φ from lobe q's interpolated N_p shape at (β_n, σ̄a, θd), σ̄a the mean of the channels
-//      (Z^φ_q its integral over φ); the residual is uniform in φ.
+//      (Z^φ_q its integral over φ); the residual is uniform in φ. A Fourier set's φ density is its
+//      series at (β_n, σ̄a, θd), normalised by its integral c_0 F (Z^φ_q = 1), drawn by inverting
+//      the series' closed-form CDF; its Ê_p are c_0 F on the coefficients' (σa, θd) nodes.
 // Each stage inverts its density's own piecewise-polynomial CDF (product_row.hpp, axis_sampling.hpp), so
 //   pdf = m(θi) / cos θi · Σ_q π_q(θi) n_q(φ) / Z^φ_q   per unit solid angle (dω = cos θi dθi dφ),
 // and a sample's weight S / pdf is, in pbrt's terms, f |cos θ| / pdf (S = ∫ over dω carries the cos).
@@ -45,6 +48,7 @@
 #include <vector>
 
 #include "hairlut/sampler/axis_sampling.hpp"
+#include "hairlut/sampler/fourier_np.hpp"
 #include "hairlut/sampler/material_scattering.hpp"
 #include "hairlut/sampler/product_row.hpp"
 #include "hairlut/sampler/sampler_fibre.hpp"
@@ -69,6 +73,16 @@ inline void fibre_direction_angles(const double* w, double& theta, double& phi) 
   phi = std::atan2(w[2], w[1]);
 }
 
+/// N_p of a set baked in the Fourier representation (fourier_np.hpp): each explicit lobe's view,
+/// the residual's (invalid: none), and the (θd, σa) axes their coefficients are stored on, on whose
+/// nodes step 1 reads the lobes' energies. The views point into the set's values.
+template <class T>
+struct FourierSet {
+  FourierNp<T, double> np[HairTables<T, double>::kMaxLobes];
+  FourierNp<T, double> residual;
+  Axis theta_d, sigma_a;
+};
+
 template <class T>
 class HairScattering {
   using Mat = MaterialScattering<T>;
@@ -85,6 +99,7 @@ class HairScattering {
     AxisRow row;
     bool mixed = false;
     double total = 0.0;
+    std::vector<double> series;  // Fourier sets: the cosine amplitudes of N_p at (β_n, σ̄a, θd)
     void at(const AxisSampler<T>& s, const double* x) {
       mixed = s.mix(x, mix);
       if (mixed) {
@@ -127,25 +142,7 @@ class HairScattering {
       explicit_ = lobes_ = 0;
       return;
     }
-    bool ok = true;
-    for (int p = 0; p < lobes_; ++p) {
-      const MpLobe<T, double>& m = p < explicit_ ? t_.mp[p] : t_.mp_residual;
-      ok = ok && m.valid();
-      if (!m.valid()) continue;
-      const FixedView<T, 3, double>& v = m.table();
-      const Axis a[3] = {v.axis(0).axis(), v.axis(1).axis(), v.axis(2).axis()};
-      const std::size_t nb = static_cast<std::size_t>(a[0].count), ni = static_cast<std::size_t>(a[1].count), nr = static_cast<std::size_t>(a[2].count);
-      std::vector<T>& out = mt_[p];
-      out.resize(nb * ni * nr);
-      for (std::size_t b = 0; b < nb; ++b)
-        for (std::size_t i = 0; i < ni; ++i)
-          for (std::size_t r = 0; r < nr; ++r) out[(b * nr + r) * ni + i] = v.data()[(b * ni + i) * nr + r];
-      mt_axes_[p][0] = a[0], mt_axes_[p][1] = a[2], mt_axes_[p][2] = a[1];
-      m_axis_[p] = AxisSampler<T>(out.data(), mt_axes_[p], 3, Measure::cosine);
-      ok = ok && m_axis_[p].supported();
-      mom_[p] = CosineMoments(a[1].lo, (a[1].hi - a[1].lo) / (a[1].count - 1), a[1].count - 1);
-      prepare_shaping(p);
-    }
+    bool ok = prepare_mp();
     for (int k = 0; k < t_.beta_bands; ++k)
       for (int p = 0; p < explicit_; ++p) {
         const NpLobe<T, double>& n = k == 0 ? t_.np[p] : t_.np_band[k - 1][p];
@@ -165,6 +162,24 @@ class HairScattering {
     material_ = true;
     valid_ = mat_.valid();
     lobes_ = mat_.lobes();
+  }
+  /// From a set whose N_p is a Fourier series (FourierSet) and whose M_p are tables (HairTables'
+  /// mp and mp_residual; its np views are not read). Both must outlive this object. Sampling as
+  /// for tensor tables, with step 3's φ density the series itself at (β_n, σ̄a, θd), drawn by
+  /// inverting its closed-form CDF (fourier_sample_abs_phi), and the energies Ê_p = c_0 F on the
+  /// coefficients' (σa, θd) nodes.
+  HairScattering(const HairTables<T, double>& mp_tables, const FourierSet<T>& np) : t_(mp_tables), fs_(np) {
+    fourier_ = true;
+    explicit_ = t_.lobes;
+    lobes_ = explicit_ + (t_.has_residual ? 1 : 0);
+    if (explicit_ < 1 || explicit_ > HairTables<T, double>::kMaxLobes) {
+      explicit_ = lobes_ = 0;
+      return;
+    }
+    bool ok = fs_.theta_d.count >= 1 && fs_.sigma_a.count >= 1;
+    for (int p = 0; p < explicit_; ++p) ok = ok && fs_.np[p].valid();
+    if (t_.has_residual) ok = ok && fs_.residual.valid();
+    valid_ = ok && prepare_mp();
   }
   HairScattering(const HairScattering&) = delete;
   HairScattering& operator=(const HairScattering&) = delete;
@@ -209,13 +224,16 @@ class HairScattering {
       if (valid_) mat_.eval(Mat::incl(theta_o), Mat::incl(theta_i), phi, rgb);
       return;
     }
+    if (!valid_) return;
     const double theta_d = 0.5 * (theta_o - theta_i);
     const NpLobe<T, double>* np = t_.np_at(f.beta_n);
     for (int p = 0; p < lobes_; ++p) {
       const double m = mp(p, f.beta_m, theta_i, held(f, p, theta_o));
       if (!(m > 0.0)) continue;
       for (int c = 0; c < 3; ++c) {
-        const double n = p < explicit_ ? np[p](f.beta_n, f.sigma_a[c], theta_d, phi) : t_.np_residual(f.sigma_a[c], theta_d);
+        double n;
+        if (fourier_) n = (p < explicit_ ? fs_.np[p] : fs_.residual)(f.beta_n, f.sigma_a[c], theta_d, phi);
+        else n = p < explicit_ ? np[p](f.beta_n, f.sigma_a[c], theta_d, phi) : t_.np_residual(f.sigma_a[c], theta_d);
         rgb[c] += m * n;
       }
     }
@@ -277,7 +295,16 @@ class HairScattering {
       // 3. φ from lobe q.
       const int band = r.t_.band_of(f_.beta_n);
       const double pi = 3.14159265358979323846;
-      const double phi = q < r.explicit_ ? n[q].sample(r.n_axis_[band][q], open_unit(u[2])) : (2.0 * open_unit(u[2]) - 1.0) * pi;
+      double phi;
+      if (q >= r.explicit_) {
+        phi = (2.0 * open_unit(u[2]) - 1.0) * pi;
+      } else if (r.fourier_) {
+        // |φ| from the series, its sign by which half of [0, 1) u falls in (N_p is even).
+        const double v = 2.0 * open_unit(u[2]), a = fourier_sample_abs_phi(n[q].series.data(), static_cast<int>(n[q].series.size()), v < 1.0 ? v : v - 1.0);
+        phi = v < 1.0 ? a : -a;
+      } else {
+        phi = n[q].sample(r.n_axis_[band][q], open_unit(u[2]));
+      }
       if (!(phi == phi)) return s;
       const double pdf = m * r.phi_sum(f_, share, n, norm, phi);
       if (!(pdf > 0.0)) return s;
@@ -396,6 +423,11 @@ class HairScattering {
   // itself; its φ integral then carries the energy, Z^φ).
   double mean_energy(const Fibre& f, int p, double theta_d) const {
     double e = 0.0;
+    if (fourier_) {
+      const FourierNp<T, double>& v = p < explicit_ ? fs_.np[p] : fs_.residual;
+      for (int c = 0; c < 3; ++c) e += std::max(0.0, v.energy(f.sigma_a[c], theta_d));
+      return e / 3.0;
+    }
     const NpLobe<T, double>* np = t_.np_at(f.beta_n);
     for (int c = 0; c < 3; ++c)
       e += p < explicit_ ? np[p].energy(f.sigma_a[c], theta_d) : 2.0 * 3.14159265358979323846 * t_.np_residual(f.sigma_a[c], theta_d);
@@ -436,11 +468,44 @@ class HairScattering {
     for (int p = 0; p < lobes_; ++p) pt.c[p] /= sum;
     return true;
   }
+  // Each lobe's M_p table copied with θi as its last axis, its sampler along θi, and the energies
+  // that shape step 1 (prepare_shaping). False when a table is missing or cannot be sampled.
+  bool prepare_mp() {
+    bool ok = true;
+    for (int p = 0; p < lobes_; ++p) {
+      const MpLobe<T, double>& m = p < explicit_ ? t_.mp[p] : t_.mp_residual;
+      ok = ok && m.valid();
+      if (!m.valid()) continue;
+      const FixedView<T, 3, double>& v = m.table();
+      const Axis a[3] = {v.axis(0).axis(), v.axis(1).axis(), v.axis(2).axis()};
+      const std::size_t nb = static_cast<std::size_t>(a[0].count), ni = static_cast<std::size_t>(a[1].count), nr = static_cast<std::size_t>(a[2].count);
+      std::vector<T>& out = mt_[p];
+      out.resize(nb * ni * nr);
+      for (std::size_t b = 0; b < nb; ++b)
+        for (std::size_t i = 0; i < ni; ++i)
+          for (std::size_t r = 0; r < nr; ++r) out[(b * nr + r) * ni + i] = v.data()[(b * ni + i) * nr + r];
+      mt_axes_[p][0] = a[0], mt_axes_[p][1] = a[2], mt_axes_[p][2] = a[1];
+      m_axis_[p] = AxisSampler<T>(out.data(), mt_axes_[p], 3, Measure::cosine);
+      ok = ok && m_axis_[p].supported();
+      mom_[p] = CosineMoments(a[1].lo, (a[1].hi - a[1].lo) / (a[1].count - 1), a[1].count - 1);
+      prepare_shaping(p);
+    }
+    return ok;
+  }
   // The shaping table of lobe p: its energy factor table (explicit lobes stored as shape × energy),
   // 2π N of the residual at its nodes; none (Ê = 1) for a lobe whose table stores N_p itself.
   void prepare_shaping(int p) {
     Shaping& sh = shaping_[p];
-    if (p < explicit_) {
+    if (fourier_) {
+      // c_0 F on the coefficients' own nodes (the residual's table is its energy too).
+      const FourierNp<T, double>& v = p < explicit_ ? fs_.np[p] : fs_.residual;
+      const Axis sa = fs_.sigma_a, td = fs_.theta_d;
+      sh.sigma = PreparedAxis(clamped(sa)), sh.theta = PreparedAxis(clamped(td));
+      sh.e.resize(static_cast<std::size_t>(sa.count) * static_cast<std::size_t>(td.count));
+      for (int i = 0; i < sa.count; ++i)
+        for (int j = 0; j < td.count; ++j)
+          sh.e[static_cast<std::size_t>(i) * static_cast<std::size_t>(td.count) + static_cast<std::size_t>(j)] = std::max(0.0, v.energy(node(sa, i), node(td, j)));
+    } else if (p < explicit_) {
       const NpLobe<T, double>& n = t_.np[p];
       if (!n.has_energy()) return;
       const FixedView<T, 2, double>& v = n.energy();
@@ -479,7 +544,14 @@ class HairScattering {
     for (int q = 0; q < lobes_; ++q) {
       const double m = pt.c[q] > 0.0 ? m_axis_[q].value(pt.m[q], theta_i) : 0.0;
       share[q] = m > 0.0 ? m * mean_energy(f, q, theta_d) : 0.0;
-      if (share[q] > 0.0 && q < explicit_) {
+      if (share[q] > 0.0 && q < explicit_ && fourier_) {
+        // The series at σ̄a, normalised by its own integral: Ē_q carries the energy.
+        std::vector<double>& a = n[q].series;
+        a.resize(static_cast<std::size_t>(std::max(0, fs_.np[q].params().terms)));
+        a.resize(static_cast<std::size_t>(fs_.np[q].series(f.beta_n, x[1], theta_d, a.data())));
+        n[q].total = a.empty() ? 0.0 : 2.0 * 3.14159265358979323846 * a[0];
+        if (!(n[q].total > 0.0)) share[q] = 0.0;
+      } else if (share[q] > 0.0 && q < explicit_) {
         n[q].at(n_axis_[band][q], x);
         share[q] *= n[q].total;
       }
@@ -495,7 +567,10 @@ class HairScattering {
     double s = 0.0;
     for (int q = 0; q < lobes_; ++q) {
       if (!(share[q] > 0.0)) continue;
-      s += share[q] * (q < explicit_ ? n[q].value(n_axis_[band][q], detail::fold_phi(phi, n_axes_[band][q][3])) / n[q].total : 1.0 / (2.0 * pi));
+      double d = 1.0 / (2.0 * pi);
+      if (q < explicit_ && fourier_) d = std::max(0.0, fourier_cosine_sum(n[q].series.data(), static_cast<int>(n[q].series.size()), phi)) / n[q].total;
+      else if (q < explicit_) d = n[q].value(n_axis_[band][q], detail::fold_phi(phi, n_axes_[band][q][3])) / n[q].total;
+      s += share[q] * d;
     }
     return s / norm;
   }
@@ -508,8 +583,9 @@ class HairScattering {
 
   HairTables<T, double> t_;
   int explicit_ = 0, lobes_ = 0;
-  bool valid_ = false, material_ = false;
+  bool valid_ = false, material_ = false, fourier_ = false;
   MaterialScattering<T> mat_;
+  FourierSet<T> fs_;
   std::vector<T> mt_[kMaxLobes];
   Axis mt_axes_[kMaxLobes][3];
   AxisSampler<T> m_axis_[kMaxLobes];
