@@ -3,7 +3,8 @@
 // counts and tolerances (peer_hair_tests.hpp names the files and commits and maps their roughness).
 //
 // The set: the generic domain of tables/configs/generic-1e-3.json (β 2°–45°, σa 0–10, θd 0–89°,
-// truncation tolerance 1e-3) on fewer (θd, σa) nodes, with M_p tables beside it, untilted. Its eval
+// truncation tolerance 1e-3) on fewer (θd, σa) nodes, with M_p tables on the shipped default's
+// axes beside it, untilted. Its eval
 // is held against M_p read by TableView times N_p summed by the library's own plain evaluation of the
 // series (FourierNpReference), an implementation independent of the runtime's.
 #include <hairlut/bake/bake.hpp>
@@ -44,9 +45,9 @@ const TableSet& fourier_tables() {
             "theta_d": { "count": 128, "range_deg": [0, 89], "spacing": "cos", "interpolation": "cubic" } },
           "fourier": { "tolerance": 1e-3 } },
         "mp": { "axes": {
-          "theta_i": { "count": 181, "range_deg": [-90, 90], "interpolation": "cubic" },
-          "theta_r": { "count": 181, "range_deg": [-90, 90], "interpolation": "cubic" },
-          "beta": { "count": 16, "range_deg": [2, 45], "spacing": "log", "interpolation": "cubic" } } } },
+          "theta_i": { "count": 109, "range_deg": [-90, 90], "interpolation": "cubic" },
+          "theta_r": { "count": 161, "range_deg": [-90, 90], "interpolation": "cubic" },
+          "beta": { "count": 12, "range_deg": [2, 45], "spacing": "log", "interpolation": "cubic" } } } },
       "output": { "basename": "fourier-runtime", "formats": ["hdf5"], "directory": "." } })");
     BakeOptions options;
     options.threads = 2;
