@@ -1,7 +1,8 @@
 // Section "runtime": what a path tracer pays per shading point with HairScattering (eval, sample,
 // pdf) against pbrt-v4's analytic HairBxDF::f, Sample_f and PDF (pbrt_hair.cpp) in the same run, on
 // the same directions and random numbers, for both kinds of tables a renderer loads: the shipped
-// generic default tables (σa and β per call) and the tables of one material (σa and β baked); and
+// generic default tables (σa and β per call), the 1e-3 set's Fourier N_p (tables/configs/generic-1e-3.json,
+// with the default config's M_p and tilts), and the tables of one material (σa and β baked); and
 // the per-sample weight S / pdf of a white fibre (σa = 0), the quantity pbrt-v4's SamplingWeights
 // test bounds.
 #include <hairlut/bake/bake.hpp>
@@ -62,6 +63,21 @@ hairlut::TableSet bake_material(const Settings& st, const double* sigma_a, doubl
   hairlut::BakeOptions options;
   options.threads = 0;
   return hairlut::bake(hairlut::parse_config(j, "runtime-material.json", st.source_dir + "/tables/configs"), options);
+}
+
+// tables/configs/generic-1e-3.json's Fourier N_p with the default config's lobes (tilts) and M_p
+// tables: what a renderer that wants 1e-3 with σa and β per strand loads.
+hairlut::TableSet bake_fourier(const Settings& st) {
+  std::ifstream fin(st.source_dir + "/tables/configs/generic-1e-3.json"), din(st.source_dir + "/tables/configs/default.json");
+  json j = json::parse(fin);
+  const json d = json::parse(din);
+  j["lobes"] = d["lobes"];
+  j["tables"]["mp"] = d["tables"]["mp"];
+  j["output"]["formats"] = {"hdf5"};
+  j["output"]["directory"] = ".";
+  hairlut::BakeOptions options;
+  options.threads = 0;
+  return hairlut::bake(hairlut::parse_config(j, "runtime-fourier.json", st.source_dir + "/tables/configs"), options);
 }
 
 struct Costs {
@@ -146,6 +162,10 @@ json bench_runtime(const Settings& st) {
   double t0 = thread_cpu_seconds();
   const Runtime rt_generic = hairlut::hair_scattering<float>(generic);
   const double prepare_generic_ms = (thread_cpu_seconds() - t0) * 1e3;
+  const hairlut::TableSet fourier = bake_fourier(st);
+  t0 = thread_cpu_seconds();
+  const Runtime rt_fourier = hairlut::hair_scattering<float>(fourier);
+  const double prepare_fourier_ms = (thread_cpu_seconds() - t0) * 1e3;
   const hairlut::TableSet material = bake_material(st, fibre.sigma_a, fibre.beta_m, fibre.beta_n);
   t0 = thread_cpu_seconds();
   const Runtime rt_material = hairlut::hair_scattering<float>(material, "materials/pbrt");
@@ -175,7 +195,7 @@ json bench_runtime(const Settings& st) {
     best.point = std::min(best.point, c.point);
   };
   const Costs none{1e300, 1e300, 1e300, 1e300};
-  Costs peer_best = none, gen = none, mat = none;
+  Costs peer_best = none, gen = none, four = none, mat = none;
   for (int round = 0; round < repeats; ++round) {
     volatile double sink = 0.0;
     Costs peer;
@@ -208,6 +228,7 @@ json bench_runtime(const Settings& st) {
     (void)sink;
     keep_best(peer_best, peer);
     keep_best(gen, time_runtime(rt_generic, fibre, pts, 1));
+    keep_best(four, time_runtime(rt_fourier, fibre, pts, 1));
     keep_best(mat, time_runtime(rt_material, fibre, pts, 1));
   }
   const Costs& peer = peer_best;
@@ -222,6 +243,11 @@ json bench_runtime(const Settings& st) {
     white.beta_m = bm * kPiD / 180.0, white.beta_n = 12.0 * kPiD / 180.0;
     weights.push_back(white_weights(rt_generic, white, pts, "generic default, beta_m " + fmt(bm) + " deg, beta_n 12 deg", wmd));
   }
+  {
+    hairlut::sampler::Fibre white;
+    white.beta_m = 10.0 * kPiD / 180.0, white.beta_n = 12.0 * kPiD / 180.0;
+    weights.push_back(white_weights(rt_fourier, white, pts, "Fourier N_p (1e-3 set), beta_m 10 deg, beta_n 12 deg", wmd));
+  }
   weights.push_back(white_weights(rt_white, hairlut::sampler::Fibre(), pts,
                                   "material, sigma_a 0, beta_m " + fmt(fibre.beta_m * 180.0 / kPiD) + " deg (TT half, TRT twice), beta_n " +
                                       fmt(fibre.beta_n * 180.0 / kPiD) + " deg",
@@ -230,6 +256,8 @@ json bench_runtime(const Settings& st) {
   auto costs_json = [](const Costs& c) { return json{{"sample_ns", c.sample}, {"pdf_ns", c.pdf}, {"eval_ns", c.eval}, {"shading_point_ns", c.point}}; };
   json result = {{"machine", st.machine},
                  {"generic_tables", "tables/default/hairlut-default.h5 (shipped default: float32, cubic, tilts R -4, TT 2, TRT 6, TRRT and residual 10 deg)"},
+                 {"fourier_tables", "tables/configs/generic-1e-3.json's Fourier N_p (256 cos theta_d x 64 sqrt sigma_a, 132 terms, float32) with "
+                                    "tables/configs/default.json's M_p axes and tilts, baked in memory"},
                  {"material_tables", "tables/configs/show-example.json's axes (N_p over 64 theta_d x 129 phi, M_p over 91 theta_i x 181 theta_r, linear, float32) baked for one "
                                      "material: the fibre's sigma_a, beta per lobe R beta_m, TT beta_m / 2, TRT and residual 2 beta_m (pbrt's variances), beta_n; the default tilts"},
                  {"peer", "tools/bench-hair-luts/pbrt_hair.cpp: pbrt-v4 HairBxDF f, Sample_f, PDF re-implemented in float (commits in pbrt_hair.hpp); "
@@ -240,30 +268,35 @@ json bench_runtime(const Settings& st) {
                  {"calls", n},
                  {"timing", "thread CPU time, best of " + std::to_string(repeats) + " rounds that time every call in turn; wo uniform on the sphere, u uniform; pdf and eval at each sampler's own drawn directions"},
                  {"prepare_generic_ms", prepare_generic_ms},
+                 {"prepare_fourier_ms", prepare_fourier_ms},
                  {"prepare_material_ms", prepare_material_ms},
                  {"per_fibre_setup_ns", 0.0},
                  {"pbrt", costs_json(peer)},
                  {"hairlut_generic", costs_json(gen)},
+                 {"hairlut_fourier", costs_json(four)},
                  {"hairlut_material", costs_json(mat)},
                  {"white_fibre_weights", weights}};
   std::ostringstream md, csv;
   md << "Machine: " << st.machine.value("cpu", std::string("?")) << ", load average " << load_average() << "; command: bench-hair-luts --only runtime --out "
      << st.out_dir << (st.quick ? " --quick" : "") << "; " << result["timing"].get<std::string>() << ".\n\n";
-  auto row = [&](const char* call, double p, double g, double m, const char* target) {
-    md << "| " << call << " | " << fmt(p) << " | " << fmt(g) << " | " << fmt(g / p) << " | " << fmt(m) << " | " << fmt(m / p) << " | " << target << " |\n";
-    csv << call << ',' << p << ',' << g << ',' << g / p << ',' << m << ',' << m / p << '\n';
+  auto row = [&](const char* call, double p, double g, double f, double m, const char* target) {
+    md << "| " << call << " | " << fmt(p) << " | " << fmt(g) << " | " << fmt(g / p) << " | " << fmt(f) << " | " << fmt(f / p) << " | " << fmt(m) << " | " << fmt(m / p)
+       << " | " << target << " |\n";
+    csv << call << ',' << p << ',' << g << ',' << g / p << ',' << f << ',' << f / p << ',' << m << ',' << m / p << '\n';
   };
-  md << "| call | pbrt-v4 (float) ns | generic tables ns | generic / pbrt | material tables ns | material / pbrt | target |\n|---|---|---|---|---|---|---|\n";
-  csv << "call,pbrt_ns,generic_ns,generic_ratio,material_ns,material_ratio\n";
-  row("sample", peer.sample, gen.sample, mat.sample, "<= 1");
-  row("pdf", peer.pdf, gen.pdf, mat.pdf, "<= 1");
-  row("eval", peer.eval, gen.eval, mat.eval, "<= 0.5");
-  row("shading point: BSDF for (fibre, wo), sample, pdf and eval of a light direction", peer.point, gen.point, mat.point, "");
-  md << "| per-fibre setup | none | none | | none | | <= 20 us |\n\n"
-     << "Runtimes prepared from the loaded tables in " << fmt(prepare_generic_ms) << " ms (generic: M_p copied with theta_i last, its sampling data computed) and "
+  md << "| call | pbrt-v4 (float) ns | generic tables ns | generic / pbrt | Fourier N_p ns | Fourier / pbrt | material tables ns | material / pbrt | target |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
+  csv << "call,pbrt_ns,generic_ns,generic_ratio,fourier_ns,fourier_ratio,material_ns,material_ratio\n";
+  row("sample", peer.sample, gen.sample, four.sample, mat.sample, "<= 1");
+  row("pdf", peer.pdf, gen.pdf, four.pdf, mat.pdf, "<= 1");
+  row("eval", peer.eval, gen.eval, four.eval, mat.eval, "<= 0.5");
+  row("shading point: BSDF for (fibre, wo), sample, pdf and eval of a light direction", peer.point, gen.point, four.point, mat.point, "");
+  md << "| per-fibre setup | none | none | | none | | none | | <= 20 us |\n\n"
+     << "Runtimes prepared from the loaded tables in " << fmt(prepare_generic_ms) << " ms (generic: M_p copied with theta_i last, its sampling data computed), "
+     << fmt(prepare_fourier_ms) << " ms (Fourier: the same for M_p, the energies on the coefficients' nodes) and "
      << fmt(prepare_material_ms) << " ms (material: tables interleaved per node, the theta_i rows and phi rows of the sampler tabulated).\n"
-     << "Fibre: " << result["fibre"].get<std::string>() << "; generic tables read at it per call, material tables baked for it ("
-     << result["material_tables"].get<std::string>() << ").\n"
+     << "Fibre: " << result["fibre"].get<std::string>() << "; generic and Fourier tables read at it per call (Fourier: "
+     << result["fourier_tables"].get<std::string>() << "), material tables baked for it (" << result["material_tables"].get<std::string>() << ").\n"
      << "hairlut in double arithmetic over float tables, pbrt in float.\n\n"
      << "Weights S / pdf of a white fibre (sigma_a = 0), tilted tables, at the same " << n << " points. Their mean at wo is the\n"
      << "albedo there, which the tilted model holds away from 1 near grazing (docs/conventions.md); weight / albedo(wo) is the sampling's own spread:\n\n"
