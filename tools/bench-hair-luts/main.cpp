@@ -163,6 +163,11 @@ static int bench_main(int argc, char** argv) {
              "Exit status: 0 done, 1 a section failed, 2 bad command line or a missing --bake-tool or --generic-config (one line\n"
              "\"bench-hair-luts: error: ...\" on stderr), 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
+  // Before the work: the results of minutes of timing must have somewhere to go.
+  if (const auto why = hairlut::tools::unwritable_directory(out_dir)) {
+    hairlut::tools::print_error("bench-hair-luts", "--out " + *why);
+    return 1;
+  }
   if (quick) slices = std::min<std::size_t>(slices, 16);
   const int repeats = quick ? 1 : 3;
   const int max_threads = omp_get_max_threads();

@@ -118,6 +118,11 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
     std::fprintf(stderr, "compare-hair-models: error: %s\n", e.what());
     return 2;
   }
+  // Before the work: an output directory that cannot be written would otherwise fail at the end.
+  if (const auto why = hairlut::tools::unwritable_directory(out_dir)) {
+    hairlut::tools::print_error("compare-hair-models", "--out " + *why);
+    return 1;
+  }
   hairlut::tools::Progress progress(!quiet && ::isatty(STDERR_FILENO));
   s.progress = [&progress](std::string_view stage, std::size_t done, std::size_t total) { progress.update(stage, done, total); };
   try {
