@@ -67,7 +67,17 @@ string(REGEX REPLACE "/$" "" HAIRLUT_PC_TO_PREFIX "${HAIRLUT_PC_TO_PREFIX}")
 configure_file(${PROJECT_SOURCE_DIR}/hairlut.pc.in ${PROJECT_BINARY_DIR}/hairlut.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/hairlut.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
+# share/hairlut mirrors the repository's schemas/ and tables/ (configs and the default tables), so
+# that installed tools find their data below it as they find it in a checkout, and the configs'
+# "$schema" references resolve.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/schemas/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/schemas FILES_MATCHING PATTERN "*.json")
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/configs FILES_MATCHING PATTERN "*.json")
-install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/table-format.md
-        DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/tables/configs FILES_MATCHING PATTERN "*.json")
+# The shipped default tables, which installed tools default to (bench-hair-luts).
+install(FILES ${PROJECT_SOURCE_DIR}/tables/default/hairlut-default.h5 ${PROJECT_SOURCE_DIR}/tables/default/hairlut-default.json
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/tables/default)
+# The README and every document it links, laid out as in the repository so that its links work in
+# share/doc/hairlut: docs/ (with the images and the bench output it shows), the example consumer.
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs
+        FILES_MATCHING PATTERN "*.md" PATTERN "*.png" PATTERN "*.svg" PATTERN "*.csv" PATTERN "*.json" PATTERN "*.txt")
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)

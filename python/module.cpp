@@ -22,6 +22,8 @@
 #include <hairlut/util/quadrature.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/tables/tables.hpp>
+#include <hairlut/tables/hair_views.hpp>
+#include <memory>
 #include <hairlut/util/version.hpp>
 #include <string>
 #include <vector>
@@ -104,6 +106,28 @@ py::dict to_python(const hairlut::TableSet& set) {
   }
   out["tables"] = tables;
   return out;
+}
+
+// Baked tables read as a renderer reads them: the set loaded in C++ and kept alive with the
+// runtime that points into it (HairScattering over the generic tables or one material's).
+using SharedTables = std::shared_ptr<const hairlut::TableSet>;
+struct Scattering {
+  SharedTables set;
+  hairlut::sampler::HairScattering<float> hair;
+  Scattering(SharedTables tables, const std::string& group)
+      : set(std::move(tables)),
+        hair(group.empty() ? hairlut::hair_scattering<float>(*set) : hairlut::hair_scattering<float>(*set, group)) {}
+};
+
+// Rows of three doubles (n × 3, C order) as pointers: one row, or n rows.
+const double* row3(const Array& a, py::ssize_t i, const char* name) {
+  if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error(std::string(name) + " must have shape (n, 3)");
+  return a.data() + (a.shape(0) == 1 ? 0 : i) * 3;
+}
+py::ssize_t rows(const Array& a, const Array& b) {
+  if (a.ndim() != 2 || b.ndim() != 2) throw py::value_error("directions must have shape (n, 3)");
+  if (a.shape(0) != b.shape(0) && a.shape(0) != 1 && b.shape(0) != 1) throw py::value_error("directions have different lengths");
+  return std::max(a.shape(0), b.shape(0));
 }
 
 }  // namespace
@@ -280,4 +304,92 @@ PYBIND11_MODULE(_core, m) {
     }
     return to_python(set);
   });
+
+  // The renderer runtime over baked tables (hairlut.TableSet.scattering wraps it).
+  py::class_<hairlut::sampler::Fibre>(m, "Fibre")
+      .def(py::init([](const std::vector<double>& sigma_a, double beta_m, double beta_n, double tilt) {
+             if (sigma_a.size() != 3) throw py::value_error("sigma_a must have 3 values (RGB)");
+             hairlut::sampler::Fibre f;
+             std::copy(sigma_a.begin(), sigma_a.end(), f.sigma_a);
+             f.beta_m = beta_m, f.beta_n = beta_n, f.tilt = tilt;
+             return f;
+           }),
+           py::arg("sigma_a"), py::arg("beta_m"), py::arg("beta_n"), py::arg("tilt") = 0.0)
+      .def_property_readonly("sigma_a", [](const hairlut::sampler::Fibre& f) { return std::vector<double>(f.sigma_a, f.sigma_a + 3); })
+      .def_readonly("beta_m", &hairlut::sampler::Fibre::beta_m)
+      .def_readonly("beta_n", &hairlut::sampler::Fibre::beta_n)
+      .def_readonly("tilt", &hairlut::sampler::Fibre::tilt)
+      .def("__repr__", [](const hairlut::sampler::Fibre& f) {
+        return "Fibre(sigma_a=[" + std::to_string(f.sigma_a[0]) + ", " + std::to_string(f.sigma_a[1]) + ", " + std::to_string(f.sigma_a[2]) +
+               "], beta_m=" + std::to_string(f.beta_m) + ", beta_n=" + std::to_string(f.beta_n) + ")";
+      });
+  m.def("fibre_from_melanin", &hairlut::fibre_from_melanin, py::arg("eumelanin"), py::arg("pheomelanin"), py::arg("beta_m"), py::arg("beta_n"));
+
+  py::class_<Scattering>(m, "Scattering")
+      .def("eval",
+           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo, const Array& wi) {
+             const py::ssize_t n = rows(wo, wi);
+             py::array_t<double> out({n, py::ssize_t{3}});
+             for (py::ssize_t i = 0; i < n; ++i) s.hair.eval(f, row3(wo, i, "wo"), row3(wi, i, "wi"), out.mutable_data(i, 0));
+             return out;
+           })
+      .def("pdf",
+           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo, const Array& wi) {
+             const py::ssize_t n = rows(wo, wi);
+             py::array_t<double> out(n);
+             for (py::ssize_t i = 0; i < n; ++i) out.mutable_data()[i] = s.hair.pdf(f, row3(wo, i, "wo"), row3(wi, i, "wi"));
+             return out;
+           })
+      .def("albedo",
+           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo) {
+             py::array_t<double> out(wo.ndim() == 2 ? wo.shape(0) : 0);
+             for (py::ssize_t i = 0; i < out.shape(0); ++i) out.mutable_data()[i] = s.hair.albedo(f, row3(wo, i, "wo"));
+             return out;
+           })
+      .def("sample", [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo, const Array& u) {
+        const py::ssize_t n = rows(wo, u);
+        py::array_t<double> wi({n, py::ssize_t{3}}), weight({n, py::ssize_t{3}}), pdf(n);
+        py::array_t<int> lobe(n);
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const hairlut::sampler::ScatteringSample r = s.hair.sample(f, row3(wo, i, "wo"), row3(u, i, "u"));
+          std::copy(r.wi, r.wi + 3, wi.mutable_data(i, 0));
+          std::copy(r.weight, r.weight + 3, weight.mutable_data(i, 0));
+          pdf.mutable_data()[i] = r.pdf;
+          lobe.mutable_data()[i] = r.lobe;
+        }
+        py::dict d;
+        d["wi"] = wi, d["weight"] = weight, d["pdf"] = pdf, d["lobe"] = lobe;
+        return d;
+      });
+
+  // A table set loaded in C++: each table's quantity at points, interpolated as the file declares
+  // (with its factor table), and the runtime over its generic tables or one material's.
+  py::class_<hairlut::TableSet, std::shared_ptr<hairlut::TableSet>>(m, "Tables")
+      .def(py::init([](const std::string& file) {
+        auto set = std::make_shared<hairlut::TableSet>();
+        {
+          py::gil_scoped_release release;
+          *set = hairlut::load_tables(file);
+        }
+        return set;
+      }))
+      .def("sample",
+           [](const hairlut::TableSet& set, const std::string& path, const Array& x) {
+             const hairlut::Table* t = set.find(path);
+             if (!t) throw hairlut::DomainError("no table " + path);
+             const auto dims = static_cast<py::ssize_t>(t->axes.size());
+             if (x.ndim() != 2 || x.shape(1) != dims) throw py::value_error("points must have shape (n, " + std::to_string(dims) + ") for " + path);
+             py::array_t<double> out(x.shape(0));
+             std::vector<double> at(static_cast<std::size_t>(dims));
+             for (py::ssize_t i = 0; i < x.shape(0); ++i) {
+               std::copy(x.data(i, 0), x.data(i, 0) + dims, at.begin());
+               bool nan = false;
+               for (const double v : at) nan = nan || std::isnan(v);
+               out.mutable_data()[i] = nan ? std::nan("") : set.sample_value(*t, at);
+             }
+             return out;
+           })
+      .def("scattering", [](const std::shared_ptr<hairlut::TableSet>& set, const std::string& group) {
+        return std::make_unique<Scattering>(set, group);
+      }, py::arg("group") = "");
 }

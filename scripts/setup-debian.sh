@@ -2,6 +2,9 @@
 # Installs hairlut's build and test dependencies from Debian packages (Debian 12 "bookworm" or
 # newer). Idempotent: packages already installed are left alone, and nothing is downloaded when
 # everything is present. Uses sudo when not run as root.
+#
+# Optional test dependencies (the tests that need them are skipped, saying why, when missing) are
+# installed with --with-optional (or HAIRLUT_SETUP_OPTIONAL=1).
 set -euo pipefail
 
 packages=(
@@ -19,9 +22,22 @@ packages=(
   python3 python3-numpy python3-h5py python3-jsonschema   # independent checks in tests
   python3-xarray python3-h5netcdf          # a netCDF-style client of the HDF5 tables
   python3-dev pybind11-dev                 # the Python module (hairlut package)
+  python3-venv python3-pip                 # `pip install ./python` as the README shows it (docs test)
   json-schema-test-suite                   # the official JSON Schema tests (draft 7 files)
   clang libclang-rt-dev                    # libFuzzer with AddressSanitizer and UBSan (fuzz tests)
 )
+
+optional=(
+  chromium                                 # report.html rendered headless: layout test, screenshots
+)
+if [ "${1:-}" = "--with-optional" ] || [ "${HAIRLUT_SETUP_OPTIONAL:-0}" = "1" ]; then
+  packages+=("${optional[@]}")
+else
+  for p in "${optional[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' ||
+      echo "setup-debian: optional test dependency $p is not installed (--with-optional installs it)"
+  done
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,5 +1,6 @@
 # Installs the build tree BUILD into a fresh prefix under WORK, then uses the installed package as
-# a stranger would: checks the installed files, runs an installed tool, configures and builds the
+# a stranger would: checks the installed files and that the documents the README links are there,
+# runs an installed tool and checks that the tools default to installed data, configures and builds the
 # consumer project SOURCE/examples/engine-consumer with find_package(hairlut CONFIG) against that
 # prefix only, runs it on TABLE, checks the package version rule and the sampler-only component,
 # compiles the consumer once more with the installed pkg-config file's flags (plain and --static),
@@ -27,7 +28,7 @@ list(GET libs 0 lib)
 get_filename_component(libdir ${lib} DIRECTORY)
 foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/sampling.hpp include/hairlut/tables/tables.hpp include/hairlut/util/version.hpp
           share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
-          share/hairlut/configs/default.json share/doc/hairlut/LICENSE
+          share/hairlut/tables/configs/default.json share/hairlut/tables/default/hairlut-default.h5 share/doc/hairlut/LICENSE
           bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts bin/render-hair-luts)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")
@@ -42,6 +43,48 @@ endforeach()
 run("installed bake-hair-luts --version" ${prefix}/bin/bake-hair-luts --version)
 if(NOT run_out MATCHES "bake-hair-luts \\(hairlut\\) ${VERSION}")
   message(FATAL_ERROR "installed bake-hair-luts --version printed: ${run_out}")
+endif()
+
+# The documents the README links are installed beside it, laid out as in the repository, so its
+# links to documents (*.md) and to the example work in share/doc/hairlut.
+set(docdir ${prefix}/share/doc/hairlut)
+foreach(doc README.md docs/performance.md docs/baking.md)
+  if(NOT EXISTS ${docdir}/${doc})
+    message(FATAL_ERROR "not installed: share/doc/hairlut/${doc}")
+  endif()
+endforeach()
+file(GLOB_RECURSE installed_docs ${docdir}/*.md)
+foreach(doc IN LISTS installed_docs)
+  file(READ ${doc} text)
+  get_filename_component(here ${doc} DIRECTORY)
+  # Brackets would split CMake's lists: the link targets are found after "](" replaced by a marker.
+  string(REPLACE "](" "\nLINK:" text "${text}")
+  string(REPLACE "[" "(" text "${text}")
+  string(REPLACE "]" ")" text "${text}")
+  string(REGEX MATCHALL "LINK:[^)#; \n]+" targets "${text}")
+  foreach(target IN LISTS targets)
+    string(REGEX REPLACE "^LINK:" "" target "${target}")
+    # Documents, images and the example; links to the sources (tools/*.cpp) point into a checkout.
+    if(target MATCHES "^[a-z]+:" OR NOT target MATCHES "(\\.md|\\.png|\\.svg)$|examples/")
+      continue()
+    endif()
+    if(NOT EXISTS ${here}/${target})
+      message(FATAL_ERROR "${doc} links ${target}, which is not installed")
+    endif()
+  endforeach()
+endforeach()
+
+# Installed tools default to installed data: bench-hair-luts' defaults name the prefix, not the sources.
+run("installed bench-hair-luts --help" ${prefix}/bin/bench-hair-luts --help)
+foreach(default "${prefix}/share/hairlut/tables/configs/generic.json" "${prefix}/bin/bake-hair-luts")
+  string(FIND "${run_out}" "${default}" at)
+  if(at LESS 0)
+    message(FATAL_ERROR "installed bench-hair-luts does not default to ${default}:\n${run_out}")
+  endif()
+endforeach()
+string(FIND "${run_out}" "${SOURCE}/tables" at)
+if(NOT at LESS 0)
+  message(FATAL_ERROR "installed bench-hair-luts defaults to the source tree's ${SOURCE}/tables:\n${run_out}")
 endif()
 
 # The consumer, found through the prefix alone (no package registry, no build tree).
@@ -65,6 +108,12 @@ endif()
 run("sample-table" ${consumer}/sample-table ${TABLE} TRT 20 0.5 5 30)
 if(NOT run_out MATCHES "np/TRT\\(theta_d=20 deg, sigma_a=0.5, beta=5 deg, phi=30 deg\\) = [0-9.e+-]+ 1/rad")
   message(FATAL_ERROR "unexpected sample-table output: ${run_out}")
+endif()
+message(STATUS "${run_out}")
+# The README's load-and-sample program.
+run("load-and-sample" ${consumer}/load-and-sample ${TABLE})
+if(NOT run_out MATCHES "weight [0-9.]+ [0-9.]+ [0-9.]+ = S / pdf")
+  message(FATAL_ERROR "unexpected load-and-sample output: ${run_out}")
 endif()
 message(STATUS "${run_out}")
 run("furnace" ${consumer}/furnace ${TABLE} 0 0 10 10 2000)
@@ -105,7 +154,7 @@ set(ENV{PKG_CONFIG_PATH} ${libdir}/pkgconfig)
 run("pkg-config --cflags" ${PKG_CONFIG} --cflags hairlut)
 string(STRIP "${run_out}" flags)
 separate_arguments(flags UNIX_COMMAND "${flags}")
-run("compiling with `pkg-config --cflags hairlut`" ${CXX} -std=c++20 -O1 -c ${SOURCE}/examples/engine-consumer/sample_table.cpp ${flags}
+run("compiling with `pkg-config --cflags hairlut`" ${CXX} -std=c++20 -O1 -c ${SOURCE}/examples/engine-consumer/load_and_sample.cpp ${flags}
     -o ${WORK}/pc-sample-table.o)
 foreach(mode plain static)
   if(mode STREQUAL "plain")
@@ -116,7 +165,10 @@ foreach(mode plain static)
   string(STRIP "${run_out}" libs)
   separate_arguments(libs UNIX_COMMAND "${libs}")
   run("linking with pkg-config's ${mode} --libs (${libs})" ${CXX} ${WORK}/pc-sample-table.o ${libs} -o ${WORK}/pc-sample-table-${mode})
-  run("the pkg-config build (${mode} --libs)" ${WORK}/pc-sample-table-${mode} ${TABLE} TT 40 0.1 10 170)
+  run("the pkg-config build (${mode} --libs)" ${WORK}/pc-sample-table-${mode} ${TABLE})
+  if(NOT run_out MATCHES "= S / pdf")
+    message(FATAL_ERROR "the pkg-config build (${mode} --libs) printed: ${run_out}")
+  endif()
   message(STATUS "${mode}: ${run_out}")
 endforeach()
 

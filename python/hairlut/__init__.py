@@ -2,7 +2,8 @@
 
 Angles are radians, as in the C++ library (numpy.radians converts degrees). Evaluation
 functions broadcast their array arguments like numpy ufuncs and return arrays of the broadcast
-shape. Errors in arguments raise ValueError; unreadable files raise OSError.
+shape; a NaN argument gives NaN where it falls. Errors in arguments raise hairlut.DomainError or
+hairlut.ConfigError (both ValueError); unreadable files raise hairlut.IoError (an OSError).
 
     import numpy as np, hairlut
     phi = np.linspace(0, np.pi, 181)
@@ -10,6 +11,7 @@ shape. Errors in arguments raise ValueError; unreadable files raise OSError.
     tables = hairlut.load_tables("tables/default/hairlut-default.h5")
     trt = tables["np/TRT"]          # .values (numpy), .dims, .coords {axis: node coordinates}
     da = trt.to_xarray()             # when xarray is installed
+    hair = tables.scattering()       # the C++ renderer runtime over the tables: eval, sample, pdf
 """
 
 import json
@@ -19,10 +21,11 @@ from dataclasses import dataclass, field
 import numpy
 
 from . import _core
+from ._core import ConfigError, DomainError, Fibre, IoError
 
 __version__ = _core.version
 __all__ = ["longitudinal_mp", "azimuthal_np", "lobe_energies", "furnace", "dual_scattering", "bake", "load_tables",
-           "Table", "TableSet", "__version__"]
+           "fibre_from_melanin", "Fibre", "Scattering", "Table", "TableSet", "ConfigError", "DomainError", "IoError", "__version__"]
 
 
 def _lobe(p):
@@ -35,10 +38,26 @@ def _broadcast(*args):
     return shape, [numpy.ascontiguousarray(a).reshape(-1) for a in arrays]
 
 
+def _nan_rows(flat):
+    """Where any of the flat argument arrays is NaN (those points give NaN, uncomputed)."""
+    nan = numpy.zeros(flat[0].shape, dtype=bool)
+    for a in flat:
+        nan |= numpy.isnan(a)
+    return nan
+
+
+def _finite_scalars(*values):
+    return not any(numpy.isnan(numpy.asarray(v, dtype=numpy.float64)).any() for v in values)
+
+
 def longitudinal_mp(beta, theta_i, theta_r, alpha=0.0):
     """d'Eon 2011's M_p (eq. 7, v = beta^2) with cuticle tilt alpha shifting the cone in theta_r."""
-    shape, (b, a, ti, tr) = _broadcast(beta, alpha, theta_i, theta_r)
-    return _core.longitudinal_mp(b, a, ti, tr).reshape(shape)
+    shape, flat = _broadcast(beta, alpha, theta_i, theta_r)
+    nan = _nan_rows(flat)
+    out = numpy.full(nan.shape, numpy.nan)
+    if not nan.all():
+        out[~nan] = _core.longitudinal_mp(*[a[~nan] for a in flat])
+    return out.reshape(shape)
 
 
 def azimuthal_np(lobe, phi, theta_d, sigma_a, beta, eta=1.55, path="chord", method="baker", tolerance=1e-12, order=64,
@@ -51,11 +70,14 @@ def azimuthal_np(lobe, phi, theta_d, sigma_a, beta, eta=1.55, path="chord", meth
     with return_error=True its error estimate is returned too. "gauss-legendre": a fixed rule of
     `order` nodes in `variable` ("gamma" or "h"), not adaptive, so it misses narrow lobes.
     Each point is evaluated on its own: the baker's method costs about as much per point as per
-    table row (measured: 0.6 ms at beta = 5 deg, 6 ms at 0.72 deg, seconds near 2e-4 rad); bake() is the fast
-    way to fill a grid.
+    table row, more the narrower beta is; bake() is the fast way to fill a grid.
     """
-    shape, (f, td, sa, b) = _broadcast(phi, theta_d, sigma_a, beta)
-    value, error = _core.azimuthal_np(_lobe(lobe), f, td, sa, b, float(eta), path, method, float(tolerance), int(order), variable)
+    shape, flat = _broadcast(phi, theta_d, sigma_a, beta)
+    nan = _nan_rows(flat) | numpy.isnan(float(eta))
+    value, error = numpy.full(nan.shape, numpy.nan), numpy.full(nan.shape, numpy.nan)
+    if not nan.all():
+        v, e = _core.azimuthal_np(_lobe(lobe), *[a[~nan] for a in flat], float(eta), path, method, float(tolerance), int(order), variable)
+        value[~nan], error[~nan] = v, e
     if return_error:
         return value.reshape(shape), error.reshape(shape)
     return value.reshape(shape)
@@ -63,8 +85,11 @@ def azimuthal_np(lobe, phi, theta_d, sigma_a, beta, eta=1.55, path="chord", meth
 
 def lobe_energies(theta_d, sigma_a, eta=1.55, lobes=4, residual=False, path="chord"):
     """Per-lobe energies 1/2 int A(p, h) dh (adaptive reference): shape broadcast + (lobes [+ 1],)."""
-    shape, (td, sa) = _broadcast(theta_d, sigma_a)
-    out = _core.lobe_energies(td, sa, float(eta), path, int(lobes), bool(residual))
+    shape, flat = _broadcast(theta_d, sigma_a)
+    nan = _nan_rows(flat) | numpy.isnan(float(eta))
+    out = numpy.full(nan.shape + (int(lobes) + (1 if residual else 0),), numpy.nan)
+    if not nan.all():
+        out[~nan] = _core.lobe_energies(*[a[~nan] for a in flat], float(eta), path, int(lobes), bool(residual))
     return out.reshape(shape + (out.shape[1],))
 
 
@@ -79,18 +104,39 @@ def furnace(theta_i, beta, alpha=0.0, lobes=3, residual=True, eta=1.55, sigma_a=
     beta_m = beta_n. Returns {"E": shape of theta_i, "per_lobe": shape + (lobes,), "converged"}.
     """
     ti = numpy.asarray(theta_i, dtype=numpy.float64)
-    r = _core.furnace(ti.reshape(-1), float(eta), float(sigma_a), path, _per_lobe(beta), _per_lobe(alpha), int(lobes), bool(residual))
-    return {"E": r["E"].reshape(ti.shape), "per_lobe": r["per_lobe"].reshape(ti.shape + (r["per_lobe"].shape[1],)),
-            "converged": numpy.array(r["converged"]).reshape(ti.shape)}
+    flat = ti.reshape(-1)
+    nan = numpy.isnan(flat) | (not _finite_scalars(eta, sigma_a, beta, alpha))
+    E, per_lobe = numpy.full(flat.shape, numpy.nan), numpy.full(flat.shape + (int(lobes) + (1 if residual else 0),), numpy.nan)
+    converged = numpy.zeros(flat.shape, dtype=bool)
+    if not nan.all():
+        r = _core.furnace(flat[~nan], float(eta), float(sigma_a), path, _per_lobe(beta), _per_lobe(alpha), int(lobes), bool(residual))
+        E[~nan], per_lobe[~nan], converged[~nan] = r["E"], r["per_lobe"], numpy.array(r["converged"])
+    return {"E": E.reshape(ti.shape), "per_lobe": per_lobe.reshape(ti.shape + (per_lobe.shape[1],)), "converged": converged.reshape(ti.shape)}
+
+
+_DUAL_KEYS = ("E", "a_f", "a_b", "alpha_f", "alpha_b", "beta_f2", "beta_b2", "A_b", "delta_b", "sigma_b")
 
 
 def dual_scattering(theta_i, beta, alpha=0.0, lobes=3, residual=True, eta=1.55, sigma_a=0.0, path="chord", density_factor=0.7):
     """Mean energy and Zinke 2008's dual-scattering quantities at each theta_i (arrays of its shape):
     E, a_f, a_b, alpha_f, alpha_b (rad), beta_f2, beta_b2 (rad^2), A_b, delta_b, sigma_b, converged."""
     ti = numpy.asarray(theta_i, dtype=numpy.float64)
-    r = _core.dual_scattering(ti.reshape(-1), float(eta), float(sigma_a), path, _per_lobe(beta), _per_lobe(alpha), int(lobes),
-                              bool(residual), float(density_factor))
-    return {k: numpy.asarray(v).reshape(ti.shape) for k, v in r.items()}
+    flat = ti.reshape(-1)
+    nan = numpy.isnan(flat) | (not _finite_scalars(eta, sigma_a, beta, alpha, density_factor))
+    r = {}
+    if not nan.all():
+        r = _core.dual_scattering(flat[~nan], float(eta), float(sigma_a), path, _per_lobe(beta), _per_lobe(alpha), int(lobes), bool(residual),
+                                  float(density_factor))
+    else:
+        r = {k: numpy.zeros(0) for k in _DUAL_KEYS}
+        r["converged"] = numpy.zeros(0, dtype=bool)
+    out = {}
+    for k, v in r.items():
+        v = numpy.asarray(v)
+        full = numpy.zeros(flat.shape, dtype=bool) if v.dtype == bool else numpy.full(flat.shape, numpy.nan)
+        full[~nan] = v
+        out[k] = full.reshape(ti.shape)
+    return out
 
 
 @dataclass
@@ -119,11 +165,72 @@ class Table:
         return xarray.DataArray(self.values, dims=self.dims, coords=coords, name=self.path, attrs=attrs)
 
 
-class TableSet(dict):
-    """Tables by path ("np/TRT", "mp/R", ...), with the set's provenance in .metadata."""
+def fibre_from_melanin(eumelanin, pheomelanin, beta_m, beta_n):
+    """A Fibre for the runtime: RGB sigma_a from d'Eon 2011's melanin model, roughness beta_m, beta_n [rad]."""
+    return _core.fibre_from_melanin(float(eumelanin), float(pheomelanin), float(beta_m), float(beta_n))
 
-    def __init__(self, raw):
+
+def _directions(w, name):
+    a = numpy.ascontiguousarray(numpy.asarray(w, dtype=numpy.float64))
+    if a.shape[-1:] != (3,):
+        raise DomainError(f"{name} must end in an axis of 3 (a unit vector in the fibre frame), got shape {a.shape}")
+    return a.shape[:-1], a.reshape(-1, 3)
+
+
+class Scattering:
+    """The C++ renderer runtime (hairlut::sampler::HairScattering<float>) over baked tables.
+
+    Directions are unit vectors in the fibre frame (x along the fibre, root to tip), arrays of
+    shape (..., 3) that broadcast against each other; the fibre is a Fibre (fibre_from_melanin, or
+    Fibre(sigma_a=[r, g, b], beta_m=..., beta_n=...)). A NaN direction gives NaN (eval) or 0 (pdf).
+    """
+
+    def __init__(self, core, group):
+        self._core = core
+        self.group = group
+
+    def _pair(self, a, b, na, nb):
+        sa, _ = _directions(a, na)
+        sb, _ = _directions(b, nb)
+        shape = numpy.broadcast_shapes(sa, sb)
+        full = [numpy.ascontiguousarray(numpy.broadcast_to(numpy.asarray(w, dtype=numpy.float64), shape + (3,))).reshape(-1, 3) for w in (a, b)]
+        return shape, full[0], full[1]
+
+    def eval(self, fibre, wo, wi):
+        """S(wo, wi) per RGB channel [1/sr], shape (..., 3)."""
+        shape, a, b = self._pair(wo, wi, "wo", "wi")
+        return self._core.eval(fibre, a, b).reshape(shape + (3,))
+
+    def pdf(self, fibre, wo, wi):
+        """The density per unit solid angle with which sample() draws wi at wo."""
+        shape, a, b = self._pair(wo, wi, "wo", "wi")
+        return self._core.pdf(fibre, a, b).reshape(shape)
+
+    def albedo(self, fibre, wo):
+        """The integral of S over directions at wo, averaged over the channels."""
+        shape, a = _directions(wo, "wo")
+        return self._core.albedo(fibre, a).reshape(shape)
+
+    def sample(self, fibre, wo, u):
+        """A direction drawn in proportion to S at wo from three uniform numbers u in [0, 1): a dict of
+        wi (..., 3), weight = S / pdf per channel (..., 3), pdf (...) and the lobe drawn (...)."""
+        shape, a, b = self._pair(wo, u, "wo", "u")
+        r = self._core.sample(fibre, a, b)
+        return {"wi": r["wi"].reshape(shape + (3,)), "weight": r["weight"].reshape(shape + (3,)), "pdf": r["pdf"].reshape(shape),
+                "lobe": r["lobe"].reshape(shape)}
+
+
+class TableSet(dict):
+    """Tables by path ("np/TRT", "mp/R", ...), with the set's provenance in .metadata.
+
+    scattering() and sample() read the tables as a renderer does, through the C++ library: from
+    the file the set was loaded from (or, for a bake, written to).
+    """
+
+    def __init__(self, raw, source=None):
         super().__init__()
+        self.source = source
+        self._loaded = None
         self.metadata = json.loads(raw["metadata"])
         self.files = list(raw.get("files", []))
         self.config_hash = raw.get("config_hash", self.metadata.get("config_hash"))
@@ -137,10 +244,39 @@ class TableSet(dict):
         """{path: xarray.DataArray} (tables of one set may use different nodes for an axis name)."""
         return {path: t.to_xarray() for path, t in self.items()}
 
+    def _tables(self):
+        if self._loaded is None:
+            files = [f for f in ([self.source] if self.source else self.files) if str(f).endswith((".h5", ".exr"))]
+            if not files:
+                raise DomainError("this table set was baked in memory: bake(..., write=True) or load_tables(file) reads it as a renderer does")
+            self._loaded = _core.Tables(os.fspath(files[0]))
+        return self._loaded
+
+    def scattering(self, group=""):
+        """The renderer runtime (eval, sample, pdf, albedo) over the generic tables (group ""), or over
+        one material of a per-material bake ("materials/<name>", or just "<name>")."""
+        if group and "/" not in group:
+            group = "materials/" + group
+        return Scattering(self._tables().scattering(group), group)
+
+    def sample(self, path, **coords):
+        """The quantity of table `path` at points, interpolated as the file declares (each axis's
+        mapping and interpolation, and the factor table of N_p stored as a shape), as a renderer
+        reads it. coords: one array per axis name (self[path].dims), broadcast; radians. NaN gives NaN."""
+        dims = self[path].dims
+        missing = [d for d in dims if d not in coords]
+        extra = [k for k in coords if k not in dims]
+        if missing or extra:
+            raise DomainError(f"{path} has axes {', '.join(dims)}" + (f"; missing {', '.join(missing)}" if missing else "") +
+                              (f"; unknown {', '.join(extra)}" if extra else ""))
+        shape, flat = _broadcast(*[coords[d] for d in dims])
+        points = numpy.ascontiguousarray(numpy.stack(flat, axis=1)) if flat[0].size else numpy.zeros((0, len(dims)))
+        return self._tables().sample(path, points).reshape(shape)
+
 
 def load_tables(file):
     """Loads an HDF5 or OpenEXR table file written by hairlut (the format is found from its bytes)."""
-    return TableSet(_core.load_tables(os.fspath(file)))
+    return TableSet(_core.load_tables(os.fspath(file)), source=os.fspath(file))
 
 
 def bake(config, threads=0, write=False, output_dir=None):

@@ -51,9 +51,9 @@ class ProgressBar {
 // The heap grown by `bytes` now and that range advised for transparent huge pages, where the
 // kernel gives them on request (Linux's THP "madvise" mode; advice only, nothing changes where it
 // does not). A bake's tables, HDF5's objects and the sidecar's text are a few MiB of the heap,
-// first touched page by page: 16 per-material tables took 2,011 page faults with 4 KiB pages and
-// 382 with this, 22.0 against 18.5 ms of the tool's CPU time. glibc's tunable glibc.malloc.hugetlb=1
-// does the same, but only the environment can set it. Memory is used only as it is touched.
+// first touched page by page; with huge pages a small bake takes a fraction of the page faults,
+// which are a fair part of its CPU time. glibc's tunable glibc.malloc.hugetlb=1 does the same, but
+// only the environment can set it. Memory is used only as it is touched.
 void heap_in_huge_pages(std::size_t bytes) {
 #if defined(__linux__) && defined(__GLIBC__) && defined(MADV_HUGEPAGE)
   if (mallopt(M_TOP_PAD, static_cast<int>(bytes)) != 1) return;
@@ -114,7 +114,7 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   if (const auto rc = hairlut::tools::parse_command_line(app, "bake-hair-luts", argc, argv)) return *rc;
   // The HDF5 deflate filter allocates and frees its buffers for every dataset; without a trim
   // threshold glibc hands the freed top of the heap back each time and the next dataset faults it
-  // in again (system time of a per-material bake went from ~0.2 s to ~0.05 s for 16 materials).
+  // in again, which costs a per-material bake of many small datasets most of its system time.
   // Setting the trim threshold also fixes glibc's mmap threshold at its 128 KiB default, which
   // would give every HDF5 chunk buffer (up to 4 MiB, one per chunk written) fresh pages from
   // mmap, faulted in and unmapped again: below 32 MiB (the largest threshold glibc accepts on

@@ -82,7 +82,8 @@ ChildResult run_child(const std::vector<std::string>& argv);
 
 /// What every section gets from the command line.
 struct Settings {
-  std::string out_dir, bake_tool, source_dir;
+  std::string out_dir, bake_tool;
+  std::string source_dir;  ///< holds tables/configs and tables/default: the checkout, or an installed share/hairlut
   bool quick = false, quiet = false;
   int repeats = 3;
   int max_threads = 1;

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "common/cli.hpp"
+#include "common/paths.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -138,9 +139,10 @@ static int bench_main(int argc, char** argv) {
   std::string out_dir = "bench", bake_tool, generic_config;
   std::size_t slices = 80;
   bool quick = false, quiet = false, presets_only = false, representations_only = false;
-  const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
-  bake_tool = (self.parent_path().parent_path() / "bake-hair-luts" / "bake-hair-luts").string();
-  generic_config = std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/generic.json";
+  // Installed: the installed baker and share/hairlut; in the build tree: its baker and the sources.
+  const std::string data = hairlut::tools::data_root(HAIRLUT_SOURCE_DIR);
+  bake_tool = hairlut::tools::sibling_tool("bake-hair-luts");
+  generic_config = data + "/tables/configs/generic.json";
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--slices", slices, "stress slices for the accuracy sweep")->check(CLI::Range(std::size_t{1}, std::size_t{100000}))->capture_default_str();
   // Checked when given (a missing input is a command-line error, exit 2); the defaults, which a
@@ -161,6 +163,11 @@ static int bench_main(int argc, char** argv) {
              "Exit status: 0 done, 1 a section failed, 2 bad command line or a missing --bake-tool or --generic-config (one line\n"
              "\"bench-hair-luts: error: ...\" on stderr), 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bench-hair-luts", argc, argv)) return *rc;
+  // Before the work: the results of minutes of timing must have somewhere to go.
+  if (const auto why = hairlut::tools::unwritable_directory(out_dir)) {
+    hairlut::tools::print_error("bench-hair-luts", "--out " + *why);
+    return 1;
+  }
   if (quick) slices = std::min<std::size_t>(slices, 16);
   const int repeats = quick ? 1 : 3;
   const int max_threads = omp_get_max_threads();
@@ -185,7 +192,7 @@ static int bench_main(int argc, char** argv) {
     return 0;
   }
   Settings st;
-  st.out_dir = out_dir, st.bake_tool = bake_tool, st.source_dir = HAIRLUT_SOURCE_DIR;
+  st.out_dir = out_dir, st.bake_tool = bake_tool, st.source_dir = data;
   st.quick = quick, st.quiet = quiet, st.repeats = repeats, st.max_threads = max_threads, st.machine = report["machine"];
   if (presets_only) only = "presets";
   if (!only.empty()) {

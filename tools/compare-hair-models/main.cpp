@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "common/cli.hpp"
+#include "common/progress.hpp"
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -117,14 +118,18 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
     std::fprintf(stderr, "compare-hair-models: error: %s\n", e.what());
     return 2;
   }
-  if (!quiet && ::isatty(STDERR_FILENO))
-    s.progress = [](std::string_view stage, std::size_t done, std::size_t total) {
-      std::fprintf(stderr, "\r%-20.20s %zu/%zu   ", std::string(stage).c_str(), done, total);
-      if (done >= total) std::fprintf(stderr, "\n");
-    };
+  // Before the work: an output directory that cannot be written would otherwise fail at the end.
+  if (const auto why = hairlut::tools::unwritable_directory(out_dir)) {
+    hairlut::tools::print_error("compare-hair-models", "--out " + *why);
+    return 1;
+  }
+  hairlut::tools::Progress progress(!quiet && ::isatty(STDERR_FILENO));
+  s.progress = [&progress](std::string_view stage, std::size_t done, std::size_t total) { progress.update(stage, done, total); };
   try {
     const auto compare = hairlut::compare_models(s);
+    progress.stage("writing", out_dir + "/compare.html, .json, .md");
     hairlut::write_compare(compare, out_dir);
+    progress.finish();
     if (!quiet) {
       std::printf("%s", hairlut::render_compare_markdown(compare).c_str());
       std::printf("\nwrote %s/compare.html, compare.json, compare.md\n", out_dir.c_str());

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include "common/cli.hpp"
+#include "common/progress.hpp"
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -138,14 +139,13 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
     return 2;
   }
 
-  if (!quiet && ::isatty(STDERR_FILENO))
-    options.progress = [](std::string_view stage, std::size_t done, std::size_t total) {
-      std::fprintf(stderr, "\r%-14.14s %zu/%zu   ", std::string(stage).c_str(), done, total);
-      if (done >= total) std::fprintf(stderr, "\n");
-    };
+  hairlut::tools::Progress progress(!quiet && ::isatty(STDERR_FILENO));
+  options.progress = [&progress](std::string_view stage, std::size_t done, std::size_t total) { progress.update(stage, done, total); };
   try {
     const auto report = hairlut::validate_tables(set, source, options);
+    progress.stage("writing", out_dir + "/report.html, .json, .md");
     hairlut::write_report(report, out_dir);
+    progress.finish();
     if (!quiet) {
       std::printf("%s", hairlut::render_report_markdown(report).c_str());
       std::printf("\nwrote %s/report.html, report.json, report.md\n", out_dir.c_str());

@@ -6,10 +6,9 @@
 //   kCompactSmallBytes, whatever the deflate level (deflate gains nothing there). The object
 //   header is checksummed (format ≥ 1.8 headers), so the values keep a checksum without Fletcher-32;
 // - contiguous, no filters: larger datasets when deflate is 0 (the values carry no HDF5
-//   checksum; hairlut_checksum covers them, and every hairlut reader checks it). Compact storage up
-//   to 60 KiB was tried for these: a 49 KiB table inside its header is copied with the header's
-//   messages and checksummed with it at every flush (a 16-material file: 27 M instructions and
-//   1,200 page faults more than contiguous);
+//   checksum; hairlut_checksum covers them, and every hairlut reader checks it). Not compact: a
+//   table of tens of KiB inside its object header is copied with the header's messages and
+//   checksummed with them at every flush;
 // - chunked with shuffle, deflate and Fletcher-32 otherwise (unchanged).
 //
 // Attributes stay in the object header (compact attribute storage) up to kCompactAttributes per

@@ -255,7 +255,7 @@ struct ImageBuffer {
 };
 // Memory for the image: of 2 MiB or more, in 2 MiB-aligned blocks the kernel may back with
 // transparent huge pages (MADV_HUGEPAGE), so that the driver's zero-fill touches one page per
-// 2 MiB instead of 512 (a 16-material file: about 700 page faults fewer). free() releases it.
+// 2 MiB instead of 512. free() releases it.
 void* image_memory(std::size_t size) {
   constexpr std::size_t kHuge = std::size_t{2} << 20;
   if (size < kHuge) return std::malloc(size);

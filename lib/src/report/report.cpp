@@ -50,6 +50,16 @@ std::string status_badge(const std::string& s) {
   return "<span class=\"badge\" style=\"background:" + std::string(colour) + "\">" + s + "</span>";
 }
 
+// An axis label with its unit, in the unit the report's text uses: angles (stored in radians) are
+// shown in degrees, and `centres` converted to match; a unitless axis says so.
+std::string axis_label(const std::string& name, const std::string& units, std::vector<double>& centres) {
+  if (units == "rad") {
+    for (double& c : centres) c *= 180.0 / M_PI;
+    return name + " [deg]";
+  }
+  return name + " [" + (units.empty() || units == "1" ? std::string("unitless") : units) + "]";
+}
+
 }  // namespace
 
 std::string render_report_markdown(const json& r) {
@@ -221,10 +231,10 @@ std::string render_report_html(const json& r) {
     for (const json& h : a["heatmaps"]) {
       svg::HeatMap hm;
       hm.title = h["y"].get<std::string>() + " vs " + h["x"].get<std::string>();
-      hm.xlabel = h["x"].get<std::string>();
-      hm.ylabel = h["y"].get<std::string>();
       hm.x = vec(h["x_centres"]);
       hm.y = vec(h["y_centres"]);
+      hm.xlabel = axis_label(h["x"].get<std::string>(), h.value("x_units", std::string()), hm.x);
+      hm.ylabel = axis_label(h["y"].get<std::string>(), h.value("y_units", std::string()), hm.y);
       hm.values = h["max_rel"].get<std::vector<std::vector<double>>>();
       o << svg::heat_map(hm) << "\n";
     }
@@ -286,7 +296,7 @@ std::string render_report_html(const json& r) {
 std::string html_page(const std::string& title, const std::string& body) {
   return "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + escape(title) +
          "</title><style>"
-         "body{font-family:sans-serif;margin:24px;max-width:1200px;color:#1f2328}"
+         "body{font-family:sans-serif;margin:24px;max-width:1200px;color:#1f2328}code{overflow-wrap:anywhere}"
          "table{border-collapse:collapse;margin:8px 0 16px}td,th{border:1px solid #d0d7de;padding:4px 8px;font-size:13px;text-align:left;vertical-align:top}"
          "th{background:#f6f8fa}.badge{color:#fff;border-radius:4px;padding:1px 6px;font-weight:bold}"
          ".big{font-size:20px}.plots{display:flex;flex-wrap:wrap;gap:12px}h2{border-bottom:1px solid #d0d7de;padding-bottom:4px;margin-top:32px}"

@@ -1,5 +1,10 @@
 #include "hairlut/report/svg_plot.hpp"
 
+#include <cstdint>
+#include <utility>
+
+#include "png.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,6 +43,31 @@ std::vector<double> ticks(double lo, double hi, int target = 6) {
   for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step) t.push_back(std::abs(v) < 1e-12 * step ? 0.0 : v);
   return t;
 }
+
+// Ticks of a log10 range (colour bars, log axes) [lo, hi]: 1, 2, 5 × 10^k inside it (decades only when those
+// are many), labelled as plain numbers ("0.002", "1e-06"), never as a fractional exponent.
+std::vector<std::pair<double, std::string>> log_ticks(double lo, double hi) {
+  std::vector<std::pair<double, std::string>> all, decades;
+  for (int d = static_cast<int>(std::floor(lo)); d <= static_cast<int>(std::ceil(hi)); ++d)
+    for (double m : {1.0, 2.0, 5.0}) {
+      const double t = std::log10(m) + d;
+      if (t < lo - 1e-9 || t > hi + 1e-9) continue;
+      all.push_back({t, label(m * std::pow(10.0, d))});
+      if (m == 1.0) decades.push_back(all.back());
+    }
+  if (all.size() > 7) {
+    if (decades.size() > 7) {  // every k-th decade
+      std::vector<std::pair<double, std::string>> some;
+      const std::size_t k = (decades.size() + 6) / 7;
+      for (std::size_t i = 0; i < decades.size(); i += k) some.push_back(decades[i]);
+      return some;
+    }
+    return decades;
+  }
+  if (all.size() < 2) all = {{lo, label(std::pow(10.0, lo))}, {hi, label(std::pow(10.0, hi))}};
+  return all;
+}
+
 
 // Viridis-like colour map from 5 anchors.
 std::string colour(double u) {
@@ -109,17 +139,22 @@ std::string line_plot(const LinePlot& p) {
     << p.height << "\" font-family=\"sans-serif\" font-size=\"11\">";
   o << "<text x=\"" << num(left + w / 2) << "\" y=\"16\" text-anchor=\"middle\" font-weight=\"bold\">" << escape(p.title) << "</text>";
   o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << h << "\" fill=\"none\" stroke=\"#444\"/>";
-  for (double t : ticks(xlo, xhi)) {
+  // Log axes are labelled with the values (1, 2, 5 x 10^k), never with a fractional exponent.
+  const auto axis_ticks = [](double lo, double hi, bool log, int target) {
+    if (log) return log_ticks(lo, hi);
+    std::vector<std::pair<double, std::string>> out;
+    for (double v : ticks(lo, hi, target)) out.push_back({v, label(v)});
+    return out;
+  };
+  for (const auto& [t, text] : axis_ticks(xlo, xhi, p.log_x, 6)) {
     const double xx = left + (t - xlo) / (xhi - xlo) * w;
     o << "<line x1=\"" << num(xx) << "\" y1=\"" << num(top + h) << "\" x2=\"" << num(xx) << "\" y2=\"" << num(top + h + 4) << "\" stroke=\"#444\"/>"
-      << "<text x=\"" << num(xx) << "\" y=\"" << num(top + h + 15) << "\" text-anchor=\"middle\">" << (p.log_x ? "1e" + label(t) : label(t))
-      << "</text>";
+      << "<text x=\"" << num(xx) << "\" y=\"" << num(top + h + 15) << "\" text-anchor=\"middle\">" << text << "</text>";
   }
-  for (double t : ticks(ylo, yhi, 5)) {
+  for (const auto& [t, text] : axis_ticks(ylo, yhi, p.log_y, 5)) {
     const double yy = top + (1.0 - (t - ylo) / (yhi - ylo)) * h;
     o << "<line x1=\"" << num(left) << "\" y1=\"" << num(yy) << "\" x2=\"" << num(left + w) << "\" y2=\"" << num(yy) << "\" stroke=\"#eee\"/>"
-      << "<text x=\"" << num(left - 5) << "\" y=\"" << num(yy + 4) << "\" text-anchor=\"end\">" << (p.log_y ? "1e" + label(t) : label(t))
-      << "</text>";
+      << "<text x=\"" << num(left - 5) << "\" y=\"" << num(yy + 4) << "\" text-anchor=\"end\">" << text << "</text>";
   }
   if (std::isfinite(p.y_reference))
     o << "<line x1=\"" << num(left) << "\" y1=\"" << num(Y(p.y_reference)) << "\" x2=\"" << num(left + w) << "\" y2=\"" << num(Y(p.y_reference))
@@ -148,8 +183,18 @@ std::string line_plot(const LinePlot& p) {
   return o.str();
 }
 
+namespace {
+
+// The colour of u ∈ [0, 1] as bytes (colour()'s map).
+void colour_bytes(double u, std::uint8_t* rgb) {
+  const std::string c = colour(u);
+  for (int k = 0; k < 3; ++k) rgb[k] = static_cast<std::uint8_t>(std::stoi(c.substr(1 + 2 * static_cast<std::size_t>(k), 2), nullptr, 16));
+}
+
+}  // namespace
+
 std::string heat_map(const HeatMap& m) {
-  const double left = 60, right = 70, top = 28, bottom = 44;
+  const double left = 64, right = 78, top = 28, bottom = 44;
   const double w = m.width - left - right, h = m.height - top - bottom;
   const std::size_t ny = m.values.size(), nx = ny ? m.values[0].size() : 0;
   double lo = INFINITY, hi = -INFINITY;
@@ -162,19 +207,24 @@ std::string heat_map(const HeatMap& m) {
   if (!std::isfinite(lo)) lo = 0, hi = 1;
   if (hi == lo) hi = lo + 1;
   std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << m.width << "\" height=\"" << m.height << "\" font-family=\"sans-serif\" font-size=\"11\">";
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"heat-map\" width=\"" << m.width << "\" height=\"" << m.height
+    << "\" font-family=\"sans-serif\" font-size=\"11\">";
   o << "<text x=\"" << num(left + w / 2) << "\" y=\"16\" text-anchor=\"middle\" font-weight=\"bold\">" << escape(m.title) << "</text>";
   const double cw = nx ? w / static_cast<double>(nx) : w, ch = ny ? h / static_cast<double>(ny) : h;
-  for (std::size_t iy = 0; iy < ny; ++iy)
-    for (std::size_t ix = 0; ix < nx; ++ix) {
-      const double v = m.values[iy][ix];
-      const double t = m.log_scale ? std::log10(std::max(v, 1e-16)) : v;
-      o << "<rect x=\"" << num(left + static_cast<double>(ix) * cw) << "\" y=\"" << num(top + h - static_cast<double>(iy + 1) * ch) << "\" width=\""
-        << num(cw + 0.6) << "\" height=\"" << num(ch + 0.6) << "\" fill=\"" << (std::isnan(v) ? std::string("#d0d0d0") : colour((t - lo) / (hi - lo)))
-        << "\"><title>" << escape(m.xlabel)
-        << " = " << (ix < m.x.size() ? label(m.x[ix]) : "") << ", " << escape(m.ylabel) << " = " << (iy < m.y.size() ? label(m.y[iy]) : "")
-        << ": " << (std::isnan(v) ? std::string("not sampled") : label(v)) << "</title></rect>";
-    }
+  // The cells as one PNG, a pixel per cell (top row first), stretched over the plot area without
+  // smoothing: a few kilobytes where one SVG rectangle per cell took a hundred bytes each.
+  if (nx > 0 && ny > 0) {
+    png::Rgb8 image(static_cast<int>(nx), static_cast<int>(ny));
+    for (std::size_t iy = 0; iy < ny; ++iy)
+      for (std::size_t ix = 0; ix < nx; ++ix) {
+        const double v = ix < m.values[iy].size() ? m.values[iy][ix] : NAN;
+        std::uint8_t rgb[3] = {0xd0, 0xd0, 0xd0};  // grey: not sampled
+        if (!std::isnan(v)) colour_bytes(((m.log_scale ? std::log10(std::max(v, 1e-16)) : v) - lo) / (hi - lo), rgb);
+        image.set(static_cast<int>(ix), static_cast<int>(ny - 1 - iy), rgb[0], rgb[1], rgb[2]);
+      }
+    o << "<image x=\"" << num(left) << "\" y=\"" << num(top) << "\" width=\"" << num(w) << "\" height=\"" << num(h)
+      << "\" preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" href=\"" << png::data_uri(image) << "\"/>";
+  }
   o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << h << "\" fill=\"none\" stroke=\"#444\"/>";
   auto axis_labels = [&](const std::vector<double>& c, bool horizontal) {
     const std::size_t n = c.size();
@@ -195,8 +245,16 @@ std::string heat_map(const HeatMap& m) {
   for (int k = 0; k < 20; ++k)
     o << "<rect x=\"" << num(left + w + 12) << "\" y=\"" << num(top + h - (k + 1) * h / 20) << "\" width=\"12\" height=\"" << num(h / 20 + 0.6)
       << "\" fill=\"" << colour((k + 0.5) / 20) << "\"/>";
-  o << "<text x=\"" << num(left + w + 28) << "\" y=\"" << num(top + 8) << "\">" << (m.log_scale ? "1e" + label(hi) : label(hi)) << "</text>"
-    << "<text x=\"" << num(left + w + 28) << "\" y=\"" << num(top + h) << "\">" << (m.log_scale ? "1e" + label(lo) : label(lo)) << "</text>";
+  std::vector<std::pair<double, std::string>> bar;
+  if (m.log_scale)
+    bar = log_ticks(lo, hi);
+  else
+    for (double v : ticks(lo, hi, 5)) bar.push_back({v, label(v)});
+  for (const auto& [t, text] : bar) {
+    const double y = top + h - (t - lo) / (hi - lo) * h;
+    o << "<line x1=\"" << num(left + w + 24) << "\" y1=\"" << num(y) << "\" x2=\"" << num(left + w + 28) << "\" y2=\"" << num(y)
+      << "\" stroke=\"#444\"/><text x=\"" << num(left + w + 30) << "\" y=\"" << num(y + 4) << "\">" << text << "</text>";
+  }
   o << "</svg>";
   return o.str();
 }
@@ -267,26 +325,39 @@ std::string polar_plot(const PolarPlot& p) {
 
 std::string swatch_grid(const std::string& title, const std::vector<Swatch>& swatches, int columns, const std::vector<std::string>& row_labels,
                         const std::vector<std::string>& column_labels, const std::string& row_title, const std::string& column_title) {
-  const int cell = 22, left = 70, top = 40;
+  // The grid fits a report's 1200 px body: squares of up to 22 px, smaller for many columns.
+  constexpr int kMaxWidth = 1100;
+  const int left = 70, top = 40;
   const int rows = columns > 0 ? static_cast<int>((swatches.size() + static_cast<std::size_t>(columns) - 1) / static_cast<std::size_t>(columns)) : 0;
+  const int cell = columns > 0 ? std::clamp((kMaxWidth - left - 20) / columns, 3, 22) : 22;
   const int width = left + columns * cell + 20, height = top + rows * cell + 20;
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height << "\" font-family=\"sans-serif\" font-size=\"10\">";
   o << "<text x=\"" << left << "\" y=\"14\" font-weight=\"bold\" font-size=\"11\">" << escape(title) << "</text>";
   o << "<text x=\"" << left << "\" y=\"28\">" << escape(column_title) << " &#8594;</text>";
   o << "<text transform=\"translate(10," << top + rows * cell / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << escape(row_title) << " &#8594;</text>";
-  for (std::size_t i = 0; i < swatches.size(); ++i) {
-    const int r = static_cast<int>(i) / columns, c = static_cast<int>(i) % columns;
-    const Swatch& s = swatches[i];
-    char fill[16];
-    std::snprintf(fill, sizeof fill, "#%02x%02x%02x", static_cast<int>(std::lround(255 * srgb_encode(s.r))),
-                  static_cast<int>(std::lround(255 * srgb_encode(s.g))), static_cast<int>(std::lround(255 * srgb_encode(s.b))));
-    o << "<rect x=\"" << left + c * cell << "\" y=\"" << top + r * cell << "\" width=\"" << cell - 1 << "\" height=\"" << cell - 1 << "\" fill=\"" << fill
-      << "\"><title>" << escape(s.label) << "</title></rect>";
+  if (columns > 0 && rows > 0) {
+    // One pixel per swatch, each a cell - 1 px square with a 1 px white gap when cells are large.
+    const int scale = cell >= 8 ? cell : 1;
+    png::Rgb8 image(columns * scale, rows * scale);
+    std::fill(image.pixels.begin(), image.pixels.end(), std::uint8_t{255});
+    for (std::size_t i = 0; i < swatches.size(); ++i) {
+      const int r = static_cast<int>(i) / columns, c = static_cast<int>(i) % columns;
+      const Swatch& s = swatches[i];
+      const auto byte = [](double v) { return static_cast<std::uint8_t>(std::lround(255 * srgb_encode(v))); };
+      const int inner = scale > 1 ? scale - 1 : 1;
+      for (int y = 0; y < inner; ++y)
+        for (int x = 0; x < inner; ++x) image.set(c * scale + x, r * scale + y, byte(s.r), byte(s.g), byte(s.b));
+    }
+    o << "<image x=\"" << left << "\" y=\"" << top << "\" width=\"" << columns * cell << "\" height=\"" << rows * cell
+      << "\" preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" href=\"" << png::data_uri(image) << "\"/>";
   }
-  for (std::size_t r = 0; r < row_labels.size(); ++r)
-    o << "<text x=\"" << left - 4 << "\" y=\"" << top + static_cast<int>(r) * cell + 15 << "\" text-anchor=\"end\">" << escape(row_labels[r]) << "</text>";
-  for (std::size_t c = 0; c < column_labels.size(); c += std::max<std::size_t>(1, column_labels.size() / 8))
+  const std::size_t row_step = static_cast<std::size_t>(std::max(1, (12 + cell - 1) / cell));
+  for (std::size_t r = 0; r < row_labels.size(); r += row_step)
+    o << "<text x=\"" << left - 4 << "\" y=\"" << top + static_cast<int>(r) * cell + cell / 2 + 4 << "\" text-anchor=\"end\">" << escape(row_labels[r])
+      << "</text>";
+  const std::size_t column_step = std::max<std::size_t>({1, column_labels.size() / 8, static_cast<std::size_t>((40 + cell - 1) / cell)});
+  for (std::size_t c = 0; c < column_labels.size(); c += column_step)
     o << "<text x=\"" << left + static_cast<int>(c) * cell + cell / 2 << "\" y=\"" << top - 3 << "\" text-anchor=\"middle\">" << escape(column_labels[c])
       << "</text>";
   o << "</svg>";

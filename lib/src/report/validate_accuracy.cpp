@@ -134,7 +134,8 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
         std::vector<double> ci, cj;
         for (int c = 0; c + 1 < ai.count; ++c) ci.push_back(cell_centre(ai, c));
         for (int c = 0; c + 1 < aj.count; ++c) cj.push_back(cell_centre(aj, c));
-        heat.push_back({{"x", aj.name}, {"y", ai.name}, {"x_centres", cj}, {"y_centres", ci}, {"max_rel", grid}});
+        heat.push_back({{"x", aj.name}, {"y", ai.name}, {"x_units", aj.units}, {"y_units", ai.units}, {"x_centres", cj}, {"y_centres", ci},
+                        {"max_rel", grid}});
       }
     tj["heatmaps"] = heat;
     out.push_back(tj);

@@ -5,8 +5,8 @@
 // "phi", "sigma_a", "beta", ...) with `units` and `long_name` attributes, so that h5py, xarray and
 // netCDF tools see real coordinates. Datasets of at most 4 KiB (axes, energies, M_p of a
 // material) are compact (stored in their checksummed object header, unfiltered); larger ones are
-// chunked with shuffle + deflate and a Fletcher-32 checksum, or, with deflate 0, compact up to
-// 60 KiB and contiguous beyond (unfiltered; hairlut_checksum covers their values). The file uses the HDF5 1.10 format (superblock v3, checksummed metadata, compact chunk indexes) and records no
+// chunked with shuffle + deflate and a Fletcher-32 checksum, or, with deflate 0, contiguous
+// (unfiltered; hairlut_checksum covers their values). The file uses the HDF5 1.10 format (superblock v3, checksummed metadata, compact chunk indexes) and records no
 // time stamps, so the same tables give the same bytes. The root carries the provenance
 // (version, model, eta, lobes, quadrature, config text and hash) as attributes.
 #pragma once
