@@ -68,6 +68,8 @@ configure_file(${PROJECT_SOURCE_DIR}/hairlut.pc.in ${PROJECT_BINARY_DIR}/hairlut
 install(FILES ${PROJECT_BINARY_DIR}/hairlut.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/schemas/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/schemas FILES_MATCHING PATTERN "*.json")
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/configs FILES_MATCHING PATTERN "*.json")
+# generic.json is the benchmark's input (it does not pass its own validator), not a starting point.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/configs FILES_MATCHING PATTERN "*.json"
+        PATTERN "generic.json" EXCLUDE)
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/table-format.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
