@@ -71,13 +71,16 @@ install(FILES ${PROJECT_BINARY_DIR}/hairlut.pc DESTINATION ${CMAKE_INSTALL_LIBDI
 # that installed tools find their data below it as they find it in a checkout, and the configs'
 # "$schema" references resolve.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/schemas/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/schemas FILES_MATCHING PATTERN "*.json")
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/tables/configs FILES_MATCHING PATTERN "*.json")
+# generic.json is the benchmark's input (it does not pass its own validator), not a starting point.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/tables/configs FILES_MATCHING PATTERN "*.json"
+        PATTERN "generic.json" EXCLUDE)
+install(FILES ${PROJECT_SOURCE_DIR}/tables/configs/generic.json DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/bench)
 # The shipped default tables, which installed tools default to (bench-hair-luts).
 install(FILES ${PROJECT_SOURCE_DIR}/tables/default/hairlut-default.h5 ${PROJECT_SOURCE_DIR}/tables/default/hairlut-default.json
         DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/tables/default)
 # The README and every document it links, laid out as in the repository so that its links work in
 # share/doc/hairlut: docs/ (with the images and the bench output it shows), the example consumer.
-install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs
         FILES_MATCHING PATTERN "*.md" PATTERN "*.png" PATTERN "*.svg" PATTERN "*.csv" PATTERN "*.json" PATTERN "*.txt")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)

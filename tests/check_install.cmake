@@ -74,9 +74,10 @@ foreach(doc IN LISTS installed_docs)
   endforeach()
 endforeach()
 
-# Installed tools default to installed data: bench-hair-luts' defaults name the prefix, not the sources.
+# Installed tools default to installed data: bench-hair-luts' defaults name the prefix, not the sources
+# (its generic.json, a benchmark input, apart from the configs).
 run("installed bench-hair-luts --help" ${prefix}/bin/bench-hair-luts --help)
-foreach(default "${prefix}/share/hairlut/tables/configs/generic.json" "${prefix}/bin/bake-hair-luts")
+foreach(default "${prefix}/share/hairlut/bench/generic.json" "${prefix}/bin/bake-hair-luts")
   string(FIND "${run_out}" "${default}" at)
   if(at LESS 0)
     message(FATAL_ERROR "installed bench-hair-luts does not default to ${default}:\n${run_out}")

@@ -172,15 +172,19 @@ TEST_CASE("A target error picks the N_p resolution and the baked table reaches i
   CHECK(set.metadata["resolution"]["counts"]["phi"].get<int>() >= 9);
   // The chosen counts are in the table, and a smaller target needs more nodes.
   CHECK(set.find("np/TT")->axes[3].count == set.metadata["resolution"]["counts"]["phi"].get<int>());
-  // What target_error reports is the validator's figure for the same tables (same points, same seeds).
+  // target_error accepts on points the plan never probed and a worst-point search; an independent
+  // search by the validator (other random points, its own seed) finds nothing much worse than the
+  // target: within 1.5 times it.
   ValidationOptions vo;
   vo.max_points = 4000;
+  vo.seed = 12345;
   const auto v = validate_tables(set, "target", vo);
   double validator_worst = 0.0;
   for (const auto& acc : v["accuracy"]) {
-    if (acc["kind"] == "np") validator_worst = std::max(validator_worst, acc["off_node"]["max_rel"].get<double>());
+    if (acc["kind"] == "np") validator_worst = std::max(validator_worst, acc["worst"]["max_rel"].get<double>());
   }
-  CHECK(validator_worst == Approx(achieved).epsilon(1e-12));
+  INFO("validator's worst found " << validator_worst << ", target_error's " << achieved);
+  CHECK(validator_worst <= 1.5 * 0.03);
   j["tables"]["np"]["target_error"] = 0.01;
   BakeReport finer;
   bake(config_in(temp_dir("target2"), j), {}, &finer);

@@ -142,7 +142,9 @@ static int bench_main(int argc, char** argv) {
   // Installed: the installed baker and share/hairlut; in the build tree: its baker and the sources.
   const std::string data = hairlut::tools::data_root(HAIRLUT_SOURCE_DIR);
   bake_tool = hairlut::tools::sibling_tool("bake-hair-luts");
-  generic_config = data + "/tables/configs/generic.json";
+  // generic.json is the benchmark's input, not a starting point: an installation keeps it apart from
+  // the configs, under share/hairlut/bench.
+  generic_config = data == HAIRLUT_SOURCE_DIR ? data + "/tables/configs/generic.json" : data + "/bench/generic.json";
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--slices", slices, "stress slices for the accuracy sweep")->check(CLI::Range(std::size_t{1}, std::size_t{100000}))->capture_default_str();
   // Checked when given (a missing input is a command-line error, exit 2); the defaults, which a

@@ -7,6 +7,7 @@
 #include "common/progress.hpp"
 #include <atomic>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <hairlut/bake/bake.hpp>
@@ -50,6 +51,11 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   app.add_option("--max-points", max_points, "random points per table where the accuracy is measured (the work grows with it)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}))
       ->capture_default_str();
+  std::uint64_t seed = 0;
+  bool no_search = false;
+  auto* seed_option = app.add_option("--seed", seed, "seed of the accuracy measure's points (default: drawn afresh each run and recorded in "
+                                                      "report.json's accuracy_search.seed; give it to repeat a run exactly)");
+  app.add_flag("--no-search", no_search, "judge accuracy on the random points only, without the worst-point search (faster, finds less)");
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
   if (const auto rc = hairlut::tools::parse_command_line(app, "validate-hair-luts", argc, argv)) return *rc;
   if (file.empty() == config_path.empty()) {
@@ -70,6 +76,8 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   hairlut::ValidationOptions options;
   options.threads = threads;
   options.max_points = max_points;
+  if (seed_option->count() > 0) options.seed = seed;
+  options.search = !no_search;
   options.cancel = hairlut_tools::cancel_pointer();
   hairlut_tools::register_temp_dir(out_dir);
   hairlut::TableSet set;

@@ -102,8 +102,8 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
 
     if (run.unconverged) report.notes.push_back(std::to_string(run.unconverged) + " adaptive N_p entries did not reach the tolerance");
     if (!report.resolution.is_null() && generic_np) {
-      // The validator's measure (its points, its seeds): what target_error reports is what
-      // validate-hair-luts finds on the same table.
+      // The validator's measure on points the plan never probed (random, then the worst-point
+      // search): the bake is accepted on the worst found.
       const AchievedError achieved = measure_np_error(set, c.eta, c.path, c.np_target_points.value_or(kSampledErrorPoints), opt.threads);
       report.resolution["achieved_error"] = achieved.worst;
       report.resolution["achieved_p99"] = achieved.p99;
@@ -115,8 +115,8 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
       if (achieved.worst > *c.np_target_error)
         report.notes.push_back("target_error " + std::to_string(*c.np_target_error) + " not reached after " + std::to_string(attempt) +
                                " plans: lower the target or narrow the ranges");
-      report.notes.push_back("target_error: achieved sampled error " + std::to_string(achieved.worst) + " (worst, " + achieved.worst_table + "), p99 " +
-                             std::to_string(achieved.p99) + " at random points, relative to " + achieved.denominator);
+      report.notes.push_back("target_error: achieved sampled error " + std::to_string(achieved.worst) + " (worst found by random points and a worst-point search, " + achieved.worst_table + "), p99 " +
+                             std::to_string(achieved.p99) + " at the random points, relative to " + achieved.denominator);
       set.metadata["resolution"] = report.resolution;
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

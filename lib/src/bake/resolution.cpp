@@ -281,12 +281,16 @@ AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath p
     if (!truth) continue;
     SampledErrorOptions o;
     o.points = samples;
-    o.seed = sampled_error_seed(t.path());  // the validator's points for this table
+    // Points the plan never saw: the planner probes its own fixed slabs (AxisErrorProbe); these
+    // come from another seed, then the worst-point search (edges, corners, caustics, grazing θd,
+    // local maximisation). Fixed per table so that a config bakes the same bytes every time.
+    o.seed = sampled_error_seed("target_error acceptance: " + t.path());
+    o.search = true;
     o.threads = threads;
     const SampledError r = fourier ? measure_sampled_error(domain, fourier_point_function(t), *truth, o) : measure_sampled_error(set, t, *truth, o);
-    a.points += r.error.points;
-    a.per_table[t.path()] = {r.error.worst, r.error.p99};
-    if (r.error.worst > a.worst || a.worst_table.empty()) a.worst = std::max(a.worst, r.error.worst), a.worst_table = t.path();
+    for (const SearchStage& st : r.stages) a.points += st.points;
+    a.per_table[t.path()] = {r.found, r.error.p99};
+    if (r.found > a.worst || a.worst_table.empty()) a.worst = std::max(a.worst, r.found), a.worst_table = t.path();
     a.p99 = std::max(a.p99, r.error.p99);
     a.denominator = r.denominator;
   }

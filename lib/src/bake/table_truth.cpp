@@ -135,6 +135,20 @@ PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double
   };
 }
 
+// Where N_p of lobe p has features in |φ| at θd: the lobe's edges Φ(p, ±1) and, for p ≥ 2 when
+// it exists, the caustic Φ(p, ±h_c) (dΦ/dh = 0), each wrapped to [0, π].
+std::vector<double> np_features(double eta, double theta_d, int p) {
+  const FiberGeometry g = FiberGeometry::make(eta, std::clamp(theta_d, -kHalfPi, kHalfPi));
+  std::vector<double> out;
+  auto add = [&](double gamma_i) {
+    const double phi = wrap_azimuth(exit_azimuth(p, gamma_i, gamma_transmitted(std::sin(gamma_i), g.inv_eta_prime)));
+    out.push_back(std::abs(phi));
+  };
+  add(kHalfPi), add(-kHalfPi);
+  if (const double gc = caustic_gamma(p, g); gc >= 0.0) add(gc), add(-gc);
+  return out;
+}
+
 }  // namespace
 
 std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, std::shared_ptr<const GaussLegendreRule> rule) {
@@ -176,6 +190,7 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr = peak_over_phi(tr);
     tr.peak_axis = 3;
     tr.peak_lo = 0.0;  // N_p of a circular fiber is even in phi
+    tr.features = [eta = info.eta, p](const std::vector<double>& x) { return np_features(eta, x[2], p); };
     return tr;
   }
   if (t.quantity == "N_p" && dims == std::vector<std::string>{"channel", "theta_d", "phi"} && p >= 0 && t.attributes.contains("sigma_a")) {
@@ -199,6 +214,7 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr = peak_over_phi(tr);
     tr.peak_axis = 2;
     tr.peak_lo = 0.0;  // N_p of a circular fiber is even in phi
+    tr.features = [eta = info.eta, p](const std::vector<double>& x) { return np_features(eta, x[1], p); };
     tr.denominator = "peak over all phi of the exact N_p of the same (channel, theta_d) slice at the material's beta and the "
                      "channel's sigma_a, floored at 1e-3 x that peak of the white fibre (sigma_a = 0) at the same theta_d";
     return tr;
@@ -231,6 +247,8 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.peak_axis = with_beta ? 2 : 1;
     tr.peak_lo = -kHalfPi, tr.peak_hi = kHalfPi;
     tr.denominator = kMpWords;
+    // The specular cone of the tilted lobe: M(v, θi, θr − α) peaks near θr = α − θi.
+    tr.features = [=](const std::vector<double>& x) { return std::vector<double>{alpha - x[with_beta ? 1 : 0]}; };
     return tr;
   }
   if (t.quantity == "sigma_a" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {

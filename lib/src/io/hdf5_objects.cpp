@@ -193,6 +193,9 @@ Handle write_scale(const File& f, hid_t group, const GridAxis& a, const std::str
   write_string_attr(f, ds.get(), "placement", std::string(to_string(a.placement)));
   write_string_attr(f, ds.get(), "wrap", std::string(to_string(a.wrap)));
   write_doubles_attr(f, ds.get(), "range", {a.lo, a.hi});
+  // The reconstruction along the axis, for readers that use only the scales (table-format.md).
+  write_string_attr(f, ds.get(), "interpolation", std::string(to_string(a.interpolation)));
+  write_string_attr(f, ds.get(), "lo_end", std::string(to_string(a.lo_end)));
   if (!a.labels.empty()) {
     std::string joined;
     for (const auto& l : a.labels) joined += (joined.empty() ? "" : ",") + l;

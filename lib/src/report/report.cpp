@@ -60,6 +60,43 @@ std::string axis_label(const std::string& name, const std::string& units, std::v
   return name + " [" + (units.empty() || units == "1" ? std::string("unitless") : units) + "]";
 }
 
+// The worst-point search of the accuracy section: per table, the worst found, where, and how
+// many points each stage evaluated with the worst of each.
+std::string search_stages(const json& t) {
+  std::string s;
+  for (const json& st : t["search"]["stages"])
+    s += (s.empty() ? "" : ", ") + st["stage"].get<std::string>() + " " + std::to_string(st["points"].get<std::size_t>()) + " (" + fmt(st["max_rel"]) + ")";
+  return s;
+}
+
+std::string search_markdown(const json& r) {
+  if (!r.contains("accuracy_search")) return "";
+  std::ostringstream o;
+  o << "\n### Worst-point search (seed " << r["accuracy_search"]["seed"].dump()
+    << ")\n\n| table | worst found | where | points per stage (worst there) |\n|---|---|---|---|\n";
+  for (const json& t : r["accuracy"])
+    if (t.contains("search"))
+      o << "| " << t["path"].get<std::string>() << " | " << fmt(t["worst"]["max_rel"]) << " | " << t["worst"]["where"].get<std::string>() << " | "
+        << search_stages(t) << " |\n";
+  return o.str();
+}
+
+std::string search_html(const json& r) {
+  if (!r.contains("accuracy_search")) return "";
+  std::ostringstream o;
+  o << "<h3>Worst-point search</h3>\n<p>After the random points, each table is searched for its worst point: the first and last cell of "
+       "every axis, every corner, known features (N_p's caustics and lobe edges in &phi;, M_p's specular cone), grazing ends of angle "
+       "axes, then coordinate search from the worst points found. The checks judge the worst found. Seed "
+    << escape(r["accuracy_search"]["seed"].dump()) << " (<code>--seed</code> repeats the run).</p>\n"
+    << "<table><tr><th>table</th><th>worst found</th><th>where</th><th>points per stage (worst there)</th></tr>\n";
+  for (const json& t : r["accuracy"])
+    if (t.contains("search"))
+      o << "<tr><td>" << escape(t["path"].get<std::string>()) << "</td><td>" << fmt(t["worst"]["max_rel"]) << "</td><td>"
+        << escape(t["worst"]["where"].get<std::string>()) << "</td><td>" << escape(search_stages(t)) << "</td></tr>\n";
+  o << "</table>\n";
+  return o.str();
+}
+
 }  // namespace
 
 std::string render_report_markdown(const json& r) {
@@ -88,6 +125,7 @@ std::string render_report_markdown(const json& r) {
       o << "| " << t["path"].get<std::string>() << " | " << t["off_node"]["points"] << " | " << fmt(t["off_node"]["max_rel"]) << " | "
         << fmt(t["off_node"]["p99_rel"]) << " | " << fmt(t["off_node"].value("mean_rel", 0.0)) << " | " << fmt(t["off_node_half"]["max_rel"]) << " | "
         << fmt(t["off_node_half"]["p99_rel"]) << " | " << (t.contains("worst") ? t["worst"]["where"].get<std::string>() : std::string()) << " |\n";
+    o << search_markdown(r);
   }
   o << detail::render_dual_scattering_markdown(r);
   return o.str();
@@ -224,7 +262,7 @@ std::string render_report_html(const json& r) {
       << fmt(a["off_node_half"]["max_rel"]) << "</td><td>" << fmt(a["off_node_half"]["p99_rel"]) << "</td><td>" << per << "</td><td>"
       << (a.contains("worst") ? escape(a["worst"]["where"].get<std::string>()) : std::string()) << "</td></tr>\n";
   }
-  o << "</table>\n";
+  o << "</table>\n" << search_html(r);
   for (const json& a : r["accuracy"]) {
     if (a["heatmaps"].empty()) continue;
     o << "<h3>" << escape(a["path"].get<std::string>()) << ": largest relative error per pair of axes</h3><div class=\"plots\">\n";

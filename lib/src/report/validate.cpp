@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <random>
 #include <set>
 
 #include "hairlut/util/angles.hpp"
@@ -269,8 +270,13 @@ json compare_for(const TableSet& set, const ModelInfo& info, const ValidationOpt
 
 }  // namespace
 
-nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& source, const ValidationOptions& opt) {
+nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& source, const ValidationOptions& given) {
   if (set.tables.empty()) throw DomainError(source + ": contains no tables");
+  ValidationOptions opt = given;
+  if (!opt.seed) {
+    std::random_device device;
+    opt.seed = (static_cast<std::uint64_t>(device()) << 32) ^ device();
+  }
   const ModelInfo info = model_from(set);
   std::vector<json> checks;
   json report;
@@ -294,6 +300,11 @@ nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& s
   check_cancel(opt);
   if (opt.progress) opt.progress("longitudinal", 3, 6);
   report["longitudinal"] = longitudinal_section(set, info, opt, checks);
+  report["accuracy_search"] = {{"seed", *opt.seed},
+                               {"search", opt.search},
+                               {"random_points", opt.max_points},
+                               {"stages", opt.search ? json::array({"random", "edges", "corners", "features", "grazing", "climb"}) : json::array({"random"})},
+                               {"note", "each table's points come from this seed mixed with the table's path; --seed repeats the run"}};
   report["accuracy"] = accuracy_section(set, info, opt, checks);
   report["absorption"] = absorption_section(set, info, opt, checks);
   report["sampling_data"] = sampling_data_section(set, checks);

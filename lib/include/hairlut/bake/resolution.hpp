@@ -106,18 +106,19 @@ struct AchievedError {
   double worst = 0.0;          ///< largest over the N_p tables
   double p99 = 0.0;            ///< largest 99th percentile over the N_p tables
   std::string worst_table;     ///< where the worst occurs
-  std::size_t points = 0;      ///< points measured, all tables together
+  std::size_t points = 0;      ///< points measured (random and search), all tables together
   std::map<std::string, std::pair<double, double>> per_table;  ///< path → (worst, p99)
   std::string denominator;     ///< the denominator of the lobes' errors, in words
 };
 
 /// The error of every lobe's N_p table of group "np" (R, TT, TRT, TRRT, ...; not the residual,
 /// which the validator judges with the energies), or of group "np_fourier" read through
-/// sampler::FourierNp in double (over its domain, fourier_domain), at `samples` random points per table (by
-/// default the validator's, with its seeds: the same points and figures as validate-hair-luts) over its
-/// declared domain, relative to the peak over φ of the same (β, σa, θd) slice floored at 1e−3 × the
-/// white fibre's: measure_sampled_error with table_truth, as validate-hair-luts's
-/// accuracy_max_rel / accuracy_p99_rel. Deterministic for any thread count.
+/// sampler::FourierNp in double (over its domain, fourier_domain), relative to the peak over φ of
+/// the same (β, σa, θd) slice floored at 1e−3 × the white fibre's (as validate-hair-luts's
+/// accuracy_max_rel): the worst found by `samples` random points per table and the worst-point
+/// search (SampledErrorOptions::search), on points the resolution plan did not probe (a seed of
+/// their own per table, fixed so that a bake is reproducible). `worst` is the worst found, `p99`
+/// that of the random points. Deterministic for any thread count.
 AchievedError measure_np_error(const TableSet& set, double eta, AbsorptionPath path, std::size_t samples = kSampledErrorPoints, int threads = 0);
 
 }  // namespace hairlut

@@ -30,6 +30,20 @@ struct SampledErrorOptions {
   bool half_float = false;     ///< also measure the values (and factor) rounded to half floats
   bool keep_points = false;    ///< return every point and its error (for heat maps)
   const std::atomic<bool>* cancel = nullptr;  ///< polled; the figures are incomplete when it is set
+  /// After the random points, search for the worst point (worst_point_search below): the first and
+  /// last cell of every axis and every corner, known features and grazing ends, then coordinate
+  /// search from the worst points found. Its points come from `seed` too.
+  bool search = false;
+  int climb_starts = 8;         ///< worst points (in distinct cells) the local maximisation starts from
+  int climb_evaluations = 160;  ///< evaluations per start at most
+};
+
+/// One stage of the worst-point search: how many points it evaluated and the worst it found there.
+struct SearchStage {
+  std::string name;  ///< "random", "edges", "corners", "features", "grazing", "climb"
+  std::size_t points = 0;
+  double worst = 0.0;
+  std::vector<double> at;  ///< coordinates of its worst point (empty when it evaluated none)
 };
 
 /// |sampled − exact| / denominator over the points.
@@ -44,7 +58,11 @@ struct SampledError {
   std::string denominator;   ///< TableTruth::denominator
   SampledErrorStats error;   ///< the table as stored
   SampledErrorStats half;    ///< rounded to half floats (points = 0 unless asked)
-  std::vector<double> worst_at;  ///< coordinates of the worst point (one per axis)
+  /// The worst point found: of the random points alone, or of every stage of the search when
+  /// options.search (then `found` ≥ error.worst and `stages` tells where each stage looked).
+  double found = 0.0;
+  std::vector<SearchStage> stages;
+  std::vector<double> worst_at;  ///< coordinates of the worst point found (one per axis)
   double worst_sampled = 0.0, worst_exact = 0.0, worst_denominator = 0.0;
   /// Per axis: the worst error among the points in each cell between two nodes (count − 1 cells;
   /// one entry for a single-node or channel axis, whose points lie on nodes).

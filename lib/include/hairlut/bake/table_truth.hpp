@@ -46,6 +46,10 @@ struct TableTruth {
   /// N_p at 1e−10), for a slab and the white fibre (true) or not; make/make_white otherwise.
   std::function<PointFunction(const std::vector<double>&, bool white)> make_fast;
   double peak_lo = 0.0, peak_hi = 0.0;
+  /// Optional: where along the peak axis the quantity has features at the point's other
+  /// coordinates (N_p: the caustics and the lobe's edges, Φ(p, h) at dΦ/dh = 0 and h = ±1; M_p: the
+  /// specular cone θr = α − θi), for the worst-point search to look at and around.
+  std::function<std::vector<double>(const std::vector<double>&)> features;
   /// The denominator is at least white_floor × (the same denominator of the white fibre) and at
   /// least absolute_floor.
   double white_floor = 0.0;

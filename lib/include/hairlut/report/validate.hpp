@@ -7,7 +7,9 @@
 
 #include <atomic>
 #include <functional>
+#include <cstdint>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -44,7 +46,16 @@ struct ValidationThresholds {
 
 struct ValidationOptions {
   ValidationThresholds thresholds;
-  std::size_t max_points = kSampledErrorPoints;  ///< random points per table (deterministic: sampled_error_seed of the table's path)
+  std::size_t max_points = kSampledErrorPoints;  ///< random points per table
+  /// The seed of the accuracy measure's points (random points and the worst-point search), mixed
+  /// with each table's path. Absent: drawn afresh for every run (std::random_device), so that
+  /// every run looks somewhere new; the report records it ("accuracy_search.seed") so a run can be
+  /// repeated exactly with it.
+  std::optional<std::uint64_t> seed;
+  /// After the random points, search for each table's worst point (edges, corners, features,
+  /// grazing ends, local maximisation: SampledErrorOptions::search); the accuracy checks judge the
+  /// worst found.
+  bool search = true;
   int threads = 0;                 ///< OpenMP threads for direct evaluation (0: all)
   std::function<void(std::string_view stage, std::size_t done, std::size_t total)> progress;
   const std::atomic<bool>* cancel = nullptr;
