@@ -28,7 +28,7 @@ struct OutputPaths {
 OutputPaths output_paths(const BakeConfig& config);
 
 /// True when the sidecar records this config's hash and library version and every file it lists
-/// exists with the recorded size: re-baking would change nothing.
+/// exists as a regular file with the recorded size and content hash: re-baking would change nothing.
 bool outputs_up_to_date(const BakeConfig& config);
 
 /// The sidecar document for a table set written to the given files.
@@ -48,7 +48,9 @@ std::vector<std::filesystem::path> write_outputs(const TableSet& set, const Bake
 std::vector<std::filesystem::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& config,
                                                       const BakeReport& report, const std::atomic<bool>* cancel = nullptr,
                                                       const SlabbedTables* slabbed = nullptr);
-/// Removes temporary files a killed bake of this config may have left in the output directory.
+/// Removes temporary files a killed bake of this config may have left in the output directory:
+/// only regular files of this user whose names write_outputs made (a keyed hash in the name), for
+/// this config's outputs, of processes no longer running (or of an earlier process with this pid).
 void remove_stale_temporaries(const BakeConfig& config);
 
 /// Loads a table file written by hairlut, choosing the reader by the file's magic bytes
