@@ -196,3 +196,109 @@ TEST_CASE("Up to date means the contents match, not only the sizes", "[io][hosti
   REQUIRE(::mkfifo(h5.c_str(), 0644) == 0);
   CHECK_FALSE(outputs_up_to_date(c));
 }
+
+namespace {
+
+// The message of read_hdf5 on `set` written with a valid checksum (the writer computes it), or
+// "(loaded)".
+std::string refusal(const TableSet& set, const fs::path& p) {
+  write_hdf5(set, p);
+  try {
+    read_hdf5(p);
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+
+// Checks that `text` contains `part`, showing the text when it does not.
+#define CHECK_CONTAINS(text, part)                          \
+  do {                                                      \
+    const std::string checked_text = (text);                \
+    INFO(checked_text);                                     \
+    CHECK(checked_text.find(part) != std::string::npos);    \
+  } while (false)
+
+Table& table(TableSet& set, const std::string& path) {
+  for (Table& t : set.tables)
+    if (t.path() == path) return t;
+  FAIL("no table " << path);
+  throw;
+}
+
+}  // namespace
+
+TEST_CASE("Contents that make no sense are refused even with a valid checksum", "[io][hostile]") {
+  const fs::path dir = temp_dir("semantics");
+  const TableSet good = bake(config_in(dir, tiny_config(false)), {});
+  const fs::path p = dir / "t.h5";
+  REQUIRE(refusal(good, p) == "(loaded)");
+  SECTION("a table relabelled with another quantity") {
+    TableSet s = good;
+    table(s, "np/TT").quantity = "M_p";
+    CHECK_CONTAINS(refusal(s, p), "quantity");
+  }
+  SECTION("a slice's mass far from its prefix masses") {
+    TableSet s = good;
+    table(s, "sampling/np/TT_mass").set(0, 1e300);
+    CHECK_CONTAINS(refusal(s, p), "TT_mass");
+  }
+  SECTION("NaN in a stored CDF") {
+    TableSet s = good;
+    Table& cdf = table(s, "sampling/np/TT_cdf");
+    cdf.set(cdf.size() / 2, std::nan(""));
+    CHECK_CONTAINS(refusal(s, p), "TT_cdf");
+  }
+  SECTION("a negative clamp bound") {
+    TableSet s = good;
+    table(s, "sampling/mp/R_clamp_bound").set(0, -1.0);
+    CHECK_CONTAINS(refusal(s, p), "R_clamp_bound");
+  }
+}
+
+TEST_CASE("Beta bands that overlap, leave gaps or disagree with their tables are refused", "[io][hostile]") {
+  const fs::path dir = temp_dir("bands");
+  json j = tiny_config(false);
+  j["tables"].erase("mp");
+  j["tables"]["np"]["axes"]["beta"] = {{"count", 2}, {"range_deg", {2, 20}}, {"spacing", "log"}};
+  j["tables"]["np"]["beta_bands"] = json::parse(R"([{"beta": {"count": 2, "range_deg": [2, 6]}}, {"beta": {"count": 2, "range_deg": [6, 20]}}])");
+  const TableSet good = bake(config_in(dir, j), {});
+  const fs::path p = dir / "t.h5";
+  REQUIRE(refusal(good, p) == "(loaded)");
+  REQUIRE(good.metadata.contains("np_beta_bands"));
+  auto edited = [&](double lo1, double hi1) {
+    TableSet s = good;
+    s.metadata["np_beta_bands"][1]["range"] = {lo1, hi1};
+    return refusal(s, p);
+  };
+  const double lo1 = good.metadata["np_beta_bands"][1]["range"][0].get<double>();
+  const double hi1 = good.metadata["np_beta_bands"][1]["range"][1].get<double>();
+  CHECK_CONTAINS(edited(lo1 * 0.9, hi1), "np_beta_bands");  // overlaps band 0
+  CHECK_CONTAINS(edited(lo1 * 1.1, hi1), "np_beta_bands");  // leaves a gap
+  CHECK_CONTAINS(edited(lo1, lo1 * 0.5), "np_beta_bands");  // reversed
+  CHECK_CONTAINS(edited(lo1, hi1 * 2.0), "beta axis");      // not the tables' range
+  TableSet s = good;
+  table(s, "np/TT_band1").attributes["beta_band"]["index"] = 0;
+  CHECK_CONTAINS(refusal(s, p), "beta_band");
+}
+
+TEST_CASE("Fourier tables with parameters beyond a config's ranges are refused", "[io][hostile]") {
+  const fs::path dir = temp_dir("fourier");
+  const json j = json::parse(R"({
+    "name": "f", "lobes": { "explicit": ["R", "TT"], "residual": true },
+    "quadrature": { "method": "fourier", "tolerance": 1e-6 },
+    "tables": { "np": { "representation": "fourier",
+      "axes": { "beta": { "range_deg": [5, 20] }, "sigma_a": { "count": 3, "range": [0, 2] }, "theta_d": { "count": 4, "range_deg": [0, 60] } },
+      "fourier": { "tolerance": 1e-3 } } },
+    "output": { "basename": "s", "formats": ["hdf5"] } })");
+  const TableSet good = bake(config_in(dir, j), {});
+  const fs::path p = dir / "t.h5";
+  REQUIRE(refusal(good, p) == "(loaded)");
+  for (const auto& [key, value] : std::vector<std::pair<std::string, double>>{
+           {"beta_min", 1e-15}, {"beta_min", 0.0}, {"beta_max", 1e300}, {"eta", 1e300}, {"eta", 1.0}, {"tolerance", 0.5}}) {
+    TableSet s = good;
+    for (Table& t : s.tables)
+      if (t.group == "np_fourier") t.attributes[key] = value;
+    CHECK_CONTAINS(refusal(s, p), key);
+  }
+}

@@ -21,6 +21,8 @@ the documented exit code, and no file left where none may be. Probes:
   storage        external storage (a copy, /dev/zero, a FIFO, a relative path), virtual datasets,
                  external and soft links, never-written values: refused before any value is read
   heap-scan      a file packed with overlapping global-heap signatures is screened in linear time
+  config-sweep   every numeric config field at extreme values (sweep.py): refused in one line or
+                 baked into a file the validator reads
   eta-near-one   eta = 1 + 1e-7 bakes and validates in bounded time
   concurrent     two bakes of different configs into one directory leave one consistent set
 """
@@ -585,11 +587,30 @@ def probe_concurrent():
             print("ok  round %d: consistent set of config %s (exits %d, %d)" % (round_, side["config_hash"], ra, rb))
 
 
+def probe_config_sweep():
+    """Every numeric config field of the schema at extreme values (sweep.py, its quick value set):
+    refused in one line, or baked into a file the validator reads; never a crash, a hang, or a
+    file its own loader refuses."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.path.insert(0, here)
+    import sweep
+    sweep.VALUES[:] = sweep.QUICK_VALUES
+    results, unreached = sweep.sweep(BAKE, VALIDATE, os.path.join(WORK, "sweep"), os.path.join(here, "..", "..", "schemas",
+                                                                                             "hairlut-config.schema.json"))
+    for kind, label, why in results:
+        if kind not in ("refused", "baked"):
+            fail("%s: %s: %s" % (kind, label, why))
+    if unreached:
+        fail("fields no base config reaches: %s" % unreached)
+    print("ok  " + sweep.summary(results, unreached))
+
+
 PROBES = {
     "long-strings": probe_long_strings, "config-files": probe_config_files, "corrupt-files": probe_corrupt_files,
     "metadata": probe_metadata, "exr-metadata": probe_exr_metadata, "format-version": probe_format_version, "disk-full": probe_disk_full,
     "max-points": probe_max_points, "signals": probe_signals, "stale-temps": probe_stale_temps,
     "eta-near-one": probe_eta_near_one, "concurrent": probe_concurrent, "storage": probe_storage, "heap-scan": probe_heap_scan,
+    "config-sweep": probe_config_sweep,
 }
 
 os.makedirs(WORK, exist_ok=True)

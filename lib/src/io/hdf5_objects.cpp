@@ -4,6 +4,7 @@
 
 #include <hdf5_hl.h>
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cerrno>
 #include <condition_variable>
@@ -86,8 +87,23 @@ void write_int_attr(const File& f, hid_t obj, const std::string& key, long long 
 }
 
 // JSON values as natural HDF5 attributes (strings, numbers, number arrays); anything else as JSON text.
+namespace {
+// Whether every number in `v` is finite: JSON has no infinity or NaN (they dump as null), so a
+// file holding one would not match its own checksummed metadata and its loader would refuse it.
+bool all_finite(const json& v) {
+  if (v.is_number_float()) return std::isfinite(v.get<double>());
+  if (v.is_structured())
+    for (const json& x : v)
+      if (!all_finite(x)) return false;
+  return true;
+}
+}  // namespace
+
 void write_json_attrs(const File& f, hid_t obj, const json& attrs) {
   for (const auto& [key, value] : attrs.items()) {
+    if (!all_finite(value))
+      f.fail("attribute " + key + " holds a number that is not finite (" + value.dump().substr(0, 80) +
+             "): the settings overflow it; nothing was written");
     if (value.is_string()) write_string_attr(f, obj, key, value.get<std::string>());
     else if (value.is_number_integer() || value.is_boolean()) write_int_attr(f, obj, key, value.is_boolean() ? value.get<bool>() : value.get<long long>());
     else if (value.is_number()) write_doubles_attr(f, obj, key, {value.get<double>()});

@@ -20,6 +20,7 @@
 #include "hairlut/util/hash.hpp"
 #include "hdf5_bytes.hpp"
 #include "hdf5_objects.hpp"
+#include "table_semantics.hpp"
 
 namespace hairlut {
 
@@ -213,6 +214,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
       verify_scale_attrs(f, scale.get(), a, "/" + scale_path);
     }
   }
+  detail::check_table_semantics(set, f.name);
   return set;
 }
 }  // namespace
