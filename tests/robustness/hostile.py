@@ -21,6 +21,8 @@ the documented exit code, and no file left where none may be. Probes:
   storage        external storage (a copy, /dev/zero, a FIFO, a relative path), virtual datasets,
                  external and soft links, never-written values: refused before any value is read
   heap-scan      a file packed with overlapping global-heap signatures is screened in linear time
+  resources      --memory-budget above the machine's memory, --check on an unwritable output, a
+                 bake waiting for another's directory lock (who holds it, --lock-timeout)
   config-sweep   every numeric config field at extreme values (sweep.py): refused in one line or
                  baked into a file the validator reads
   eta-near-one   eta = 1 + 1e-7 bakes and validates in bounded time
@@ -587,6 +589,40 @@ def probe_concurrent():
             print("ok  round %d: consistent set of config %s (exits %d, %d)" % (round_, side["config_hash"], ra, rb))
 
 
+def probe_resources():
+    """--memory-budget cannot exceed the machine; --check refuses an output directory the bake
+    could not write; a bake waiting for another's directory lock says who holds it and honours
+    --lock-timeout."""
+    import fcntl
+    d = os.path.join(WORK, "res")
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(os.path.join(d, "out"))
+    cfg = os.path.join(d, "c.json")
+    write_json(cfg, tiny_config(directory=os.path.join(d, "out")))
+    expect_error("--memory-budget 1e12", [BAKE, "--config", cfg, "--memory-budget", "1e12", "--check"], 2, "memory")
+    with open(os.path.join(d, "plain"), "w") as f:
+        f.write("x")
+    expect_error("--check with the output under a file", [BAKE, "--config", cfg, "--output-dir", os.path.join(d, "plain", "sub"), "--check"],
+                 1, "not a directory")
+    fd = os.open(os.path.join(d, "out"), os.O_RDONLY)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    try:
+        expect_error("bake while another process holds the directory's lock (--lock-timeout 1)",
+                     [BAKE, "--config", cfg, "--force", "--quiet", "--lock-timeout", "1"], 1, "pid %d" % os.getpid(), timeout=60)
+        p = subprocess.Popen([BAKE, "--config", cfg, "--force"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        time.sleep(3.0)
+        fcntl.flock(fd, fcntl.LOCK_UN)
+        err = p.communicate(timeout=120)[1]
+        if p.returncode != 0:
+            fail("bake after the lock was released: exit %d: %s" % (p.returncode, err[-300:]))
+        elif "held by pid %d" % os.getpid() not in err:
+            fail("a bake waiting for the lock did not say who holds it: %r" % err[-300:])
+        else:
+            print("ok  a waiting bake says who holds the lock and goes on once it is released")
+    finally:
+        os.close(fd)
+
+
 def probe_config_sweep():
     """Every numeric config field of the schema at extreme values (sweep.py, its quick value set):
     refused in one line, or baked into a file the validator reads; never a crash, a hang, or a
@@ -610,7 +646,7 @@ PROBES = {
     "metadata": probe_metadata, "exr-metadata": probe_exr_metadata, "format-version": probe_format_version, "disk-full": probe_disk_full,
     "max-points": probe_max_points, "signals": probe_signals, "stale-temps": probe_stale_temps,
     "eta-near-one": probe_eta_near_one, "concurrent": probe_concurrent, "storage": probe_storage, "heap-scan": probe_heap_scan,
-    "config-sweep": probe_config_sweep,
+    "config-sweep": probe_config_sweep, "resources": probe_resources,
 }
 
 os.makedirs(WORK, exist_ok=True)

@@ -126,6 +126,10 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
                  "memory to stay within, in MiB (default: half of the machine's memory); larger generic N_p and M_p "
                  "tables are baked and written slab by slab")
       ->check(CLI::Range(64.0, 1e12));
+  double lock_timeout = -1.0;
+  app.add_option("--lock-timeout", lock_timeout,
+                 "seconds to wait for the output directory while another bake writes there (default: as long as it takes)")
+      ->check(CLI::Range(0.0, 1e9));
   app.add_flag("--force", force, "bake even if the outputs are up to date");
   app.add_flag("--quiet,-q", quiet, "no progress display and no summary");
   app.add_flag("--check", check, "validate the config and exit");
@@ -216,15 +220,22 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   options.threads = threads;
   options.cancel = hairlut_tools::cancel_pointer();
   options.progress = [&](std::string_view stage, std::size_t done, std::size_t total) { bar.update(stage, done, total); };
+  // Another bake writing into the directory holds its lock: say who, and give up after --lock-timeout.
+  hairlut::LockWait lock_wait;
+  lock_wait.timeout_s = lock_timeout;
+  lock_wait.notice = [&](const std::string& what) {
+    if (!quiet) std::fprintf(stderr, "bake-hair-luts: %s%s\n", what.c_str(), lock_timeout >= 0.0 ? " (--lock-timeout set)" : "");
+  };
   try {
-    hairlut::remove_stale_temporaries(config);
+    hairlut::remove_stale_temporaries(config, lock_wait);
     const hairlut::ExrCodec exr = hairlut_tools::exr_codec_for(config);  // OpenEXR only for EXR outputs
     hairlut::BakeReport report;
     hairlut::SlabbedTables slabbed;
     slabbed.slab_bytes = plan.slab_bytes;
     const auto start = std::chrono::steady_clock::now();
     const hairlut::TableSet set = hairlut::bake(config, options, &report, plan.slabbed ? &slabbed : nullptr);
-    const auto files = hairlut::write_outputs_with(exr, set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr);
+    const auto files =
+        hairlut::write_outputs_with(exr, set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr, lock_wait);
     if (plan.slabbed) report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!quiet) {
       for (const auto& f : report.folded)

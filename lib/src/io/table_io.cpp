@@ -4,9 +4,11 @@
 #include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -15,6 +17,7 @@
 #include <random>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "hairlut/io/engine_exr.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
@@ -114,16 +117,55 @@ void check_temporary(const TempFiles& temps, const fs::path& path) {
     throw IoError(path.string() + ": the temporary file was replaced while it was written; nothing was committed");
 }
 
+// Who holds a lock on the file open as `fd`: "pid N (name)" from /proc/locks, or a phrase saying
+// the system does not tell.
+std::string lock_holder(int fd) {
+  struct stat st {};
+  std::ifstream locks("/proc/locks");
+  if (::fstat(fd, &st) != 0 || !locks) return "another process";
+  char id[64];
+  std::snprintf(id, sizeof id, "%02x:%02x:%llu", major(st.st_dev), minor(st.st_dev), static_cast<unsigned long long>(st.st_ino));
+  std::string line;
+  while (std::getline(locks, line)) {
+    std::istringstream in(line);
+    std::string n, kind, mode, access, pid, where;
+    if (!(in >> n >> kind >> mode >> access >> pid >> where) || kind != "FLOCK" || where != id || n.find("->") != std::string::npos) continue;
+    std::ifstream comm("/proc/" + pid + "/comm");
+    std::string name;
+    std::getline(comm, name);
+    return "pid " + pid + (name.empty() ? std::string() : " (" + name + ")");
+  }
+  return "another process";
+}
+
 // An advisory lock (flock) on a directory, held while alive: exclusive while a bake writes and
 // commits its set there, shared while a reader loads a file of a set and checks it against the
 // set's sidecar. Without a lock (a directory that cannot be opened, or a file system without
-// flock) the work goes on unlocked.
+// flock) the work goes on unlocked. A busy lock is waited for as `wait` says (LockWait).
 class DirectoryLock {
  public:
-  DirectoryLock(const fs::path& dir, bool exclusive) {
+  DirectoryLock(const fs::path& dir, bool exclusive, const LockWait& wait = {}, const std::atomic<bool>* cancel = nullptr) {
     fd_ = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (fd_ < 0) return;
-    while (::flock(fd_, exclusive ? LOCK_EX : LOCK_SH) != 0 && errno == EINTR) {
+    const int op = exclusive ? LOCK_EX : LOCK_SH;
+    if (::flock(fd_, op | LOCK_NB) == 0 || (errno != EWOULDBLOCK && errno != EINTR)) return;
+    const std::string who = lock_holder(fd_);
+    if (wait.notice) wait.notice((dir.empty() ? std::string(".") : dir.string()) + ": waiting for the directory's lock, held by " + who);
+    const auto start = std::chrono::steady_clock::now();
+    for (;;) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (::flock(fd_, op | LOCK_NB) == 0) return;
+      if (errno != EWOULDBLOCK && errno != EINTR) return;
+      if (cancel && cancel->load()) {
+        ::close(fd_);
+        throw BakeCancelled();
+      }
+      const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (wait.timeout_s >= 0.0 && waited >= wait.timeout_s) {
+        ::close(fd_);
+        throw IoError((dir.empty() ? std::string(".") : dir.string()) + ": the directory's lock is still held by " + who + " after " +
+                      std::to_string(static_cast<long long>(waited)) + " s; gave up (another bake is writing there)");
+      }
     }
   }
   DirectoryLock(const DirectoryLock&) = delete;
@@ -287,7 +329,7 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
 }
 
 std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& c, const BakeReport& report,
-                                         const std::atomic<bool>* cancel, const SlabbedTables* slabbed) {
+                                         const std::atomic<bool>* cancel, const SlabbedTables* slabbed, const LockWait& wait) {
   if (slabbed && !slabbed->empty() && c.output.exr)
     throw DomainError("output.exr: tables larger than the memory budget are baked slab by slab into HDF5 only (EXR files hold "
                       "engine-sized textures); set output.exr to false or raise --memory-budget");
@@ -302,7 +344,7 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   if (ec) throw IoError(c.output.directory.string() + ": cannot create output directory (" + ec.message() + ")");
   // One bake at a time writes and commits into a directory, so that its set is never mixed with
   // another's; readers of the directory wait for the commit (load_tables).
-  const DirectoryLock lock(c.output.directory, true);
+  const DirectoryLock lock(c.output.directory, true, wait, cancel);
   TempFiles temps;
   std::vector<std::pair<std::string, fs::path>> written;  // format, temporary path
   std::vector<detail::FileDigest> digests;                 // of written[i] where known from memory
@@ -352,12 +394,12 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   return finals;
 }
 
-void remove_stale_temporaries(const BakeConfig& c) {
+void remove_stale_temporaries(const BakeConfig& c, const LockWait& wait) {
   std::error_code ec;
   if (!fs::is_directory(c.output.directory, ec)) return;
   // Under the directory's lock, so that a bake committing there (in this process too) is not
   // robbed of its temporaries.
-  const DirectoryLock lock(c.output.directory, true);
+  const DirectoryLock lock(c.output.directory, true, wait);
   const std::string prefix = c.output.basename + ".";
   const long self = static_cast<long>(::getpid());
   for (const auto& entry : fs::directory_iterator(c.output.directory, ec)) {
