@@ -32,13 +32,26 @@ namespace py = pybind11;
 
 namespace {
 
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+// Array arguments arrive as given and are converted to float64 in values(), so that complex input
+// is refused instead of losing its imaginary part in a silent cast.
+using Array = py::array;
 
-// The values of a 1-D array (checked to have `n` entries when n ≥ 0).
-std::vector<double> values(const Array& a, const char* name, py::ssize_t n = -1) {
+// The values of a 1-D array of real numbers (checked to have `n` entries when n ≥ 0).
+std::vector<double> values(const Array& given, const char* name, py::ssize_t n = -1) {
+  if (given.dtype().kind() == 'c')
+    throw py::type_error(std::string(name) + " must be real: complex values are refused (their imaginary part would be dropped)");
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(given);
+  if (!a) throw py::type_error(std::string(name) + " must be an array of real numbers");
   if (a.ndim() != 1) throw py::value_error(std::string(name) + " must be one-dimensional");
   if (n >= 0 && a.shape(0) != n) throw py::value_error(std::string(name) + " has a different length than the first argument");
   return std::vector<double>(a.data(), a.data() + a.shape(0));
+}
+
+// A file or directory name without an embedded NUL (the C library would read it as a shorter,
+// other name).
+const std::string& path_arg(const std::string& s, const char* name) {
+  if (s.find('\0') != std::string::npos) throw py::value_error(std::string(name) + " contains a NUL character");
+  return s;
 }
 
 py::array_t<double> to_array(const std::vector<double>& v) {
@@ -165,13 +178,21 @@ PYBIND11_MODULE(_core, m) {
           const auto ap = hairlut::parse_absorption_path(path, "path");
           if (method != "baker" && method != "adaptive" && method != "gauss-legendre")
             throw py::value_error("method must be baker, adaptive or gauss-legendre (got \"" + method + "\")");
+          // Below 1e-6 rad (the smallest beta a config may give) the lobe's Gaussian underflows and
+          // the result is NaN: refused instead.
+          for (const double x : b)
+            if (x < 1e-6) throw py::value_error("beta must be at least 1e-6 rad (got " + py::repr(py::float_(x)).cast<std::string>() + ")");
           std::vector<double> out(f.size()), err(f.size(), 0.0);
-          {
+          std::optional<hairlut::GaussLegendreRule> rule;
+          const auto var = hairlut::parse_integration_variable(variable, "variable");
+          if (method == "gauss-legendre") rule.emplace(order);
+          // In chunks, checking for a signal (Ctrl-C) between them with the GIL held: a large call
+          // stops within a chunk's time instead of running to its end.
+          constexpr std::size_t kChunk = 64;
+          for (std::size_t first = 0; first < out.size(); first += kChunk) {
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
             py::gil_scoped_release release;
-            std::optional<hairlut::GaussLegendreRule> rule;
-            const auto var = hairlut::parse_integration_variable(variable, "variable");
-            if (method == "gauss-legendre") rule.emplace(order);
-            for (std::size_t i = 0; i < out.size(); ++i) {
+            for (std::size_t i = first; i < std::min(out.size(), first + kChunk); ++i) {
               if (method == "baker") {
                 out[i] = hairlut::baker_np(eta, ap, td[i], sa[i], p, b[i], f[i], tolerance).value;
               } else {
@@ -268,6 +289,7 @@ PYBIND11_MODULE(_core, m) {
       "bake",
       [](const std::string& config_json, const std::string& source, const std::string& base_dir, int threads, bool write,
          const std::string& output_dir) {
+        path_arg(source, "source"), path_arg(base_dir, "base_dir"), path_arg(output_dir, "output_dir");
         // An empty config_json: read the file `source` (JSON errors then name line and column).
         hairlut::BakeConfig config = config_json.empty() ? hairlut::load_config(source)
                                                          : hairlut::parse_config(nlohmann::json::parse(config_json), source, base_dir);
@@ -292,11 +314,12 @@ PYBIND11_MODULE(_core, m) {
       py::arg("output_dir") = "");
 
   m.def("load_config_file", [](const std::string& file) {
-    const hairlut::BakeConfig c = hairlut::load_config(file);
+    const hairlut::BakeConfig c = hairlut::load_config(path_arg(file, "file"));
     return py::make_tuple(c.hash, c.normalized.dump());
   });
 
   m.def("load_tables", [](const std::string& file) {
+    path_arg(file, "file");
     hairlut::TableSet set;
     {
       py::gil_scoped_release release;

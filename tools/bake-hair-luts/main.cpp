@@ -8,6 +8,7 @@
 
 #include "common/cli.hpp"
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include <hairlut/io/table_io.hpp>
 #include <optional>
 #include <string>
+#include <system_error>
 
 #include "../common/cancel.hpp"
 #include "exr_loader.hpp"
@@ -81,6 +83,22 @@ std::optional<std::uint64_t> free_disk_bytes(std::filesystem::path dir) {
   return static_cast<std::uint64_t>(fs.f_bavail) * static_cast<std::uint64_t>(fs.f_frsize);
 }
 
+// Why the tool could not write into `dir`, or nothing: `dir` (or, when missing, its nearest
+// existing parent, where it would be created) must be a directory this user may write into.
+// Nothing is created: --check reports it without side effects, and the bake before its work.
+std::optional<std::string> output_directory_problem(std::filesystem::path dir) {
+  std::error_code ec;
+  dir = std::filesystem::absolute(dir.empty() ? "." : dir, ec);
+  std::filesystem::path existing = dir;
+  while (!existing.empty() && !std::filesystem::exists(existing, ec) && existing != existing.parent_path()) existing = existing.parent_path();
+  if (!std::filesystem::is_directory(existing, ec))
+    return dir.string() + ": cannot create the output directory (" + existing.string() + " is not a directory)";
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    return dir.string() + ": cannot write into " + (existing == dir ? std::string("the output directory") : existing.string()) + " (" +
+           std::generic_category().message(errno) + ")";
+  return std::nullopt;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,6 +126,10 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
                  "memory to stay within, in MiB (default: half of the machine's memory); larger generic N_p and M_p "
                  "tables are baked and written slab by slab")
       ->check(CLI::Range(64.0, 1e12));
+  double lock_timeout = -1.0;
+  app.add_option("--lock-timeout", lock_timeout,
+                 "seconds to wait for the output directory while another bake writes there (default: as long as it takes)")
+      ->check(CLI::Range(0.0, 1e9));
   app.add_flag("--force", force, "bake even if the outputs are up to date");
   app.add_flag("--quiet,-q", quiet, "no progress display and no summary");
   app.add_flag("--check", check, "validate the config and exit");
@@ -136,6 +158,13 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   const hairlut::BakeEstimate size = hairlut::estimate_bake(config);
   const double mib = 1024.0 * 1024.0;
   const auto physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+  // A budget cannot exceed the machine: it bounds what the plan may hold in memory at once, and
+  // a larger one would let a plan past the physical-memory guard.
+  if (budget_mib * mib > static_cast<double>(physical)) {
+    std::fprintf(stderr, "bake-hair-luts: error: --memory-budget %.0f MiB is more than this machine's memory (%.0f MiB) (see --help)\n",
+                 budget_mib, static_cast<double>(physical) / mib);
+    return 2;
+  }
   const std::uint64_t budget = budget_mib > 0.0 ? static_cast<std::uint64_t>(budget_mib * mib) : physical / 2;
   const hairlut::MemoryPlan plan = hairlut::plan_memory(size, budget);
   if (!plan.refused.empty()) {
@@ -156,6 +185,12 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     std::fprintf(stderr, "bake-hair-luts: error: %s: output.exr: the tables exceed the memory budget of %.0f MiB and are baked slab by slab "
                  "into HDF5 only (EXR files hold engine-sized textures); set output.exr to false or raise --memory-budget\n",
                  config_path.c_str(), static_cast<double>(budget) / mib);
+    return 1;
+  }
+  // The bake writes there at its end: an unwritable place is refused before the work (and --check
+  // says valid only for what the bake accepts).
+  if (const auto why = output_directory_problem(config.output.directory)) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s\n", why->c_str());
     return 1;
   }
   if (check) {
@@ -185,15 +220,22 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   options.threads = threads;
   options.cancel = hairlut_tools::cancel_pointer();
   options.progress = [&](std::string_view stage, std::size_t done, std::size_t total) { bar.update(stage, done, total); };
+  // Another bake writing into the directory holds its lock: say who, and give up after --lock-timeout.
+  hairlut::LockWait lock_wait;
+  lock_wait.timeout_s = lock_timeout;
+  lock_wait.notice = [&](const std::string& what) {
+    if (!quiet) std::fprintf(stderr, "bake-hair-luts: %s%s\n", what.c_str(), lock_timeout >= 0.0 ? " (--lock-timeout set)" : "");
+  };
   try {
-    hairlut::remove_stale_temporaries(config);
+    hairlut::remove_stale_temporaries(config, lock_wait);
     const hairlut::ExrCodec exr = hairlut_tools::exr_codec_for(config);  // OpenEXR only for EXR outputs
     hairlut::BakeReport report;
     hairlut::SlabbedTables slabbed;
     slabbed.slab_bytes = plan.slab_bytes;
     const auto start = std::chrono::steady_clock::now();
     const hairlut::TableSet set = hairlut::bake(config, options, &report, plan.slabbed ? &slabbed : nullptr);
-    const auto files = hairlut::write_outputs_with(exr, set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr);
+    const auto files =
+        hairlut::write_outputs_with(exr, set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr, lock_wait);
     if (plan.slabbed) report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!quiet) {
       for (const auto& f : report.folded)

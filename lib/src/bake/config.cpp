@@ -1,6 +1,7 @@
 #include "hairlut/bake/config.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -236,6 +237,11 @@ MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, Absorpt
   } catch (const DomainError& e) {
     throw DomainError("marschner." + std::string(e.what()));
   }
+  // The config's bound (config_tables.cpp), for settings read back from a file.
+  if (!(m.params.caustic.w_c >= 0.5 * kPi / 180.0))
+    throw DomainError("marschner.caustic.w_c must be at least 0.5 degrees (got " + nlohmann::json(m.params.caustic.w_c).dump() + " rad)");
+  if (!(std::abs(m.alpha_r) <= kPi / 4.0))
+    throw DomainError("marschner.longitudinal.alpha_R must lie in [-45, 45] degrees (got " + nlohmann::json(m.alpha_r).dump() + " rad)");
   return m;
 }
 

@@ -188,6 +188,10 @@ void parse_melanin_tables(const json& tables, BakeConfig& c) {
       make_axis(m.at("axes").at("pheomelanin"), p + "pheomelanin", "pheomelanin", false, 0.0, 100.0, "1",
                 "pheomelanin concentration (d'Eon 2011 / pbrt units)")};
   c.melanin_path_length = get_number(m, "path_length", 2.0);
+  // Outside this range the spectral fit's cross sections overflow (a file its loader refuses) or
+  // every transmittance rounds to 0 or 1.
+  if (!(c.melanin_path_length >= 1e-3 && c.melanin_path_length <= 1e3))
+    fail("tables.melanin.path_length", "must lie in [0.001, 1000] fiber radii (got " + json(c.melanin_path_length).dump() + ")");
 }
 
 void parse_scene(const json& doc, BakeConfig& c) {
@@ -264,6 +268,10 @@ MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeCo
   const json k = mj.value("caustic", json::object());
   m.params.caustic.k_G = get_number(k, "k_G", 0.5);
   m.params.caustic.w_c = radians(get_number(k, "w_c_deg", 15.0));
+  // A caustic narrower than this is finer than any table's phi spacing, and the validator's
+  // integration over it grows without bound as it narrows (1e-10 degrees: over ten minutes).
+  if (!(m.params.caustic.w_c >= radians(0.5)))
+    fail("marschner.caustic.w_c_deg", "must be at least 0.5 degrees (got " + json(get_number(k, "w_c_deg", 15.0)).dump() + ")");
   m.params.caustic.delta_eta_prime = get_number(k, "delta_eta_prime", 0.3);
   m.params.caustic.delta_h_max = get_number(k, "delta_h_max", 0.5);
   m.params.eccentricity = get_number(mj, "eccentricity", 1.0);

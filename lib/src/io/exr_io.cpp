@@ -24,6 +24,7 @@
 
 #include "hairlut/util/error.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
+#include "table_semantics.hpp"
 
 namespace hairlut {
 namespace {
@@ -468,7 +469,9 @@ TableSet read_exr_memory(const char* data, std::size_t size, const std::string& 
   try {
     MemoryStream stream(data, size, name);
     Imf::MultiPartInputFile in(stream);
-    return read_parts(in, name);
+    TableSet set = read_parts(in, name);
+    detail::check_table_semantics(set, name);
+    return set;
   } catch (const IoError&) {
     throw;
   } catch (const std::exception& e) {

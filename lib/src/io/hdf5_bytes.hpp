@@ -32,7 +32,7 @@ std::string global_heap_problem(const std::filesystem::path& file);
 /// leaves the checksum computed with them set: recompute it (superblock versions 2 and 3).
 void fix_superblock_checksum(std::span<char> image);
 
-/// Writes `bytes` to `path` (created or truncated) and syncs it; every system error (disk full, a
+/// Writes `bytes` to `path` (created or truncated; never through a symbolic link) and syncs it; every system error (disk full, a
 /// file-size limit, I/O) becomes an IoError naming the file and the reason.
 void write_file_bytes(const std::filesystem::path& path, std::span<const char> bytes);
 

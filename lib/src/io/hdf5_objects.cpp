@@ -4,6 +4,7 @@
 
 #include <hdf5_hl.h>
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cerrno>
 #include <condition_variable>
@@ -86,8 +87,23 @@ void write_int_attr(const File& f, hid_t obj, const std::string& key, long long 
 }
 
 // JSON values as natural HDF5 attributes (strings, numbers, number arrays); anything else as JSON text.
+namespace {
+// Whether every number in `v` is finite: JSON has no infinity or NaN (they dump as null), so a
+// file holding one would not match its own checksummed metadata and its loader would refuse it.
+bool all_finite(const json& v) {
+  if (v.is_number_float()) return std::isfinite(v.get<double>());
+  if (v.is_structured())
+    for (const json& x : v)
+      if (!all_finite(x)) return false;
+  return true;
+}
+}  // namespace
+
 void write_json_attrs(const File& f, hid_t obj, const json& attrs) {
   for (const auto& [key, value] : attrs.items()) {
+    if (!all_finite(value))
+      f.fail("attribute " + key + " holds a number that is not finite (" + value.dump().substr(0, 80) +
+             "): the settings overflow it; nothing was written");
     if (value.is_string()) write_string_attr(f, obj, key, value.get<std::string>());
     else if (value.is_number_integer() || value.is_boolean()) write_int_attr(f, obj, key, value.is_boolean() ? value.get<bool>() : value.get<long long>());
     else if (value.is_number()) write_doubles_attr(f, obj, key, {value.get<double>()});
@@ -108,7 +124,8 @@ std::string read_string_attr(const File& f, hid_t obj, const std::string& key, c
   Handle space(quiet([&] { return H5Aget_space(attr.get()); }), H5Sclose);
   if (!space.valid() || H5Sget_simple_extent_npoints(space.get()) != 1) f.fail(where + ": attribute " + key + " is not a scalar");
   const std::size_t n = H5Tget_size(ftype.get());
-  if (n == 0 || n > (std::size_t{1} << 30)) f.fail(where + ": attribute " + key + " has an implausible size");
+  if (n == 0 || n > (std::size_t{1} << 30) || (f.bytes > 0 && n > f.bytes))
+    f.fail(where + ": attribute " + key + " has an implausible size (" + std::to_string(n) + " bytes)");
   Handle mtype(H5Tcopy(ftype.get()), H5Tclose);  // same size, padding and character set: no conversion
   std::string s(n, '\0');
   f.check_status(quiet([&] { return H5Aread(attr.get(), mtype.get(), s.data()); }), where + ": cannot read attribute " + key);
@@ -307,6 +324,65 @@ void verify_dimension_list(const File& f, hid_t ds, std::size_t rank, const std:
   if (!type.valid() || !space.valid() || H5Tget_class(type.get()) != H5T_VLEN ||
       H5Sget_simple_extent_npoints(space.get()) != static_cast<hssize_t>(rank))
     f.fail(where + " does not list one scale per dimension (metadata altered)");
+}
+
+namespace {
+struct LinkVisit {
+  std::string bad;  // the first link that is not a hard link
+  std::size_t count = 0;
+};
+constexpr std::size_t kMaxLinks = std::size_t{1} << 20;
+}  // namespace
+
+void check_links(const File& f, hid_t root) {
+  LinkVisit visit;
+  const herr_t status = quiet([&] {
+    return H5Lvisit(
+        root, H5_INDEX_NAME, H5_ITER_NATIVE,
+        [](hid_t, const char* name, const H5L_info_t* info, void* data) -> herr_t {
+          auto* v = static_cast<LinkVisit*>(data);
+          if (++v->count > kMaxLinks) return 1;
+          if (info->type != H5L_TYPE_HARD) {
+            v->bad = std::string(name).substr(0, 200) + (info->type == H5L_TYPE_EXTERNAL ? " is an external link (to another file)"
+                                                         : info->type == H5L_TYPE_SOFT   ? " is a soft link"
+                                                                                         : " is a user-defined link");
+            return 1;
+          }
+          return 0;
+        },
+        &visit);
+  });
+  if (!visit.bad.empty()) f.fail(visit.bad + ": refused (hairlut files hold only their own objects)");
+  if (visit.count > kMaxLinks) f.fail("more than " + std::to_string(kMaxLinks) + " links: not a hairlut table file");
+  if (status < 0) f.fail("cannot list the file's objects (corrupted file)");
+}
+
+std::uint64_t check_dataset_storage(const File& f, hid_t ds, const std::string& object, std::uint64_t raw_bytes) {
+  Handle dcpl(quiet([&] { return H5Dget_create_plist(ds); }), H5Pclose);
+  f.check(dcpl.get(), object + ": cannot read the storage properties");
+  const int external = quiet([&] { return H5Pget_external_count(dcpl.get()); });
+  if (external != 0) f.fail(object + ": values stored in external files: refused (hairlut keeps every value in its file)");
+  const H5D_layout_t layout = quiet([&] { return H5Pget_layout(dcpl.get()); });
+  if (layout == H5D_VIRTUAL) f.fail(object + ": a virtual dataset (values mapped from other files): refused");
+  if (layout != H5D_COMPACT && layout != H5D_CONTIGUOUS && layout != H5D_CHUNKED) f.fail(object + ": unknown storage layout");
+  const int filters = quiet([&] { return H5Pget_nfilters(dcpl.get()); });
+  if (filters < 0 || filters > 8) f.fail(object + ": unreadable filter pipeline");
+  for (int i = 0; i < filters; ++i) {
+    unsigned flags = 0, config = 0;
+    std::size_t nvalues = 0;
+    const H5Z_filter_t id = quiet([&] { return H5Pget_filter2(dcpl.get(), static_cast<unsigned>(i), &flags, &nvalues, nullptr, 0, nullptr, &config); });
+    if (id != H5Z_FILTER_DEFLATE && id != H5Z_FILTER_SHUFFLE && id != H5Z_FILTER_FLETCHER32)
+      f.fail(object + ": uses HDF5 filter " + std::to_string(id) + " (hairlut writes deflate, shuffle and Fletcher-32 only)");
+  }
+  if (raw_bytes == 0) return 0;
+  const std::uint64_t stored = quiet([&] { return H5Dget_storage_size(ds); });
+  if (stored == 0) f.fail(object + ": values not stored in the file (a dataset read as fill values)");
+  if (f.bytes > 0 && stored > f.bytes) f.fail(object + ": claims " + std::to_string(stored) + " stored bytes, more than the file has");
+  if (layout != H5D_CHUNKED && stored < raw_bytes) f.fail(object + ": stores fewer bytes than its values take");
+  if (raw_bytes / kMaxCompressionRatio > stored)
+    f.fail(object + ": " + std::to_string(raw_bytes) + " bytes of values from " + std::to_string(stored) +
+           " stored bytes, more than deflate can expand to (corrupted or hostile file)");
+  return stored;
 }
 
 // The superblock version byte that follows the signature at offset 0; hairlut writes ≥ 2.

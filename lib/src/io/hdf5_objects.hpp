@@ -5,6 +5,7 @@
 
 #include <hdf5.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -94,6 +95,7 @@ Handle string_type();
 // and closing them for each of a file's hundreds of attributes was a tenth of the writer's work.
 struct File {
   std::string name;
+  std::uint64_t bytes = 0;  // the file's size when reading (0: not known); bounds what it may hold
   mutable Handle vlen_string_type{};
   mutable Handle scalar_space{};
 
@@ -219,6 +221,22 @@ class ScaleNames {
  private:
   std::map<std::string, std::map<std::string, std::vector<GridAxis>>> seen_;
 };
+
+// --- What a reader refuses before it reads any values: every link in the file must be a hard
+// link (an external link opens another file, a soft link names any object), and every dataset
+// must keep its values in this file as hairlut stores them (no external storage, which HDF5 reads
+// from any named file, device or FIFO; no virtual dataset, which maps other files; only the
+// deflate, shuffle and Fletcher-32 filters). Data HDF5 would decompress beyond what deflate can
+// reach from the stored bytes, or stored bytes beyond the file, are refused too.
+void check_links(const File& f, hid_t root);
+
+// Deflate cannot expand data by more than 1032:1; with Fletcher-32 and chunk overheads the
+// stored bytes of a hairlut dataset are never fewer than its values' bytes over this.
+inline constexpr std::uint64_t kMaxCompressionRatio = 1100;
+
+// Checks `ds` (described as `object`) as above; `raw_bytes` is what its values take in memory.
+// Returns the bytes it occupies in the file.
+std::uint64_t check_dataset_storage(const File& f, hid_t ds, const std::string& object, std::uint64_t raw_bytes);
 
 // The superblock version byte that follows the signature at offset 0; hairlut writes ≥ 2.
 void check_signature_bytes(const File& f, const unsigned char* head, std::size_t size);

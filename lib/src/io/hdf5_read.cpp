@@ -4,6 +4,8 @@
 
 #include <hdf5.h>
 #include <hdf5_hl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -18,6 +20,7 @@
 #include "hairlut/util/hash.hpp"
 #include "hdf5_bytes.hpp"
 #include "hdf5_objects.hpp"
+#include "table_semantics.hpp"
 
 namespace hairlut {
 
@@ -29,7 +32,12 @@ TableSet read_open_file(const File& f, hid_t file_id);
 
 TableSet read_hdf5(const std::filesystem::path& path) {
   const ErrorSilencer silence;
-  const File f{path.string()};
+  File f{path.string()};
+  // A FIFO or device would block or never end; only a regular file (or a link to one) is read.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) f.fail("cannot open file (" + std::string(std::strerror(errno)) + ")");
+  if (!S_ISREG(st.st_mode)) f.fail("not a regular file");
+  f.bytes = static_cast<std::uint64_t>(st.st_size);
   check_signature(f, path);
   if (const std::string why = detail::global_heap_problem(path); !why.empty()) f.fail(why);
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
@@ -41,7 +49,8 @@ TableSet read_hdf5(const std::filesystem::path& path) {
 
 TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name) {
   const ErrorSilencer silence;
-  const File f{name};
+  File f{name};
+  f.bytes = size;
   check_signature_bytes(f, reinterpret_cast<const unsigned char*>(data), size);
   if (const std::string why = detail::global_heap_problem(reinterpret_cast<const unsigned char*>(data), size); !why.empty()) f.fail(why);
   // An in-memory file image (core driver, no backing store): HDF5 reads from a private copy.
@@ -58,6 +67,11 @@ namespace {
 TableSet read_open_file(const File& f, hid_t file_id) {
   Handle root(quiet([&] { return H5Gopen2(file_id, "/", H5P_DEFAULT); }), H5Gclose);
   f.check(root.get(), "cannot open the root group");
+  check_links(f, root.get());
+  // The values of all tables are held at once: their total is bounded by the stored bytes
+  // (kMaxCompressionRatio) and by the machine's memory before each table is allocated.
+  const std::uint64_t physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+  std::uint64_t total_raw = 0, total_stored = 0;
 
   if (quiet([&] { return H5Aexists(root.get(), "hairlut_format_version"); }) <= 0) {
     (void)read_string_attr(f, root.get(), "hairlut_metadata", "/");  // no hairlut metadata at all: says so
@@ -95,6 +109,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
       f.fail("table " + tpath + " is listed but missing");
     Handle ds(quiet([&] { return H5Dopen2(root.get(), tpath.c_str(), H5P_DEFAULT); }), H5Dclose);
     f.check(ds.get(), "cannot open table " + tpath + " (missing or corrupted)");
+    check_dataset_storage(f, ds.get(), tpath, 0);
     json desc;
     try {
       desc = json::parse(read_string_attr(f, ds.get(), "hairlut_table", tpath));
@@ -141,6 +156,15 @@ TableSet read_open_file(const File& f, hid_t file_id) {
     if (!ftype.valid() || H5Tget_class(ftype.get()) != H5T_FLOAT) f.fail(tpath + ": values are not floating point");
     const std::size_t bytes = H5Tget_size(ftype.get());
     if (bytes != 4 && bytes != 8) f.fail(tpath + ": values are neither float32 nor float64");
+    const std::uint64_t raw = static_cast<std::uint64_t>(n) * bytes;
+    total_stored += check_dataset_storage(f, ds.get(), tpath, raw);
+    total_raw += raw;
+    if (f.bytes > 0 && total_stored > f.bytes) f.fail(tpath + ": the tables claim more stored bytes than the file has");
+    if (f.bytes > 0 && total_raw / kMaxCompressionRatio > f.bytes)
+      f.fail(tpath + ": the tables' values (" + std::to_string(total_raw) + " bytes) exceed what a file of " + std::to_string(f.bytes) +
+             " bytes can hold compressed");
+    if (physical > 0 && total_raw > physical)
+      f.fail(tpath + ": the tables' values (" + std::to_string(total_raw >> 20) + " MiB) exceed this machine's memory");
     t.allocate(bytes == 8 ? Precision::float64 : Precision::float32);
     void* data = bytes == 8 ? static_cast<void*>(t.f64.data()) : static_cast<void*>(t.f32.data());
     const herr_t status = quiet([&] {
@@ -155,6 +179,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
       const std::string scale_name = scale_names.of(t.group, a);
       Handle scale(quiet([&] { return H5Dopen2(group.get(), scale_name.c_str(), H5P_DEFAULT); }), H5Dclose);
       if (!scale.valid()) f.fail(tpath + ": missing dimension scale " + t.group + "/" + scale_name);
+      check_dataset_storage(f, scale.get(), t.group + "/" + scale_name, 0);
       // The attachment itself (DIMENSION_LIST) lives in the unchecksummed global heap, so it is
       // not read here; tests check it with h5py.
       Handle sspace(quiet([&] { return H5Dget_space(scale.get()); }), H5Sclose);
@@ -189,6 +214,7 @@ TableSet read_open_file(const File& f, hid_t file_id) {
       verify_scale_attrs(f, scale.get(), a, "/" + scale_path);
     }
   }
+  detail::check_table_semantics(set, f.name);
   return set;
 }
 }  // namespace

@@ -247,6 +247,7 @@ struct ImageBuffer {
   void* data = nullptr;    // handed over at close
   void* live = nullptr;    // the driver's memory while the file is open
   std::size_t size = 0;    // the file's bytes (the driver's memory may be longer)
+  bool armed = false;      // set once the file being written is open: earlier images are not it
   ImageBuffer() = default;
   ImageBuffer(const ImageBuffer&) = delete;
   ImageBuffer& operator=(const ImageBuffer&) = delete;
@@ -275,7 +276,7 @@ H5FD_file_image_callbacks_t keep_image_callbacks(ImageBuffer* kept) {
   };
   c.image_free = [](void* ptr, H5FD_file_image_op_t op, void* udata) -> herr_t {
     auto* k = static_cast<ImageBuffer*>(udata);
-    if (op == H5FD_FILE_IMAGE_OP_FILE_CLOSE && k && !k->data) k->data = ptr;
+    if (op == H5FD_FILE_IMAGE_OP_FILE_CLOSE && k && k->armed && !k->data) k->data = ptr;
     else std::free(ptr);
     return 0;
   };
@@ -284,6 +285,9 @@ H5FD_file_image_callbacks_t keep_image_callbacks(ImageBuffer* kept) {
   c.udata = kept;
   return c;
 }
+
+// A name under /proc/self, where no file can be created.
+constexpr const char* kImageName = "/proc/self/hairlut-in-memory-image.h5";
 
 // The whole HDF5 file, built in memory (HDF5's core driver without a backing store): HDF5 never
 // writes to disk, so a full disk or a file-size limit cannot leave HDF5 with a file it fails to
@@ -300,8 +304,12 @@ void hdf5_image(const TableSet& set, const File& f, const Hdf5WriteOptions& opti
   f.check_status(H5Pset_file_image_callbacks(fapl.get(), &callbacks), "cannot set up an in-memory HDF5 file");
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   H5Pset_obj_track_times(fcpl.get(), 0);
-  Handle file(quiet([&] { return H5Fcreate(f.name.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
+  // H5Fcreate first tries to open an existing file of the name (reading it into memory through the
+  // callbacks above, a FIFO blocking it): the image is named where no file can be, and only the
+  // image of the file created here is kept.
+  Handle file(quiet([&] { return H5Fcreate(kImageName, H5F_ACC_TRUNC, fcpl.get(), fapl.get()); }), H5Fclose);
   f.check(file.get(), "cannot create HDF5 file");
+  kept.armed = true;
   write_contents(f, file.get(), set, options, nullptr);
   f.check_status(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush HDF5 file");
   const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);

@@ -3,15 +3,21 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <optional>
+#include <random>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "hairlut/io/engine_exr.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
@@ -39,29 +45,127 @@ std::string file_hash(const fs::path& p, HashAlgorithm algorithm = kFileHash) {
   return h.hex();
 }
 
-fs::path temporary_for(const fs::path& final_path) {
-  return final_path.parent_path() / (final_path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+// Temporary names: "<final name>.<token>.tmp-<pid>", where the token is 8 random hex digits and
+// 8 digits of a keyed hash of the final name, the random part and the pid. The token makes the
+// name unpredictable (nothing can be planted at it before the file is created) and lets the
+// stale-temporary cleanup recognise a name this code made: a user's "s.h5.tmp-keep" or
+// "s.h5.0123456789abcdef.tmp-1" does not carry the hash. The ".tmp-<pid>" tail is what the tools'
+// signal handlers remove on a hard stop.
+std::string temporary_mark(const std::string& final_name, const std::string& random, long pid) {
+  Hasher h(HashAlgorithm::xxh3_64);
+  h.update("hairlut temporary\n" + final_name + "\n" + random + "\n" + std::to_string(pid));
+  return h.hex().substr(0, 8);
+}
+
+// The final name of a temporary named by create_temporary, or nothing when `name` is not one.
+std::optional<std::pair<std::string, long>> parse_temporary(const std::string& name) {
+  const auto tail = name.rfind(".tmp-");
+  if (tail == std::string::npos || tail < 18 || name[tail - 17] != '.') return std::nullopt;
+  const std::string pid_text = name.substr(tail + 5);
+  if (pid_text.empty() || pid_text.size() > 10 || pid_text.find_first_not_of("0123456789") != std::string::npos || pid_text[0] == '0')
+    return std::nullopt;
+  const std::string token = name.substr(tail - 16, 16);
+  if (token.find_first_not_of("0123456789abcdef") != std::string::npos) return std::nullopt;
+  const long pid = std::stol(pid_text);
+  const std::string final_name = name.substr(0, tail - 17);
+  if (temporary_mark(final_name, token.substr(0, 8), pid) != token.substr(8)) return std::nullopt;
+  return std::make_pair(final_name, pid);
 }
 
 // Removes the listed files when destroyed unless released.
 struct TempFiles {
   std::vector<fs::path> paths;
+  std::vector<std::pair<dev_t, ino_t>> ids;  // of paths[i], as created
   ~TempFiles() {
     std::error_code ec;
     for (const auto& p : paths) fs::remove(p, ec);
   }
 };
 
+// Creates a new, empty temporary file for `final_path` in its directory: exclusively (O_EXCL, so
+// never an existing file and never through a symbolic link planted at the name) under a fresh
+// unpredictable name, and records it in `temps` for removal on failure.
+fs::path create_temporary(const fs::path& final_path, TempFiles& temps) {
+  std::random_device random;
+  const long pid = static_cast<long>(::getpid());
+  const std::string final_name = final_path.filename().string();
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    char hex[9];
+    std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>(random()));
+    const std::string name = final_name + "." + hex + temporary_mark(final_name, hex, pid) + ".tmp-" + std::to_string(pid);
+    const fs::path path = final_path.parent_path() / name;
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0 && errno == EEXIST) continue;
+    if (fd < 0) throw IoError(path.string() + ": cannot create a temporary file (" + std::strerror(errno) + ")");
+    struct stat st {};
+    const int status = ::fstat(fd, &st);
+    ::close(fd);
+    temps.paths.push_back(path);
+    temps.ids.emplace_back(status == 0 ? st.st_dev : 0, status == 0 ? st.st_ino : 0);
+    return path;
+  }
+  throw IoError(final_path.string() + ": cannot create a temporary file (every name tried exists)");
+}
+
+// The temporary temps.paths[i] must still be the regular file created there (not replaced by a
+// link or another file) before it is renamed into place.
+void check_temporary(const TempFiles& temps, const fs::path& path) {
+  const auto it = std::find(temps.paths.begin(), temps.paths.end(), path);
+  struct stat st {};
+  if (it == temps.paths.end() || ::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) ||
+      std::make_pair(st.st_dev, st.st_ino) != temps.ids[static_cast<std::size_t>(it - temps.paths.begin())])
+    throw IoError(path.string() + ": the temporary file was replaced while it was written; nothing was committed");
+}
+
+// Who holds a lock on the file open as `fd`: "pid N (name)" from /proc/locks, or a phrase saying
+// the system does not tell.
+std::string lock_holder(int fd) {
+  struct stat st {};
+  std::ifstream locks("/proc/locks");
+  if (::fstat(fd, &st) != 0 || !locks) return "another process";
+  char id[64];
+  std::snprintf(id, sizeof id, "%02x:%02x:%llu", major(st.st_dev), minor(st.st_dev), static_cast<unsigned long long>(st.st_ino));
+  std::string line;
+  while (std::getline(locks, line)) {
+    std::istringstream in(line);
+    std::string n, kind, mode, access, pid, where;
+    if (!(in >> n >> kind >> mode >> access >> pid >> where) || kind != "FLOCK" || where != id || n.find("->") != std::string::npos) continue;
+    std::ifstream comm("/proc/" + pid + "/comm");
+    std::string name;
+    std::getline(comm, name);
+    return "pid " + pid + (name.empty() ? std::string() : " (" + name + ")");
+  }
+  return "another process";
+}
+
 // An advisory lock (flock) on a directory, held while alive: exclusive while a bake writes and
 // commits its set there, shared while a reader loads a file of a set and checks it against the
 // set's sidecar. Without a lock (a directory that cannot be opened, or a file system without
-// flock) the work goes on unlocked.
+// flock) the work goes on unlocked. A busy lock is waited for as `wait` says (LockWait).
 class DirectoryLock {
  public:
-  DirectoryLock(const fs::path& dir, bool exclusive) {
+  DirectoryLock(const fs::path& dir, bool exclusive, const LockWait& wait = {}, const std::atomic<bool>* cancel = nullptr) {
     fd_ = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (fd_ < 0) return;
-    while (::flock(fd_, exclusive ? LOCK_EX : LOCK_SH) != 0 && errno == EINTR) {
+    const int op = exclusive ? LOCK_EX : LOCK_SH;
+    if (::flock(fd_, op | LOCK_NB) == 0 || (errno != EWOULDBLOCK && errno != EINTR)) return;
+    const std::string who = lock_holder(fd_);
+    if (wait.notice) wait.notice((dir.empty() ? std::string(".") : dir.string()) + ": waiting for the directory's lock, held by " + who);
+    const auto start = std::chrono::steady_clock::now();
+    for (;;) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (::flock(fd_, op | LOCK_NB) == 0) return;
+      if (errno != EWOULDBLOCK && errno != EINTR) return;
+      if (cancel && cancel->load()) {
+        ::close(fd_);
+        throw BakeCancelled();
+      }
+      const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (wait.timeout_s >= 0.0 && waited >= wait.timeout_s) {
+        ::close(fd_);
+        throw IoError((dir.empty() ? std::string(".") : dir.string()) + ": the directory's lock is still held by " + who + " after " +
+                      std::to_string(static_cast<long long>(waited)) + " s; gave up (another bake is writing there)");
+      }
     }
   }
   DirectoryLock(const DirectoryLock&) = delete;
@@ -74,6 +178,18 @@ class DirectoryLock {
   int fd_ = -1;
 };
 
+// Sidecars hairlut writes are a few MiB at most (a table's description is about 2 KiB) and nest
+// six levels deep: a larger or deeper one is not read (parsed JSON takes up to 40 times its text).
+constexpr std::uintmax_t kMaxSidecarBytes = std::uintmax_t{32} << 20;
+constexpr int kMaxSidecarDepth = 24;
+
+json parse_sidecar(std::istream& in) {
+  return json::parse(in, [](int depth, json::parse_event_t, json&) {
+    if (depth > kMaxSidecarDepth) throw json::out_of_range::create(410, "sidecar nested too deeply", nullptr);
+    return true;
+  });
+}
+
 // When `file` is listed in the sidecar of its set (same directory, same base name, ".json"), its
 // size and hash must be the recorded ones (XXH3-64 under "xxh3_64"; sidecars of format 1 record
 // FNV-1a 64 under "fnv1a64"): a file of another bake, or one replaced after the set was
@@ -82,11 +198,11 @@ void check_against_sidecar(const fs::path& file) {
   const fs::path sidecar = fs::path(file).replace_extension(".json");
   std::error_code ec;
   const auto side_bytes = fs::file_size(sidecar, ec);
-  if (ec || side_bytes > (std::uintmax_t{64} << 20)) return;
+  if (ec || !fs::is_regular_file(sidecar, ec) || side_bytes > kMaxSidecarBytes) return;
   json side;
   try {
     std::ifstream in(sidecar, std::ios::binary);
-    side = json::parse(in);
+    side = parse_sidecar(in);
   } catch (const json::exception&) {
     throw IoError(sidecar.string() + ": the set's sidecar is not valid JSON (incomplete or corrupted set)");
   }
@@ -114,16 +230,24 @@ OutputPaths output_paths(const BakeConfig& c) {
 
 bool outputs_up_to_date(const BakeConfig& c) {
   const OutputPaths paths = output_paths(c);
+  std::error_code ec;
+  if (fs::symlink_status(paths.sidecar, ec).type() != fs::file_type::regular || fs::file_size(paths.sidecar, ec) > kMaxSidecarBytes)
+    return false;
   std::ifstream in(paths.sidecar);
   if (!in) return false;
   try {
-    const json s = json::parse(in);
+    const json s = parse_sidecar(in);
     if (s.value("config_hash", std::string()) != c.hash || s.value("hairlut_version", std::string()) != kVersion) return false;
     std::size_t formats = 0;
     for (const json& f : s.at("files")) {
       const fs::path p = c.output.directory / f.at("path").get<std::string>();
-      std::error_code ec;
+      // The size, then the contents: a file changed in place (a flipped byte, zeroed pixels) is
+      // not up to date. Only a regular file is hashed (never a FIFO or a device planted there).
+      if (fs::symlink_status(p, ec).type() != fs::file_type::regular || ec) return false;
       if (fs::file_size(p, ec) != f.at("bytes").get<std::uintmax_t>() || ec) return false;
+      const HashAlgorithm algorithm = f.contains("xxh3_64") ? HashAlgorithm::xxh3_64 : HashAlgorithm::fnv1a64;
+      const json& recorded = f.value(hash_sidecar_key(algorithm), json());
+      if (!recorded.is_string() || file_hash(p, algorithm) != recorded.get<std::string>()) return false;
       ++formats;
     }
     return formats == static_cast<std::size_t>(c.output.hdf5) + static_cast<std::size_t>(c.output.exr) + engine_outputs(c).size();
@@ -205,7 +329,7 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
 }
 
 std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& c, const BakeReport& report,
-                                         const std::atomic<bool>* cancel, const SlabbedTables* slabbed) {
+                                         const std::atomic<bool>* cancel, const SlabbedTables* slabbed, const LockWait& wait) {
   if (slabbed && !slabbed->empty() && c.output.exr)
     throw DomainError("output.exr: tables larger than the memory budget are baked slab by slab into HDF5 only (EXR files hold "
                       "engine-sized textures); set output.exr to false or raise --memory-budget");
@@ -220,28 +344,25 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   if (ec) throw IoError(c.output.directory.string() + ": cannot create output directory (" + ec.message() + ")");
   // One bake at a time writes and commits into a directory, so that its set is never mixed with
   // another's; readers of the directory wait for the commit (load_tables).
-  const DirectoryLock lock(c.output.directory, true);
+  const DirectoryLock lock(c.output.directory, true, wait, cancel);
   TempFiles temps;
   std::vector<std::pair<std::string, fs::path>> written;  // format, temporary path
   std::vector<detail::FileDigest> digests;                 // of written[i] where known from memory
   if (c.output.hdf5) {
-    const fs::path t = temporary_for(paths.hdf5);
-    temps.paths.push_back(t);
+    const fs::path t = create_temporary(paths.hdf5, temps);
     const Hdf5WriteOptions h5{c.output.hdf5_deflate, report.threads};
     if (slabbed) write_hdf5_slabbed(set, *slabbed, t, h5), digests.emplace_back();
     else digests.push_back(detail::write_hdf5_digest(set, t, h5));
     written.emplace_back("hdf5", t);
   }
   if (c.output.exr) {
-    const fs::path t = temporary_for(paths.exr);
-    temps.paths.push_back(t);
+    const fs::path t = create_temporary(paths.exr, temps);
     codec.write_exr(set, t, {c.output.exr_half, c.output.exr_compression});
     written.emplace_back("exr", t);
   }
   std::vector<fs::path> engine_finals;  // final paths of the engine textures, in `written` order after hdf5/exr
   for (const EngineOutput& e : engines) {
-    const fs::path t = temporary_for(e.path);
-    temps.paths.push_back(t);
+    const fs::path t = create_temporary(e.path, temps);
     codec.write_engine_texture(set, e.texture, t);
     written.emplace_back("engine-exr", t);
     engine_finals.push_back(e.path);
@@ -250,19 +371,17 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   detail::TableText text;
   json side = sidecar_document(set, c, report, written, digests, &text);
   for (auto& f : side["files"]) {
-    const std::string name = f["path"].get<std::string>();
-    f["path"] = name.substr(0, name.rfind(".tmp-"));
+    const auto parsed = parse_temporary(f["path"].get<std::string>());
+    if (!parsed) throw IoError(c.output.directory.string() + ": internal: a temporary file name was not recognised");
+    f["path"] = parsed->first;
   }
-  const fs::path side_tmp = temporary_for(paths.sidecar);
-  temps.paths.push_back(side_tmp);
-  {
-    std::ofstream out(side_tmp, std::ios::binary);
-    out << text.indented(side, 4) << "\n";
-    if (!out) throw IoError(side_tmp.string() + ": cannot write sidecar");
-  }
+  const fs::path side_tmp = create_temporary(paths.sidecar, temps);
+  const std::string side_text = text.indented(side, 4) + "\n";
+  detail::write_file_bytes(side_tmp, side_text);
   std::vector<fs::path> finals;
   auto commit = [&](const fs::path& tmp, const fs::path& final_path) {
     if (cancel && cancel->load()) throw BakeCancelled();
+    check_temporary(temps, tmp);
     fs::rename(tmp, final_path, ec);
     if (ec) throw IoError(final_path.string() + ": cannot move the finished file into place (" + ec.message() + ")");
     finals.push_back(final_path);
@@ -275,18 +394,29 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   return finals;
 }
 
-void remove_stale_temporaries(const BakeConfig& c) {
+void remove_stale_temporaries(const BakeConfig& c, const LockWait& wait) {
   std::error_code ec;
   if (!fs::is_directory(c.output.directory, ec)) return;
+  // Under the directory's lock, so that a bake committing there (in this process too) is not
+  // robbed of its temporaries.
+  const DirectoryLock lock(c.output.directory, true, wait);
   const std::string prefix = c.output.basename + ".";
+  const long self = static_cast<long>(::getpid());
   for (const auto& entry : fs::directory_iterator(c.output.directory, ec)) {
     const std::string n = entry.path().filename().string();
-    const auto pos = n.find(".tmp-");
-    if ((n.rfind(prefix, 0) != 0 && n.rfind(c.output.basename + "-", 0) != 0) || pos == std::string::npos) continue;
-    // Only temporaries of processes that no longer run (a concurrent bake keeps its own).
-    const long pid = std::strtol(n.c_str() + pos + 5, nullptr, 10);
-    // (kill(pid, 0) fails with EPERM for a live process of another user: that one is kept too.)
-    if (pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) continue;
+    // Only a name create_temporary made, for an output of this config (basename.ext or an engine
+    // texture basename-*), ...
+    const auto parsed = parse_temporary(n);
+    if (!parsed || (parsed->first.rfind(prefix, 0) != 0 && parsed->first.rfind(c.output.basename + "-", 0) != 0)) continue;
+    // ... a regular file (never a link) owned by this user, ...
+    struct stat st {};
+    if (::lstat(entry.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;
+    // ... of a process that no longer runs (a concurrent bake keeps its own; kill(pid, 0) fails
+    // with EPERM for a live process of another user: that one is kept too). A name with this
+    // process's pid is a leftover of an earlier process that had the same pid: this process has
+    // not written any yet.
+    const long pid = parsed->second;
+    if (pid != self && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) continue;
     fs::remove(entry.path(), ec);
   }
 }
@@ -299,6 +429,10 @@ TableSet load_tables_with(const ExrCodec& codec, const fs::path& file) {
 }
 
 TableSet load_table_file_with(const ExrCodec& codec, const fs::path& file) {
+  // A FIFO or a device would block or never end: only a regular file (or a link to one) is read.
+  std::error_code ec;
+  const fs::file_status status = fs::status(file, ec);
+  if (!ec && fs::exists(status) && status.type() != fs::file_type::regular) throw IoError(file.string() + ": not a regular file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw IoError(file.string() + ": cannot open file (" + std::string(std::strerror(errno)) + ")");
   char head[8] = {};

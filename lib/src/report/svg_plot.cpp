@@ -72,7 +72,7 @@ std::vector<std::pair<double, std::string>> log_ticks(double lo, double hi) {
 // Viridis-like colour map from 5 anchors.
 std::string colour(double u) {
   static const double c[5][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
-  u = std::clamp(u, 0.0, 1.0) * 4.0;
+  u = (u >= 0.0 ? std::min(u, 1.0) : 0.0) * 4.0;  // NaN (a failed measurement) maps to the lowest colour, not an index
   const int i = std::min(3, static_cast<int>(u));
   const double w = u - i;
   char buf[16];

@@ -1,6 +1,7 @@
 // Validator section "sampling_data": the sampling data stored next to the N_p and M_p tables
 // against what the header-only sampler computes from the stored values (table_sampling.hpp).
 #include <algorithm>
+#include <cmath>
 
 #include "hairlut/tables/table_sampling.hpp"
 #include "validate_sections.hpp"
@@ -30,7 +31,9 @@ json sampling_data_section(const TableSet& set, std::vector<json>& checks) {
       continue;
     }
     ++compared;
-    worst = std::max({worst, c.max_cdf_difference, c.max_mass_difference});
+    // NaN-aware: std::max drops a NaN difference (then reported as 0, a pass); keep it instead.
+    for (const double d : {c.max_cdf_difference, c.max_mass_difference})
+      if (!(d <= worst)) worst = std::isnan(worst) ? worst : d;
     mismatches += c.bound_mismatches;
   }
   const std::string title = "Stored sampling data equal what the sampler computes from the tables";

@@ -95,10 +95,13 @@ FourierTableInfo fourier_table_info(const Table& t) {
   f.papers_path = path == "papers";
   const std::string where = "table " + t.path() + ": attribute ";
   if (f.terms < 1 || f.terms != t.axes[2].count) throw DomainError(where + "terms must equal the n axis's count");
-  require_positive(where + "beta_min", f.beta_min);
-  if (!(i.beta_max >= f.beta_min) || !std::isfinite(i.beta_max)) throw_domain_error(where + "beta_max", "must be >= beta_min", i.beta_max);
-  if (!(f.tolerance > 0.0 && f.tolerance < 1.0)) throw_domain_error(where + "tolerance", "must lie in (0, 1)", f.tolerance);
-  require_greater(where + "eta", f.eta, 1.0, "must be > 1");
+  // The ranges a config can give (tables.np.axes.beta in [1e-6, pi] rad, fourier.tolerance in
+  // (0, 0.1], fiber.eta in (1, 10]): the sampler's series length and bins are sized from them, and
+  // a file's values beyond them (beta_min 1e-15, eta 1e300) crashed its readers.
+  if (!(f.beta_min >= 1e-6 && f.beta_min <= kPi)) throw_domain_error(where + "beta_min", "must lie in [1e-6, pi] rad", f.beta_min);
+  if (!(i.beta_max >= f.beta_min && i.beta_max <= kPi)) throw_domain_error(where + "beta_max", "must lie in [beta_min, pi] rad", i.beta_max);
+  if (!(f.tolerance > 0.0 && f.tolerance <= 0.1)) throw_domain_error(where + "tolerance", "must lie in (0, 0.1]", f.tolerance);
+  if (!(f.eta > 1.0 && f.eta <= 10.0)) throw_domain_error(where + "eta", "must lie in (1, 10]", f.eta);
   if (f.absorption_p < 0 || f.absorption_p > 64) throw_domain_error(where + "absorption_p", "must lie in [0, 64]", static_cast<long long>(f.absorption_p));
   const GridAxis &th = t.axes[0], &sg = t.axes[1];
   if (th.spacing != Spacing::uniform && th.spacing != Spacing::cos)

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -28,7 +29,7 @@ struct OutputPaths {
 OutputPaths output_paths(const BakeConfig& config);
 
 /// True when the sidecar records this config's hash and library version and every file it lists
-/// exists with the recorded size: re-baking would change nothing.
+/// exists as a regular file with the recorded size and content hash: re-baking would change nothing.
 bool outputs_up_to_date(const BakeConfig& config);
 
 /// The sidecar document for a table set written to the given files.
@@ -43,13 +44,25 @@ nlohmann::ordered_json sidecar_json(const TableSet& set, const BakeConfig& confi
 std::vector<std::filesystem::path> write_outputs(const TableSet& set, const BakeConfig& config, const BakeReport& report,
                                                  const std::atomic<bool>* cancel = nullptr, const SlabbedTables* slabbed = nullptr);
 
+/// How a writer waits for the output directory's lock while another process (a bake committing
+/// there) holds it: `notice` (optional) hears once that it waits and who holds the lock ("pid N
+/// (name)" when the system says); after `timeout_s` seconds (negative: no limit) the wait ends in
+/// an IoError naming the holder. The writer's `cancel` flag ends the wait too (BakeCancelled).
+struct LockWait {
+  double timeout_s = -1.0;
+  std::function<void(const std::string&)> notice;
+};
+
 /// write_outputs with the OpenEXR writers of `codec` (exr_codec.hpp); an entry the config needs
 /// and the codec lacks is an IoError before any file is written.
 std::vector<std::filesystem::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& config,
                                                       const BakeReport& report, const std::atomic<bool>* cancel = nullptr,
-                                                      const SlabbedTables* slabbed = nullptr);
-/// Removes temporary files a killed bake of this config may have left in the output directory.
-void remove_stale_temporaries(const BakeConfig& config);
+                                                      const SlabbedTables* slabbed = nullptr, const LockWait& wait = {});
+/// Removes temporary files a killed bake of this config may have left in the output directory
+/// (under the directory's lock, waited for as `wait` says):
+/// only regular files of this user whose names write_outputs made (a keyed hash in the name), for
+/// this config's outputs, of processes no longer running (or of an earlier process with this pid).
+void remove_stale_temporaries(const BakeConfig& config, const LockWait& wait = {});
 
 /// Loads a table file written by hairlut, choosing the reader by the file's magic bytes
 /// (HDF5 or OpenEXR). When the file's set has a sidecar beside it that lists the file, the file
