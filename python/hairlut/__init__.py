@@ -28,12 +28,19 @@ __all__ = ["longitudinal_mp", "azimuthal_np", "lobe_energies", "furnace", "dual_
            "fibre_from_melanin", "Fibre", "Scattering", "Table", "TableSet", "ConfigError", "DomainError", "IoError", "__version__"]
 
 
+def _real(a):
+    """a as float64, refusing complex input (numpy's conversion would drop the imaginary part)."""
+    if numpy.iscomplexobj(a):
+        raise TypeError("complex input: hairlut's functions take real angles and coefficients")
+    return numpy.asarray(a, dtype=numpy.float64)
+
+
 def _lobe(p):
     return _core.parse_lobe(p) if isinstance(p, str) else int(p)
 
 
 def _broadcast(*args):
-    arrays = numpy.broadcast_arrays(*[numpy.asarray(a, dtype=numpy.float64) for a in args])
+    arrays = numpy.broadcast_arrays(*[_real(a) for a in args])
     shape = arrays[0].shape
     return shape, [numpy.ascontiguousarray(a).reshape(-1) for a in arrays]
 
@@ -47,7 +54,7 @@ def _nan_rows(flat):
 
 
 def _finite_scalars(*values):
-    return not any(numpy.isnan(numpy.asarray(v, dtype=numpy.float64)).any() for v in values)
+    return not any(numpy.isnan(_real(v)).any() for v in values)
 
 
 def longitudinal_mp(beta, theta_i, theta_r, alpha=0.0):
@@ -103,7 +110,7 @@ def furnace(theta_i, beta, alpha=0.0, lobes=3, residual=True, eta=1.55, sigma_a=
     beta and alpha: one value for every lobe, or one per lobe (and the residual), radians, with
     beta_m = beta_n. Returns {"E": shape of theta_i, "per_lobe": shape + (lobes,), "converged"}.
     """
-    ti = numpy.asarray(theta_i, dtype=numpy.float64)
+    ti = _real(theta_i)
     flat = ti.reshape(-1)
     nan = numpy.isnan(flat) | (not _finite_scalars(eta, sigma_a, beta, alpha))
     E, per_lobe = numpy.full(flat.shape, numpy.nan), numpy.full(flat.shape + (int(lobes) + (1 if residual else 0),), numpy.nan)
@@ -120,7 +127,7 @@ _DUAL_KEYS = ("E", "a_f", "a_b", "alpha_f", "alpha_b", "beta_f2", "beta_b2", "A_
 def dual_scattering(theta_i, beta, alpha=0.0, lobes=3, residual=True, eta=1.55, sigma_a=0.0, path="chord", density_factor=0.7):
     """Mean energy and Zinke 2008's dual-scattering quantities at each theta_i (arrays of its shape):
     E, a_f, a_b, alpha_f, alpha_b (rad), beta_f2, beta_b2 (rad^2), A_b, delta_b, sigma_b, converged."""
-    ti = numpy.asarray(theta_i, dtype=numpy.float64)
+    ti = _real(theta_i)
     flat = ti.reshape(-1)
     nan = numpy.isnan(flat) | (not _finite_scalars(eta, sigma_a, beta, alpha, density_factor))
     r = {}
@@ -171,7 +178,7 @@ def fibre_from_melanin(eumelanin, pheomelanin, beta_m, beta_n):
 
 
 def _directions(w, name):
-    a = numpy.ascontiguousarray(numpy.asarray(w, dtype=numpy.float64))
+    a = numpy.ascontiguousarray(_real(w))
     if a.shape[-1:] != (3,):
         raise DomainError(f"{name} must end in an axis of 3 (a unit vector in the fibre frame), got shape {a.shape}")
     return a.shape[:-1], a.reshape(-1, 3)
@@ -193,7 +200,7 @@ class Scattering:
         sa, _ = _directions(a, na)
         sb, _ = _directions(b, nb)
         shape = numpy.broadcast_shapes(sa, sb)
-        full = [numpy.ascontiguousarray(numpy.broadcast_to(numpy.asarray(w, dtype=numpy.float64), shape + (3,))).reshape(-1, 3) for w in (a, b)]
+        full = [numpy.ascontiguousarray(numpy.broadcast_to(_real(w), shape + (3,))).reshape(-1, 3) for w in (a, b)]
         return shape, full[0], full[1]
 
     def eval(self, fibre, wo, wi):

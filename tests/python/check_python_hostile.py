@@ -44,6 +44,11 @@ def np_call(phi=one, theta_d=one, sigma_a=one, beta=one):
 
 expect("complex phi", TypeError, lambda: np_call(phi=np.array([0.3 + 1j])))
 expect("complex beta", TypeError, lambda: np_call(beta=np.array([0.3 + 0.5j])))
+# The same through the public module, whose conversion to float64 would drop the imaginary part.
+import hairlut  # noqa: E402
+
+expect("public complex phi", TypeError, lambda: hairlut.azimuthal_np("TT", np.array([0.3 + 1j]), 0.3, 0.3, 0.3))
+expect("public complex theta_i", TypeError, lambda: hairlut.longitudinal_mp(0.3, np.array([0.2 + 0.1j]), 0.1))
 expect("beta = 1e-300", ValueError, lambda: np_call(beta=np.array([1e-300])))
 expect("beta = 0", ValueError, lambda: np_call(beta=np.array([0.0])))
 
