@@ -132,12 +132,16 @@ struct Scattering {
         hair(group.empty() ? hairlut::hair_scattering<float>(*set) : hairlut::hair_scattering<float>(*set, group)) {}
 };
 
+// Arrays of directions, random numbers and points for the runtime bindings, converted to float64
+// (the public module refuses complex input before it reaches them).
+using Rows = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
 // Rows of three doubles (n × 3, C order) as pointers: one row, or n rows.
-const double* row3(const Array& a, py::ssize_t i, const char* name) {
+const double* row3(const Rows& a, py::ssize_t i, const char* name) {
   if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error(std::string(name) + " must have shape (n, 3)");
   return a.data() + (a.shape(0) == 1 ? 0 : i) * 3;
 }
-py::ssize_t rows(const Array& a, const Array& b) {
+py::ssize_t rows(const Rows& a, const Rows& b) {
   if (a.ndim() != 2 || b.ndim() != 2) throw py::value_error("directions must have shape (n, 3)");
   if (a.shape(0) != b.shape(0) && a.shape(0) != 1 && b.shape(0) != 1) throw py::value_error("directions have different lengths");
   return std::max(a.shape(0), b.shape(0));
@@ -350,26 +354,26 @@ PYBIND11_MODULE(_core, m) {
 
   py::class_<Scattering>(m, "Scattering")
       .def("eval",
-           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo, const Array& wi) {
+           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo, const Rows& wi) {
              const py::ssize_t n = rows(wo, wi);
              py::array_t<double> out({n, py::ssize_t{3}});
              for (py::ssize_t i = 0; i < n; ++i) s.hair.eval(f, row3(wo, i, "wo"), row3(wi, i, "wi"), out.mutable_data(i, 0));
              return out;
            })
       .def("pdf",
-           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo, const Array& wi) {
+           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo, const Rows& wi) {
              const py::ssize_t n = rows(wo, wi);
              py::array_t<double> out(n);
              for (py::ssize_t i = 0; i < n; ++i) out.mutable_data()[i] = s.hair.pdf(f, row3(wo, i, "wo"), row3(wi, i, "wi"));
              return out;
            })
       .def("albedo",
-           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo) {
+           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo) {
              py::array_t<double> out(wo.ndim() == 2 ? wo.shape(0) : 0);
              for (py::ssize_t i = 0; i < out.shape(0); ++i) out.mutable_data()[i] = s.hair.albedo(f, row3(wo, i, "wo"));
              return out;
            })
-      .def("sample", [](const Scattering& s, const hairlut::sampler::Fibre& f, const Array& wo, const Array& u) {
+      .def("sample", [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo, const Rows& u) {
         const py::ssize_t n = rows(wo, u);
         py::array_t<double> wi({n, py::ssize_t{3}}), weight({n, py::ssize_t{3}}), pdf(n);
         py::array_t<int> lobe(n);
@@ -397,7 +401,7 @@ PYBIND11_MODULE(_core, m) {
         return set;
       }))
       .def("sample",
-           [](const hairlut::TableSet& set, const std::string& path, const Array& x) {
+           [](const hairlut::TableSet& set, const std::string& path, const Rows& x) {
              const hairlut::Table* t = set.find(path);
              if (!t) throw hairlut::DomainError("no table " + path);
              const auto dims = static_cast<py::ssize_t>(t->axes.size());

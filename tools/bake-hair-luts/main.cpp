@@ -1,8 +1,6 @@
 // bake-hair-luts: bake the tables a config asks for into HDF5 / OpenEXR files with a JSON sidecar.
 // Thin: parsing, baking and writing live in the hairlut library; this file handles the command
 // line, progress display, signals and exit codes.
-#include <malloc.h>
-#include <sys/mman.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
@@ -23,55 +21,10 @@
 #include <system_error>
 
 #include "../common/cancel.hpp"
+#include "../common/progress.hpp"
 #include "exr_loader.hpp"
 
 namespace {
-
-// A one-line progress bar on stderr, redrawn at most every 100 ms.
-class ProgressBar {
- public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled), start_(std::chrono::steady_clock::now()) {}
-  void update(std::string_view stage, std::size_t done, std::size_t total) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
-    last_ = now;
-    const double frac = total ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
-    const int width = 30, filled = static_cast<int>(frac * width);
-    const double secs = std::chrono::duration<double>(now - start_).count();
-    std::fprintf(stderr, "\r%-16.16s [%s%s] %5.1f%% %7.1f s", std::string(stage).c_str(), std::string(static_cast<std::size_t>(filled), '#').c_str(),
-                 std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), 100.0 * frac, secs);
-    if (done >= total) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  }
-
- private:
-  bool enabled_;
-  std::chrono::steady_clock::time_point start_, last_{};
-};
-
-// The heap grown by `bytes` now and that range advised for transparent huge pages, where the
-// kernel gives them on request (Linux's THP "madvise" mode; advice only, nothing changes where it
-// does not). A bake's tables, HDF5's objects and the sidecar's text are a few MiB of the heap,
-// first touched page by page; with huge pages a small bake takes a fraction of the page faults,
-// which are a fair part of its CPU time. glibc's tunable glibc.malloc.hugetlb=1 does the same, but
-// only the environment can set it. Memory is used only as it is touched.
-void heap_in_huge_pages(std::size_t bytes) {
-#if defined(__linux__) && defined(__GLIBC__) && defined(MADV_HUGEPAGE)
-  if (mallopt(M_TOP_PAD, static_cast<int>(bytes)) != 1) return;
-  // A request larger than any free chunk (and below the mmap threshold) makes malloc extend the
-  // heap by about it plus the pad.
-  char* const start = static_cast<char*>(::sbrk(0));
-  void* volatile p = std::malloc(bytes / 2);  // volatile: the compiler may not drop the pair
-  char* const end = static_cast<char*>(::sbrk(0));
-  std::free(p);  // back to the top of the heap (the trim threshold keeps it there)
-  const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const auto lo = (reinterpret_cast<std::uintptr_t>(start) + page - 1) / page * page;
-  if (reinterpret_cast<std::uintptr_t>(end) > lo) ::madvise(reinterpret_cast<void*>(lo), reinterpret_cast<std::uintptr_t>(end) - lo, MADV_HUGEPAGE);
-#else
-  (void)bytes;
-#endif
-}
 
 // Bytes free for this user on the file system of `dir` (or of its nearest existing parent).
 std::optional<std::uint64_t> free_disk_bytes(std::filesystem::path dir) {
@@ -134,16 +87,6 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   app.add_flag("--quiet,-q", quiet, "no progress display and no summary");
   app.add_flag("--check", check, "validate the config and exit");
   if (const auto rc = hairlut::tools::parse_command_line(app, "bake-hair-luts", argc, argv)) return *rc;
-  // The HDF5 deflate filter allocates and frees its buffers for every dataset; without a trim
-  // threshold glibc hands the freed top of the heap back each time and the next dataset faults it
-  // in again, which costs a per-material bake of many small datasets most of its system time.
-  // Setting the trim threshold also fixes glibc's mmap threshold at its 128 KiB default, which
-  // would give every HDF5 chunk buffer (up to 4 MiB, one per chunk written) fresh pages from
-  // mmap, faulted in and unmapped again: below 32 MiB (the largest threshold glibc accepts on
-  // 64-bit; it refuses more and keeps 128 KiB) they come from the heap and are reused.
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  heap_in_huge_pages(32 << 20);
 
   hairlut::BakeConfig config;
   try {
@@ -215,7 +158,7 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   }
 
   hairlut_tools::register_temp_dir(config.output.directory);
-  ProgressBar bar(!quiet && ::isatty(STDERR_FILENO));
+  hairlut::tools::Progress bar(!quiet && ::isatty(STDERR_FILENO));
   hairlut::BakeOptions options;
   options.threads = threads;
   options.cancel = hairlut_tools::cancel_pointer();
@@ -234,8 +177,10 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     slabbed.slab_bytes = plan.slab_bytes;
     const auto start = std::chrono::steady_clock::now();
     const hairlut::TableSet set = hairlut::bake(config, options, &report, plan.slabbed ? &slabbed : nullptr);
+    bar.stage("writing", hairlut::output_paths(config).sidecar.parent_path().string());
     const auto files =
         hairlut::write_outputs_with(exr, set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr, lock_wait);
+    bar.finish();
     if (plan.slabbed) report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!quiet) {
       for (const auto& f : report.folded)
