@@ -23,8 +23,10 @@ the documented exit code, and no file left where none may be. Probes:
   heap-scan      a file packed with overlapping global-heap signatures is screened in linear time
   resources      --memory-budget above the machine's memory, --check on an unwritable output, a
                  bake waiting for another's directory lock (who holds it, --lock-timeout)
-  config-sweep   every numeric config field at extreme values (sweep.py): refused in one line or
-                 baked into a file the validator reads
+  config-sweep   every numeric config field at extreme values (sweep.py, each place at one value,
+                 the next in turn; the dual-scattering base apart): refused in one line or baked
+                 into a file the validator reads
+  config-sweep-ds  the same for the dual-scattering base
   eta-near-one   eta = 1 + 1e-7 bakes and validates in bounded time
   concurrent     two bakes of different configs into one directory leave one consistent set
 """
