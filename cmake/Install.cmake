@@ -22,21 +22,6 @@ install(TARGETS hairlut EXPORT hairlut-targets
 install(TARGETS hairlut_sampler EXPORT hairlut-sampler-targets)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/include/hairlut DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.hpp")
 install(FILES ${PROJECT_BINARY_DIR}/lib/generated/hairlut/util/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hairlut/util)
-# Headers live in one folder per layer (hairlut/physics/fresnel.hpp). Code written against the flat
-# layout of hairlut 0.1 (hairlut/fresnel.hpp) keeps compiling against the installed package through
-# one forwarding header per public header, generated here and installed beside the layer folders.
-file(GLOB _hairlut_layer_headers RELATIVE ${PROJECT_SOURCE_DIR}/lib/include/hairlut
-     ${PROJECT_SOURCE_DIR}/lib/include/hairlut/*/*.hpp)
-list(APPEND _hairlut_layer_headers util/version.hpp)
-foreach(_header IN LISTS _hairlut_layer_headers)
-  get_filename_component(_name ${_header} NAME)
-  set(_forward ${PROJECT_BINARY_DIR}/forwarding/hairlut/${_name})
-  file(CONFIGURE OUTPUT ${_forward} CONTENT "// Forwarding header: hairlut/${_name} moved to hairlut/${_header}.
-#pragma once
-#include \"hairlut/${_header}\"
-" @ONLY)
-  install(FILES ${_forward} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hairlut)
-endforeach()
 install(EXPORT hairlut-targets NAMESPACE hairlut:: DESTINATION ${HAIRLUT_CMAKE_DIR} FILE hairlut-targets.cmake)
 install(EXPORT hairlut-sampler-targets NAMESPACE hairlut:: DESTINATION ${HAIRLUT_CMAKE_DIR} FILE hairlut-sampler-targets.cmake)
 

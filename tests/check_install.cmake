@@ -173,25 +173,6 @@ foreach(mode plain static)
   message(STATUS "${mode}: ${run_out}")
 endforeach()
 
-# Code written against the flat header layout of hairlut 0.1 (hairlut/fresnel.hpp) still compiles: every
-# layer header has a forwarding header of its bare name, and each one includes its layer header.
-file(GLOB layer_headers RELATIVE ${prefix}/include/hairlut ${prefix}/include/hairlut/*/*.hpp)
-set(flat_tu "")
-foreach(h IN LISTS layer_headers)
-  get_filename_component(name ${h} NAME)
-  if(NOT EXISTS ${prefix}/include/hairlut/${name})
-    message(FATAL_ERROR "no forwarding header include/hairlut/${name} for include/hairlut/${h}")
-  endif()
-  file(READ ${prefix}/include/hairlut/${name} forward)
-  if(NOT forward MATCHES "#include \"hairlut/${h}\"")
-    message(FATAL_ERROR "include/hairlut/${name} does not forward to hairlut/${h}:\n${forward}")
-  endif()
-  string(APPEND flat_tu "#include <hairlut/${name}>\n")
-endforeach()
-string(APPEND flat_tu "int main() { return 0; }\n")
-file(WRITE ${WORK}/flat-includes.cpp "${flat_tu}")
-run("compiling the flat (0.1) includes" ${CXX} -std=c++20 -fsyntax-only ${WORK}/flat-includes.cpp ${flags})
-
 # The Python module, when it was built: importable from the prefix.
 file(GLOB_RECURSE python_init ${prefix}/__init__.py)
 list(FILTER python_init INCLUDE REGEX "/hairlut/__init__.py$")

@@ -22,7 +22,6 @@
 
 #include "../common/cancel.hpp"
 #include "../common/progress.hpp"
-#include "exr_loader.hpp"
 
 namespace {
 
@@ -171,7 +170,6 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
   };
   try {
     hairlut::remove_stale_temporaries(config, lock_wait);
-    const hairlut::ExrCodec exr = hairlut_tools::exr_codec_for(config);  // OpenEXR only for EXR outputs
     hairlut::BakeReport report;
     hairlut::SlabbedTables slabbed;
     slabbed.slab_bytes = plan.slab_bytes;
@@ -179,7 +177,7 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     const hairlut::TableSet set = hairlut::bake(config, options, &report, plan.slabbed ? &slabbed : nullptr);
     bar.stage("writing", hairlut::output_paths(config).sidecar.parent_path().string());
     const auto files =
-        hairlut::write_outputs_with(exr, set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr, lock_wait);
+        hairlut::write_outputs(set, config, report, hairlut_tools::cancel_pointer(), plan.slabbed ? &slabbed : nullptr, lock_wait);
     bar.finish();
     if (plan.slabbed) report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!quiet) {

@@ -4,15 +4,10 @@
 #include <string>
 
 #include "hairlut/io/hdf5_io.hpp"
-#include "hairlut/tables/fourier_tables.hpp"
 
 namespace hairlut {
 
-std::string format_version_text() { return format_version_text(kFormatVersionMinor); }
-
-std::string format_version_text(int minor) { return std::to_string(kFormatVersionMajor) + "." + std::to_string(minor); }
-
-int format_version_minor(const TableSet& set) { return has_fourier_np(set) ? kFormatVersionMinorFourier : kFormatVersionMinorBase; }
+std::string format_version_text() { return std::to_string(kFormatVersionMajor) + "." + std::to_string(kFormatVersionMinor); }
 
 int check_format_version(const std::string& text, const std::string& name) {
   const auto dot = text.find('.');

@@ -1,12 +1,10 @@
 #include "hdf5_layout.hpp"
 
-
 namespace hairlut::detail {
 
 Hdf5Layout whole_dataset_layout(std::size_t bytes, int deflate) {
   if (bytes <= kCompactSmallBytes) return Hdf5Layout::compact;
-  if (deflate > 0) return Hdf5Layout::chunked;
-  return bytes <= kCompactMaxBytes ? Hdf5Layout::compact : Hdf5Layout::contiguous;
+  return deflate > 0 ? Hdf5Layout::chunked : Hdf5Layout::contiguous;
 }
 
 herr_t set_unfiltered_layout(hid_t dcpl, Hdf5Layout layout) {

@@ -25,7 +25,6 @@
 namespace hairlut::detail {
 
 inline constexpr std::size_t kCompactSmallBytes = 4096;
-inline constexpr std::size_t kCompactMaxBytes = kCompactSmallBytes;  // compact only when small, deflate or not
 inline constexpr unsigned kCompactAttributes = 64;
 
 enum class Hdf5Layout { compact, contiguous, chunked };

@@ -328,16 +328,14 @@ json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& re
   return sidecar_document(set, c, report, files, {});
 }
 
-std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& c, const BakeReport& report,
-                                         const std::atomic<bool>* cancel, const SlabbedTables* slabbed, const LockWait& wait) {
+std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, const BakeReport& report, const std::atomic<bool>* cancel,
+                                    const SlabbedTables* slabbed, const LockWait& wait) {
   if (slabbed && !slabbed->empty() && c.output.exr)
     throw DomainError("output.exr: tables larger than the memory budget are baked slab by slab into HDF5 only (EXR files hold "
                       "engine-sized textures); set output.exr to false or raise --memory-budget");
   if (c.output.exr && has_fourier_np(set))
     throw IoError(output_paths(c).exr.string() + ": the Fourier N_p tables (np_fourier) are written to HDF5 only; OpenEXR has no layout for them");
   const std::vector<EngineOutput> engines = engine_outputs(c);
-  if ((c.output.exr && !codec.write_exr) || (!engines.empty() && !codec.write_engine_texture))
-    throw IoError(c.output.directory.string() + ": the OpenEXR writer is not available to this program");
   const OutputPaths paths = output_paths(c);
   std::error_code ec;
   fs::create_directories(c.output.directory, ec);
@@ -357,13 +355,13 @@ std::vector<fs::path> write_outputs_with(const ExrCodec& codec, const TableSet& 
   }
   if (c.output.exr) {
     const fs::path t = create_temporary(paths.exr, temps);
-    codec.write_exr(set, t, {c.output.exr_half, c.output.exr_compression});
+    write_exr(set, t, {c.output.exr_half, c.output.exr_compression});
     written.emplace_back("exr", t);
   }
   std::vector<fs::path> engine_finals;  // final paths of the engine textures, in `written` order after hdf5/exr
   for (const EngineOutput& e : engines) {
     const fs::path t = create_temporary(e.path, temps);
-    codec.write_engine_texture(set, e.texture, t);
+    write_engine_texture(set, e.texture, t);
     written.emplace_back("engine-exr", t);
     engine_finals.push_back(e.path);
   }
@@ -421,14 +419,14 @@ void remove_stale_temporaries(const BakeConfig& c, const LockWait& wait) {
   }
 }
 
-TableSet load_tables_with(const ExrCodec& codec, const fs::path& file) {
+TableSet load_tables(const fs::path& file) {
   const DirectoryLock lock(file.parent_path(), false);
-  TableSet set = load_table_file_with(codec, file);
+  TableSet set = load_table_file(file);
   check_against_sidecar(file);
   return set;
 }
 
-TableSet load_table_file_with(const ExrCodec& codec, const fs::path& file) {
+TableSet load_table_file(const fs::path& file) {
   // A FIFO or a device would block or never end: only a regular file (or a link to one) is read.
   std::error_code ec;
   const fs::file_status status = fs::status(file, ec);
@@ -437,10 +435,8 @@ TableSet load_table_file_with(const ExrCodec& codec, const fs::path& file) {
   if (!in) throw IoError(file.string() + ": cannot open file (" + std::string(std::strerror(errno)) + ")");
   char head[8] = {};
   in.read(head, 8);
-  if (in.gcount() >= 4 && static_cast<unsigned char>(head[0]) == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01) {
-    if (!codec.read_exr) throw IoError(file.string() + ": an OpenEXR file, and the OpenEXR reader is not available to this program");
-    return codec.read_exr(file);
-  }
+  if (in.gcount() >= 4 && static_cast<unsigned char>(head[0]) == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01)
+    return read_exr(file);
   if (in.gcount() == 8 && std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) == 0) return read_hdf5(file);
   throw IoError(file.string() + ": not a hairlut table file (neither HDF5 nor OpenEXR)");
 }

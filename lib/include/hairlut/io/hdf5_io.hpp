@@ -35,17 +35,13 @@ class IoError : public std::runtime_error {
 /// Format 2.0 changed the checksums (content checksum and the sidecar's file digests) from FNV-1a
 /// 64 to XXH3-64 and names the algorithm in each file; this hairlut writes 2.0 and still reads
 /// every 1.x file (1.1, and 1.2 with N_p in the Fourier representation), verifying FNV-1a there.
-/// The minor version a file records is the lowest whose additions it holds; 2.0 holds all of 1.2's.
+/// Every file this hairlut writes, with Fourier tables or without, records 2.0, which holds all of
+/// 1.2's additions (a 1.x file recorded the lowest minor version whose additions it held).
 inline constexpr int kFormatVersionMajor = 2;
-inline constexpr int kFormatVersionMajorOldest = 1;   ///< the oldest major version this hairlut reads
-inline constexpr int kFormatVersionMinor = 0;         ///< the newest minor version this hairlut reads and writes
-inline constexpr int kFormatVersionMinorFourier = 0;  ///< the minor version of a file with Fourier N_p tables
-inline constexpr int kFormatVersionMinorBase = 0;     ///< the minor version of a file without them
-/// "MAJOR.MINOR" of this hairlut (the newest), or with the given minor version.
+inline constexpr int kFormatVersionMajorOldest = 1;  ///< the oldest major version this hairlut reads
+inline constexpr int kFormatVersionMinor = 0;        ///< the minor version this hairlut writes (it reads any)
+/// "MAJOR.MINOR" of this hairlut, as every file it writes records it.
 std::string format_version_text();
-std::string format_version_text(int minor);
-/// The minor version a file of `set` records (see above).
-int format_version_minor(const TableSet& set);
 
 /// Returns MAJOR when `text` is "MAJOR.MINOR" (decimal) with kFormatVersionMajorOldest ≤ MAJOR ≤
 /// kFormatVersionMajor; otherwise throws IoError("<name>: ..."), saying whether the file is newer

@@ -15,7 +15,6 @@
 
 #include "hairlut/bake/bake.hpp"
 #include "hairlut/bake/config.hpp"
-#include "hairlut/io/exr_codec.hpp"
 #include "hairlut/io/exr_io.hpp"
 #include "hairlut/io/hdf5_io.hpp"
 #include "hairlut/tables/tables.hpp"
@@ -36,14 +35,6 @@ bool outputs_up_to_date(const BakeConfig& config);
 nlohmann::ordered_json sidecar_json(const TableSet& set, const BakeConfig& config, const BakeReport& report,
                                     const std::vector<std::pair<std::string, std::filesystem::path>>& files);
 
-/// Writes every requested format and the sidecar (temporary names, then rename). Before each
-/// rename it checks `cancel`; if raised, it removes the temporaries and throws BakeCancelled.
-/// Returns the final paths written. Throws IoError. With `slabbed` (bake's slabbed tables), the
-/// HDF5 file is baked and written slab by slab (write_hdf5_slabbed); EXR output is refused then
-/// (DomainError), and the producers' exceptions (BakeCancelled) pass through.
-std::vector<std::filesystem::path> write_outputs(const TableSet& set, const BakeConfig& config, const BakeReport& report,
-                                                 const std::atomic<bool>* cancel = nullptr, const SlabbedTables* slabbed = nullptr);
-
 /// How a writer waits for the output directory's lock while another process (a bake committing
 /// there) holds it: `notice` (optional) hears once that it waits and who holds the lock ("pid N
 /// (name)" when the system says); after `timeout_s` seconds (negative: no limit) the wait ends in
@@ -53,11 +44,16 @@ struct LockWait {
   std::function<void(const std::string&)> notice;
 };
 
-/// write_outputs with the OpenEXR writers of `codec` (exr_codec.hpp); an entry the config needs
-/// and the codec lacks is an IoError before any file is written.
-std::vector<std::filesystem::path> write_outputs_with(const ExrCodec& codec, const TableSet& set, const BakeConfig& config,
-                                                      const BakeReport& report, const std::atomic<bool>* cancel = nullptr,
-                                                      const SlabbedTables* slabbed = nullptr, const LockWait& wait = {});
+/// Writes every requested format and the sidecar (temporary names, then rename). Before each
+/// rename it checks `cancel`; if raised, it removes the temporaries and throws BakeCancelled.
+/// Returns the final paths written. Throws IoError. With `slabbed` (bake's slabbed tables), the
+/// HDF5 file is baked and written slab by slab (write_hdf5_slabbed); EXR output is refused then
+/// (DomainError), and the producers' exceptions (BakeCancelled) pass through. The output directory's
+/// lock is waited for as `wait` says.
+std::vector<std::filesystem::path> write_outputs(const TableSet& set, const BakeConfig& config, const BakeReport& report,
+                                                 const std::atomic<bool>* cancel = nullptr, const SlabbedTables* slabbed = nullptr,
+                                                 const LockWait& wait = {});
+
 /// Removes temporary files a killed bake of this config may have left in the output directory
 /// (under the directory's lock, waited for as `wait` says):
 /// only regular files of this user whose names write_outputs made (a keyed hash in the name), for
@@ -73,8 +69,5 @@ TableSet load_tables(const std::filesystem::path& file);
 
 /// The file alone, without the directory lock and the sidecar check. Throws IoError.
 TableSet load_table_file(const std::filesystem::path& file);
-/// load_tables and load_table_file with the OpenEXR reader of `codec` (exr_codec.hpp).
-TableSet load_tables_with(const ExrCodec& codec, const std::filesystem::path& file);
-TableSet load_table_file_with(const ExrCodec& codec, const std::filesystem::path& file);
 
 }  // namespace hairlut
