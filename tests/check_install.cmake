@@ -26,7 +26,7 @@ if(NOT libs)
 endif()
 list(GET libs 0 lib)
 get_filename_component(libdir ${lib} DIRECTORY)
-foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/sampling.hpp include/hairlut/tables/tables.hpp include/hairlut/util/version.hpp
+foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/hair_scattering.hpp include/hairlut/tables/tables.hpp include/hairlut/util/version.hpp
           share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
           share/hairlut/tables/configs/default.json share/hairlut/tables/default/hairlut-default.h5 share/doc/hairlut/LICENSE
           bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts bin/render-hair-luts)

@@ -1,5 +1,6 @@
-// Shared by the sampling tests (test_sampling.cpp, test_sampling_mixture.cpp): independent
-// quadrature, the default and per-material tables, chi-square and furnace estimators.
+// Shared by the sampling tests (test_sampling.cpp, test_sampling_mixture.cpp,
+// test_sampling_stored.cpp): independent quadrature, the default and per-material tables, and
+// chi-square and furnace estimators of the renderer runtime (HairScattering) at a held direction.
 #pragma once
 
 #include <algorithm>
@@ -9,11 +10,12 @@
 #include <hairlut/physics/lobe_energy.hpp>
 #include <hairlut/physics/longitudinal_mp.hpp>
 #include <hairlut/bake/config.hpp>
-#include <hairlut/sampler/sampling.hpp>
 #include <hairlut/io/table_io.hpp>
+#include <hairlut/tables/hair_views.hpp>
 #include <hairlut/tables/table_sampling.hpp>
 #include <hairlut/report/validate.hpp>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,8 +25,7 @@ namespace sampling_checks {
 using namespace hairlut;
 using sampler::AxisRow;
 using sampler::AxisSampler;
-using sampler::FibreCoordinates;
-using sampler::HairSampler;
+using Runtime = sampler::HairScattering<float>;
 }  // namespace sampling_checks
 
 namespace sampling_checks {
@@ -119,46 +120,135 @@ inline const TableSet& material_tables() {
   return set;
 }
 
-// A sampler of one lobe (index p) of a group's tables, or of all of them (p < 0), prepared for
-// one fibre (FibreSampler: the tests that follow compare it with the full tables first).
+// The renderer runtime over a group's tables ("" generic, or "materials/<name>"): all lobes (p < 0)
+// or explicit lobe p alone (that one lobe, no residual: the runtime needs an explicit lobe, so the
+// residual is checked in the mixture only). With `stored`,
+// the N_p tables' sampling data stored in the file are read, else the runtime computes them.
 struct OneGroup {
-  HairTables all;
-  std::unique_ptr<sampler::FibreSampler<float>> fibre;
-  const HairSampler<double>& sampler() const { return fibre->sampler(); }
+  std::unique_ptr<Runtime> rt;
+  std::string lobe;  // "all" or the lobe's name
+  const Runtime& runtime() const { return *rt; }
 };
-inline OneGroup group_sampler(const TableSet& set, const std::string& group, int p, const FibreCoordinates& f) {
-  OneGroup g{hair_tables(set, group), nullptr};
-  const sampler::LobeTables<float>* first = p >= 0 ? &g.all.lobes[static_cast<std::size_t>(p)] : g.all.lobes.data();
-  g.fibre = std::make_unique<sampler::FibreSampler<float>>(first, p >= 0 ? 1 : static_cast<int>(g.all.lobes.size()), f);
-  return g;
+inline std::vector<std::string> lobe_names(const TableSet& set) {
+  std::vector<std::string> names;
+  for (const auto& l : set.metadata.at("lobes")) names.push_back(l.get<std::string>());
+  return names;
+}
+inline OneGroup group_runtime(const TableSet& set, const std::string& group, int p, bool stored = true) {
+  if (p < 0) {
+    if (!group.empty() || stored) return {std::make_unique<Runtime>(hair_scattering<float>(set, group)), "all"};
+    return {std::make_unique<Runtime>(hair_tables<float, double>(set)), "all"};
+  }
+  if (!group.empty()) {
+    // One material's lobe p alone: a copy of the set that lists only that lobe and has no residual
+    // (the material runtime copies its tables; the copy need not outlive it).
+    TableSet one = set;
+    const std::string lobe = lobe_names(set)[static_cast<std::size_t>(p)];
+    one.metadata["lobes"] = nlohmann::ordered_json::array({lobe});
+    std::erase_if(one.tables, [&](const Table& t) { return t.group == group && (t.name == "np_residual" || t.name == "mp_residual"); });
+    return {std::make_unique<Runtime>(hair_scattering<float>(one, group)), lobe};
+  }
+  const sampler::HairTables<float, double> all = hair_tables<float, double>(set);
+  REQUIRE(p < all.lobes);
+  sampler::HairTables<float, double> one = all;
+  one.lobes = 1, one.has_residual = false;
+  one.np[0] = all.np[p], one.mp[0] = all.mp[p];
+  for (int k = 1; k < all.beta_bands; ++k) one.np_band[k - 1][0] = all.np_band[k - 1][p];
+  const std::string lobe = lobe_names(set)[static_cast<std::size_t>(p)];
+  std::vector<sampler::AxisData> data(static_cast<std::size_t>(Runtime::kMaxBands * Runtime::kMaxLobes));
+  data[0] = stored_sampling_data(set, *set.find("np/" + lobe));
+  if (stored) REQUIRE(data[0].cdf);
+  return {std::make_unique<Runtime>(one, stored ? data.data() : nullptr), lobe};
 }
 
-// ∫ S dω by quadrature of eval (independent of the sampling code): composite Gauss–Legendre of
-// order 4 over θr ∈ [−π/2, π/2] and φ ∈ [0, π] (S is even in φ) on cells of half the tables'
-// default node spacing (exact for the cubic pieces that fall inside a cell; a relative error
-// well below 1e-5 for the piecewise-cubic S, which the 4σ criterion of 10⁶ samples never sees).
-template <class S>
-double quadrature_energy(const S& s, const FibreCoordinates& f, double theta_i) {
-  return integrate(
-      [&](double tr) {
-        return 2.0 * std::cos(tr) * integrate([&](double phi) { return s.eval(f, theta_i, tr, phi); }, 0.0, kPi, 190, 4);
-      },
-      -0.5 * kPi, 0.5 * kPi, 320, 4);
+// A fibre of one σa in every channel and one β for M_p and N_p.
+inline sampler::Fibre grey_fibre(double beta, double sigma_a) {
+  sampler::Fibre f;
+  f.beta_m = f.beta_n = beta;
+  f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = sigma_a;
+  return f;
 }
+// The held direction wo at inclination θo (φo = 0).
+struct Held {
+  double wo[3];
+  explicit Held(double theta_o) : wo{std::sin(theta_o), std::cos(theta_o), 0.0} {}
+};
+inline double mean3(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3.0; }
+
+// ∫ S cos θi dθi dφ (channels averaged) at held θo by quadrature of eval (independent of the
+// sampling code): Gauss–Legendre between breakpoints where the interpolated S may have a kink —
+// the nodes of the group's θi axes, θi = θo ∓ 2 θd at the nodes of its θd axes, and the nodes of
+// its φ axes — so that each piece is smooth (a product of the tables' cell polynomials, times
+// cos θi); φ over [0, π] (S is even in φ). value: order 8 on every piece; error: |order 8 − order
+// 6|, an upper estimate of the error of the order-8 value.
+struct Quadrature {
+  double value, error;
+};
+inline std::vector<double> pieces(std::vector<double> v, double lo, double hi) {
+  v.push_back(lo), v.push_back(hi);
+  std::erase_if(v, [&](double x) { return !(x >= lo && x <= hi); });
+  std::sort(v.begin(), v.end());
+  std::vector<double> out;
+  for (double x : v)
+    if (out.empty() || x - out.back() > 1e-9) out.push_back(x);
+  return out;
+}
+inline Quadrature quadrature_energy(const TableSet& set, const std::string& group, const Runtime& rt, const sampler::Fibre& f, double theta_o) {
+  std::vector<double> ti, ph;
+  for (const Table& t : set.tables) {
+    if (group.empty() ? t.group != "np" && t.group != "mp" : t.group != group) continue;
+    for (const GridAxis& g : t.axes) {
+      const sampler::Axis a = g.view();
+      for (int k = 0; k < a.count; ++k) {
+        const double x = sampler::node(a, k);
+        if (g.name == "theta_i") ti.push_back(x);
+        if (g.name == "theta_d") ti.push_back(theta_o - 2.0 * x), ti.push_back(theta_o + 2.0 * x);
+        if (g.name == "phi") ph.push_back(x);
+      }
+    }
+  }
+  ti = pieces(ti, -0.5 * kPi, 0.5 * kPi), ph = pieces(ph, 0.0, kPi);
+  auto at_order = [&](int m) {
+    std::vector<double> x, w;
+    gauss_legendre01(m, x, w);
+    double total = 0.0;
+    for (std::size_t i = 0; i + 1 < ti.size(); ++i)
+      for (std::size_t a = 0; a < x.size(); ++a) {
+        const double t = ti[i] + x[a] * (ti[i + 1] - ti[i]);
+        double row = 0.0;
+        for (std::size_t j = 0; j + 1 < ph.size(); ++j)
+          for (std::size_t b = 0; b < x.size(); ++b) {
+            double rgb[3];
+            rt.eval(f, theta_o, t, ph[j] + x[b] * (ph[j + 1] - ph[j]), rgb);
+            row += w[b] * (ph[j + 1] - ph[j]) * mean3(rgb);
+          }
+        total += w[a] * (ti[i + 1] - ti[i]) * 2.0 * std::cos(t) * row;
+      }
+    return total;
+  };
+  const double q8 = at_order(8), q6 = at_order(6);
+  return {q8, std::fabs(q8 - q6)};
+}
+
+// The runtime never samples the θi cells where a lobe's M̃ stays below 1e-12 of its peak
+// (product_row.hpp), so a furnace through sampling misses S there: at most 1e-12 of each lobe's
+// peak over a few hundred cells of the half circle against a lobe at least 1° wide, below 1e-9 of
+// ∫ S dω.
+constexpr double kCutBias = 1e-9;
 
 struct Estimate {
   double mean, error;  // mean and its standard error
 };
-template <class S>
-Estimate furnace(const S& s, const FibreCoordinates& f, double theta_i, int n, unsigned seed) {
+// ∫ S dω at wo estimated from n samples' weights S / pdf (channels averaged).
+inline Estimate furnace(const Runtime& rt, const sampler::Fibre& f, double theta_o, int n, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  typename S::Workspace ws;
+  const Runtime::ShadingPoint sp = rt.at(f, Held(theta_o).wo);
   double sum = 0.0, sum2 = 0.0;
   for (int k = 0; k < n; ++k) {
-    const double a = u(rng), b = u(rng), c = u(rng);
-    const sampler::HairSample r = s.sample(f, theta_i, a, b, c, ws);
-    const double x = r.pdf > 0.0 ? r.value / r.pdf : 0.0;
+    const double v[3] = {u(rng), u(rng), u(rng)};
+    const sampler::ScatteringSample r = sp.sample(v);
+    const double x = r.pdf > 0.0 ? mean3(r.weight) : 0.0;
     sum += x;
     sum2 += x * x;
   }
@@ -166,24 +256,23 @@ Estimate furnace(const S& s, const FibreCoordinates& f, double theta_i, int n, u
   return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n)};
 }
 
-// Chi-square test of n sampled directions against the pdf integrated over θr × φ bins.
+// Chi-square test of n sampled directions against the pdf integrated over θi × φ bins.
 // Returns the p-value; bins expecting fewer than 5 samples are pooled (Mitsuba's rule).
-template <class S>
-double chi_square(const S& s, const FibreCoordinates& f, double theta_i, int n, unsigned seed, double* pdf_integral) {
+inline double chi_square(const Runtime& rt, const sampler::Fibre& f, double theta_o, int n, unsigned seed, double* pdf_integral) {
   const int nt = 60, np = 64;
   std::vector<double> observed(static_cast<std::size_t>(nt * np), 0.0), expected(observed.size(), 0.0);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  typename S::Workspace ws;
-  auto bin_of = [&](double tr, double phi) {
-    const int i = std::min(nt - 1, std::max(0, static_cast<int>((tr + 0.5 * kPi) / kPi * nt)));
-    const int j = std::min(np - 1, std::max(0, static_cast<int>((phi + kPi) / (2.0 * kPi) * np)));
+  const Runtime::ShadingPoint sp = rt.at(f, Held(theta_o).wo);
+  auto bin_of = [&](double ti, double phi) {
+    const int i = std::min(nt - 1, std::max(0, static_cast<int>((ti + 0.5 * kPi) / kPi * nt)));
+    const int j = std::min(np - 1, std::max(0, static_cast<int>((std::remainder(phi, 2.0 * kPi) + kPi) / (2.0 * kPi) * np)));
     return static_cast<std::size_t>(i * np + j);
   };
   for (int k = 0; k < n; ++k) {
-    const double a = u(rng), b = u(rng), c = u(rng);
-    const sampler::HairSample r = s.sample(f, theta_i, a, b, c, ws);
-    if (r.pdf > 0.0) observed[bin_of(r.theta_r, r.phi)] += 1.0;
+    const double v[3] = {u(rng), u(rng), u(rng)};
+    const sampler::ScatteringSample r = sp.sample(v);
+    if (r.pdf > 0.0) observed[bin_of(r.theta_i, r.phi)] += 1.0;
   }
   std::vector<double> gx, gw;
   gauss_legendre01(6, gx, gw);
@@ -194,8 +283,8 @@ double chi_square(const S& s, const FibreCoordinates& f, double theta_i, int n, 
       double e = 0.0;
       for (std::size_t a = 0; a < gx.size(); ++a)
         for (std::size_t b = 0; b < gx.size(); ++b) {
-          const double tr = -0.5 * kPi + (i + gx[a]) * ht, phi = -kPi + (j + gx[b]) * hp;
-          e += gw[a] * gw[b] * s.pdf(f, theta_i, tr, phi, ws) * std::cos(tr);
+          const double ti = -0.5 * kPi + (i + gx[a]) * ht, phi = -kPi + (j + gx[b]) * hp;
+          e += gw[a] * gw[b] * sp.pdf(ti, phi) * std::cos(ti);
         }
       e *= ht * hp;
       total += e;
@@ -216,10 +305,36 @@ double chi_square(const S& s, const FibreCoordinates& f, double theta_i, int n, 
   return chi2_pvalue(chi2, bins - 1);
 }
 
-// The cases of the renderer tests: narrow and wide roughness, normal and grazing incidence.
+// The largest value of f over θi ∈ [−π/2, π/2] (4001 points).
+template <class F>
+double row_peak(F f) {
+  double m = 0.0;
+  for (int k = 0; k <= 4000; ++k) m = std::max(m, f(-0.5 * kPi + kPi * k / 4000.0));
+  return m;
+}
+
+// Ê of one lobe at held θo (hair_scattering.hpp, step 1): the lobe's energy table interpolated
+// linearly in (σa, θd) over its nodes, at θd = |θo − t_k|/2 on the M_p table's θi nodes t_k, then
+// linearly in θi between those; from an independent lookup (TableView of the energy table with
+// linear, clamped axes).
+inline double energy_hat(const Table& energy, const GridAxis& theta_i_axis, double sigma_a, double theta_o, double theta_i) {
+  sampler::Axis axes[2] = {energy.axes[0].view(), energy.axes[1].view()};
+  for (sampler::Axis& a : axes) a.interpolation = sampler::Interpolation::linear, a.wrap = sampler::Wrap::clamp;
+  const sampler::TableView<float> view(energy.f32.data(), axes, 2);
+  const GridAxis& ti = theta_i_axis;
+  const double h = (ti.hi - ti.lo) / (ti.count - 1), s = std::clamp((theta_i - ti.lo) / h, 0.0, ti.count - 1.0);
+  const int k = std::min(static_cast<int>(s), ti.count - 2);
+  auto at = [&](int j) {
+    const double x[2] = {sigma_a, std::fabs(0.5 * (theta_o - (ti.lo + j * h)))};
+    return view(x);
+  };
+  return at(k) + (s - k) * (at(k + 1) - at(k));
+}
+
+// The cases of the renderer tests: narrow and wide roughness, normal and grazing held directions.
 struct Case {
   const char* name;
-  double beta, theta_i;
+  double beta, theta_o;
 };
 const Case kGenericCases[] = {{"narrow", 4.5 * kDeg, 30.0 * kDeg}, {"wide", 30.0 * kDeg, -20.0 * kDeg}, {"grazing", 10.0 * kDeg, 85.0 * kDeg}};
 const Case kMaterialCases[] = {{"normal", 0.0, 10.0 * kDeg}, {"grazing", 0.0, -85.0 * kDeg}};

@@ -53,12 +53,12 @@ TEST_CASE("Periodic grids with both ends present are recognised", "[fourier][mat
 TEST_CASE("Spreading on a grid with both ends present repeats the first point at the last", "[fourier][material]") {
   const auto phis = uniform(-kPi, kTwoPi / 40, 41);
   const double beta = radians(3.0), tol = 1e-12;
-  const FiberGeometry g = FiberGeometry::make(1.55, radians(20.0));
+  const FibreGeometry g = FibreGeometry::make(1.55, radians(20.0));
   const GaussLegendreRule rule(spread_nodes(beta, 2, g, tol));
   const std::vector<SpreadLobe> lobes = {{0, beta}, {1, beta}, {2, beta}};
   const double sigma[1] = {0.4};
   std::vector<std::vector<double>> out;
-  spread_np(FiberNodes::make(g, AbsorptionPath::chord, rule), g, lobes, sigma, PeriodicGrid::of(phis), tol, out);
+  spread_np(FibreNodes::make(g, AbsorptionPath::chord, rule), g, lobes, sigma, PeriodicGrid::of(phis), tol, out);
   const AttenuationSlice slice(1.55, radians(20.0), 0.4);
   for (std::size_t l = 0; l < lobes.size(); ++l) {
     CHECK(out[l][40] == out[l][0]);

@@ -1,6 +1,6 @@
 // libFuzzer target: a small baked table set, altered as the input bytes say and written again by
 // write_hdf5 (which recomputes the content checksum, as an attacker would), then loaded
-// (read_hdf5_memory) and, when the loader accepts it, read by the runtime: the hair sampler over
+// (read_hdf5_memory) and, when the loader accepts it, read by the runtime: HairScattering over
 // the loaded tables evaluates, samples and gives pdfs at points the bytes choose. Valid outcomes
 // are an IoError or DomainError (the loader or the views refuse) or finite-or-NaN numbers; a
 // crash, a hang or a sanitizer report is a bug.
@@ -9,6 +9,7 @@
 // [4..11] a double (raw bits), [12..15] unused; then the sampler's query points from the rest.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -17,7 +18,7 @@
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/io/hdf5_io.hpp>
-#include <hairlut/tables/table_sampling.hpp>
+#include <hairlut/tables/hair_views.hpp>
 #include <hairlut/util/error.hpp>
 #include <iterator>
 #include <string>
@@ -110,18 +111,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   try {
     const hairlut::TableSet loaded = hairlut::read_hdf5_memory(bytes.data(), bytes.size(), "fuzz.h5");
-    const hairlut::HairTables h = hairlut::hair_tables(loaded, "");
-    hairlut::sampler::HairSampler<float>::Workspace ws;
+    const hairlut::sampler::HairScattering<float> rt = hairlut::hair_scattering<float>(loaded);
     double sink = 0.0;
     // Query points a renderer could ask for (the file is the hostile part, not the query).
     constexpr double kPi = 3.14159265358979323846;
     for (; at + 40 <= size; at += 40) {
-      const hairlut::sampler::FibreCoordinates f{0.01 + 0.5 * unit(data + at), 2.0 * unit(data + at + 8), 0.0};
-      const double theta_i = (unit(data + at + 16) - 0.5) * kPi, theta_r = (unit(data + at + 24) - 0.5) * kPi;
+      hairlut::sampler::Fibre f;
+      f.beta_m = f.beta_n = 0.01 + 0.5 * unit(data + at);
+      f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = 2.0 * unit(data + at + 8);
+      const double theta_o = (unit(data + at + 16) - 0.5) * kPi, theta_i = (unit(data + at + 24) - 0.5) * kPi;
       const double phi = (2.0 * unit(data + at + 32) - 1.0) * kPi;
-      sink += h.sampler->eval(f, theta_i, theta_r, phi);
-      sink += h.sampler->pdf(f, theta_i, theta_r, phi, ws);
-      sink += h.sampler->sample(f, theta_i, unit(data + at + 24), unit(data + at + 32), unit(data + at), ws).pdf;
+      double rgb[3];
+      rt.eval(f, theta_o, theta_i, phi, rgb);
+      sink += rgb[0];
+      const double wo[3] = {std::sin(theta_o), std::cos(theta_o), 0.0};
+      const hairlut::sampler::HairScattering<float>::ShadingPoint sp = rt.at(f, wo);
+      sink += sp.pdf(theta_i, phi);
+      const double u[3] = {unit(data + at + 24), unit(data + at + 32), unit(data + at)};
+      sink += sp.sample(u).pdf;
     }
     (void)sink;
   } catch (const hairlut::IoError& e) {

@@ -38,13 +38,13 @@
 #include <hairlut/bake/np_point.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/tables/hair_views.hpp>
-#include <hairlut/tables/table_sampling.hpp>
 #include <hairlut/report/validate.hpp>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "bound_tables.hpp"
 #include "common/cli.hpp"
 
 namespace {
@@ -52,7 +52,8 @@ namespace {
 namespace fs = std::filesystem;
 using hairlut::sampler::AxisRow;
 using hairlut::sampler::AxisSampler;
-using hairlut::sampler::FibreCoordinates;
+using render::Coordinate;
+using render::FibreCoordinates;
 constexpr double kPi = 3.14159265358979323846;
 
 struct Vec {
@@ -97,7 +98,7 @@ double direct_s(const Look& look, int channel, double eta, hairlut::AbsorptionPa
 
 // The bound B on |S_table − S_direct| at one direction (see the top of this file).
 struct Bounder {
-  const hairlut::HairTables* h;
+  const render::BoundTables* h;
   std::vector<AxisSampler<float>> mp, np;
   double eps_m = 0.0, eps_n = 0.0, eps_e = 0.0;
   double operator()(const FibreCoordinates& f, double ti, double tr, double phi, AxisRow& row) const {
@@ -105,16 +106,16 @@ struct Bounder {
     for (std::size_t p = 0; p < h->lobes.size(); ++p) {
       const auto& l = h->lobes[p];
       double x[8];
-      auto fill = [&](const hairlut::sampler::TableRef<float>& t, double sigma) {
+      auto fill = [&](const render::TableRef& t, double sigma) {
         for (int d = 0; d < t.dims; ++d) {
           switch (t.coords[d]) {
-            case hairlut::sampler::Coordinate::beta: x[d] = f.beta; break;
-            case hairlut::sampler::Coordinate::sigma_a: x[d] = sigma; break;
-            case hairlut::sampler::Coordinate::channel: x[d] = f.channel; break;
-            case hairlut::sampler::Coordinate::theta_d: x[d] = 0.5 * (tr - ti); break;
-            case hairlut::sampler::Coordinate::theta_i: x[d] = ti; break;
-            case hairlut::sampler::Coordinate::theta_r: x[d] = tr; break;
-            case hairlut::sampler::Coordinate::phi: x[d] = phi; break;
+            case Coordinate::beta: x[d] = f.beta; break;
+            case Coordinate::sigma_a: x[d] = sigma; break;
+            case Coordinate::channel: x[d] = f.channel; break;
+            case Coordinate::theta_d: x[d] = 0.5 * (tr - ti); break;
+            case Coordinate::theta_i: x[d] = ti; break;
+            case Coordinate::theta_r: x[d] = tr; break;
+            case Coordinate::phi: x[d] = phi; break;
             default: x[d] = 0.0;
           }
         }
@@ -141,7 +142,7 @@ struct Bounder {
       fill(l.np, f.sigma_a);
       const double n = std::max(0.0, nv(x)) * factor;
       double d;  // the validator's denominator for this N_p, bounded from the tables
-      const bool has_phi = l.np.coords[l.np.dims - 1] == hairlut::sampler::Coordinate::phi;
+      const bool has_phi = l.np.coords[l.np.dims - 1] == Coordinate::phi;
       const double eps = l.factor.data ? eps_n + eps_e * (1.0 + eps_n) : eps_n;
       if (!has_phi) {
         d = n / (1.0 - eps_e);  // residual: relative error of the value itself
@@ -151,7 +152,7 @@ struct Bounder {
       np[p].blend(x, row);
       const double peak_n = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * factor;
       fill(l.np, 0.0);
-      if (l.np.coords[0] == hairlut::sampler::Coordinate::channel) x[0] = f.channel;  // per-material: white is not in the table
+      if (l.np.coords[0] == Coordinate::channel) x[0] = f.channel;  // per-material: white is not in the table
       np[p].blend(x, row);
       const double peak_white = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * white_factor;
       d = std::max(peak_n, 1e-3 * peak_white) / (1.0 - eps);
@@ -282,7 +283,7 @@ int main(int argc, char** argv) {
     const double l_sun = 1.5, l_env = 0.15, exposure = 1.0;
     bool within = true;
     for (Look& look : looks) {
-      const hairlut::HairTables h = hairlut::hair_tables(set, look.group);
+      const render::BoundTables h = render::bound_tables(set, look.group);
       // Per-lobe physics parameters from the tables' attributes.
       for (std::size_t p = 0; p < h.lobes.size(); ++p) {
         const std::string& lobe = h.lobe_names[p];

@@ -271,7 +271,7 @@ void unit_attenuation_np(double eta, int p, double theta_d, std::span<const doub
     if (!std::isfinite(f)) throw_domain_error("phi", "must be finite", f);
   out.assign(betas.size() * phis.size(), 0.0);
   if (betas.empty() || phis.empty()) return;
-  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
+  const FibreGeometry g = FibreGeometry::make(eta, theta_d);
   const double beta_min = *std::min_element(betas.begin(), betas.end());
   const int N = fourier_terms(beta_min, tolerance);
   const int order = fourier_nodes(N, p, g, tolerance);

@@ -6,7 +6,7 @@
 #include "hairlut/util/angles.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
-#include "hairlut/physics/fiber_geometry.hpp"
+#include "hairlut/physics/fibre_geometry.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/melanin.hpp"
@@ -109,7 +109,7 @@ std::optional<TableTruth> marschner_truth(const Table& t, const MarschnerConfig&
 PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double sigma, int p, double beta_min, int beta_axis, double beta_fixed,
                          int phi_axis) {
   constexpr double kTolerance = 1e-10;
-  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
+  const FibreGeometry g = FibreGeometry::make(eta, theta_d);
   const int terms = fourier_terms(beta_min, kTolerance);
   const GaussLegendreRule rule(fourier_nodes(terms, p, g, kTolerance));
   struct State {
@@ -138,7 +138,7 @@ PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double
 // Where N_p of lobe p has features in |φ| at θd: the lobe's edges Φ(p, ±1) and, for p ≥ 2 when
 // it exists, the caustic Φ(p, ±h_c) (dΦ/dh = 0), each wrapped to [0, π].
 std::vector<double> np_features(double eta, double theta_d, int p) {
-  const FiberGeometry g = FiberGeometry::make(eta, std::clamp(theta_d, -kHalfPi, kHalfPi));
+  const FibreGeometry g = FibreGeometry::make(eta, std::clamp(theta_d, -kHalfPi, kHalfPi));
   std::vector<double> out;
   auto add = [&](double gamma_i) {
     const double phi = wrap_azimuth(exit_azimuth(p, gamma_i, gamma_transmitted(std::sin(gamma_i), g.inv_eta_prime)));

@@ -264,7 +264,7 @@ json compare_for(const TableSet& set, const ModelInfo& info, const ValidationOpt
     const auto b = mt->axes[0].nodes();
     s.beta_r = b[b.size() / 2];
   }
-  s.fiber = "from the tables' metadata";
+  s.fibre = "from the tables' metadata";
   return compare_models(s);
 }
 
