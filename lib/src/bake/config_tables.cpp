@@ -4,7 +4,6 @@
 #include <cmath>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <string>
 
 #include "config_parse.hpp"
@@ -195,25 +194,6 @@ void parse_melanin_tables(const json& tables, BakeConfig& c) {
     fail("tables.melanin.path_length", "must lie in [0.001, 1000] fiber radii (got " + json(c.melanin_path_length).dump() + ")");
 }
 
-namespace {
-// A material's roughness lies in the domain of the β axes of generic tables, [1e-6 rad, π]: below
-// it M_p is narrower than any table can hold and its sampling data overflow (a baked file that
-// its own loader refuses).
-void check_material_roughness(const json& mj, const std::string& path) {
-  for (const char* key : {"beta_deg", "beta_n_deg"}) {
-    if (!mj.contains(key)) continue;
-    for (const auto& [lobe, value] : mj.at(key).items()) {
-      const double deg = value.get<double>();
-      if (!(deg * kPi / 180.0 >= 1e-6) || !(deg <= 180.0)) {
-        std::ostringstream s;
-        s.precision(6);
-        s << "must lie within [" << 1e-6 * 180.0 / kPi << ", 180] degrees (got " << deg << ")";
-        fail(path + "." + key + "." + lobe, s.str());
-      }
-    }
-  }
-}
-}  // namespace
 
 void parse_scene(const json& doc, BakeConfig& c) {
   const json& s = doc.at("scene");
@@ -257,7 +237,6 @@ void parse_scene(const json& doc, BakeConfig& c) {
       for (int lobe = 0; lobe < c.lobe_count; ++lobe)
         m.beta_m.push_back(b.contains(lobe_name(lobe)) ? radians(b.at(lobe_name(lobe)).get<double>()) : table1.beta[lobe]);
       m.beta_n = m.beta_m;
-      check_material_roughness(mj, path);
       scene.materials.push_back(std::move(m));
       continue;
     }
@@ -266,7 +245,6 @@ void parse_scene(const json& doc, BakeConfig& c) {
       per_lobe_values(mj.at("beta_n_deg"), path + ".beta_n_deg", c.lobe_count, kPi / 180.0, m.beta_n, m.residual_beta_n);
     else
       m.beta_n = m.beta_m, m.residual_beta_n = m.residual_beta_m;
-    check_material_roughness(mj, path);
     scene.materials.push_back(std::move(m));
   }
   c.scene = std::move(scene);
