@@ -141,14 +141,25 @@ class AxisSampler {
     }
     // The blended node row: Σ over the tensor product of the taps of the node rows.
     std::vector<double>& v = row.nodes;
-    v.assign(static_cast<std::size_t>(n_), 0.0);
+    v.resize(static_cast<std::size_t>(n_));
+    // Raw pointers: the vector's own members could alias the stores for all the compiler knows,
+    // which keeps this loop (the runtime's largest per shading point) from vectorising.
+    double* __restrict out = v.data();
+    const int n = n_;
+    bool first = true;
     each_corner(tp, [&](double w, std::size_t offset) {
       if (w != 0.0) {
-        const T* src = data_ + offset;
-        for (int j = 0; j < n_; ++j) v[static_cast<std::size_t>(j)] += w * static_cast<double>(src[j]);
+        const T* __restrict src = data_ + offset;
+        if (first) {
+          for (int j = 0; j < n; ++j) out[j] = w * static_cast<double>(src[j]);
+          first = false;
+        } else {
+          for (int j = 0; j < n; ++j) out[j] += w * static_cast<double>(src[j]);
+        }
       }
       return true;
     });
+    if (first) std::fill(v.begin(), v.end(), 0.0);
     // Cell polynomials, with sampler.hpp's end rules along the sampled axis.
     row.coef.resize(static_cast<std::size_t>(n_ - 1) * 4);
     if (!with_masses) {
@@ -190,13 +201,15 @@ class AxisSampler {
   /// the normalisation Σ w_c E_c + Σ fixes.
   struct Mix {
     static constexpr int max_corners = 64, max_fixes = 48, max_nodes = 256;
+    // Only the first `count` corners and `fixes` fixes are read, and mix() writes them: the arrays
+    // are left uninitialised, since a Mix is made per lobe per sample.
     int count = 0, fixes = 0;
     double node[max_nodes];          // blended node values, where `blended` says so (mix()'s scratch)
     unsigned char blended[max_nodes];
-    std::size_t slice[max_corners] = {};
-    double w[max_corners] = {};
-    int fix_cell[max_fixes] = {};
-    double fix_add[max_fixes] = {};
+    std::size_t slice[max_corners];
+    double w[max_corners];
+    int fix_cell[max_fixes];
+    double fix_add[max_fixes];
     double total = 0.0;
   };
   /// True when the mixture path is exact (to rounding) at the other coordinates x[0 … dims − 2]:

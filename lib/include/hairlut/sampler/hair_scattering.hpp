@@ -435,8 +435,14 @@ class HairScattering {
   }
   bool at_theta_o(const Fibre& f, double theta_o, Point& pt) const {
     pt.theta_o = theta_o;
-    Lerp ls[kMaxLobes][3];
     double sum = 0.0;
+    std::vector<double> ebar;
+    // Where θd falls on the energy table's axis at each θi node: the same for every lobe whose
+    // energy and M_p axes match the previous lobe's (all of them, in a baked set), so located once.
+    std::vector<Lerp> at_node;
+    std::vector<char> located;
+    const Shaping* located_for = nullptr;
+    const CosineMoments* located_mom = nullptr;
     for (int p = 0; p < lobes_; ++p) {
       const double x[2] = {f.beta_m, held(f, p, theta_o)};
       m_axis_[p].blend(x, pt.m[p], false);
@@ -444,21 +450,34 @@ class HairScattering {
       if (!pt.m[p].ok) continue;
       const CosineMoments& mom = mom_[p];
       const Shaping& sh = shaping_[p];
-      if (sh.valid)
-        for (int c = 0; c < 3; ++c) ls[p][c] = sh.sigma.locate(f.sigma_a[c]);
-      const std::size_t nt = static_cast<std::size_t>(sh.theta.axis.count);
-      // Ê at θi node k: the channels' energies, bilinear in (σa, θd) on the energy table's nodes.
+      // Ê is bilinear in (σa, θd) on the energy table's nodes, averaged over the channels: the
+      // channels' mean at σa is taken once on each θd node (a linear map), so that each θi node
+      // below reads one θd interpolation.
+      if (sh.valid) {
+        const std::size_t nt = static_cast<std::size_t>(sh.theta.axis.count);
+        ebar.assign(nt, 0.0);
+        for (int c = 0; c < 3; ++c) {
+          const Lerp ls = sh.sigma.locate(f.sigma_a[c]);
+          const double* r0 = &sh.e[static_cast<std::size_t>(ls.i0) * nt];
+          const double* r1 = &sh.e[static_cast<std::size_t>(ls.i1) * nt];
+          const double w0 = (1.0 - ls.w) / 3.0, w1 = ls.w / 3.0;
+          for (std::size_t j = 0; j < nt; ++j) ebar[j] += w0 * r0[j] + w1 * r1[j];
+        }
+      }
+      if (sh.valid && !(located_for && same_axis(located_for->theta.axis, sh.theta.axis) && located_mom->lo() == mom.lo() &&
+                        located_mom->h() == mom.h() && located_mom->cells() == mom.cells())) {
+        located_for = &sh, located_mom = &mom;
+        at_node.resize(static_cast<std::size_t>(mom.cells()) + 1);
+        located.assign(static_cast<std::size_t>(mom.cells()) + 1, 0);
+      }
       pt.g[p].prepare(mom, pt.m[p].coef.data(), [&](int k) {
         if (!sh.valid) return 1.0;
-        const Lerp lt = sh.theta.locate(std::fabs(0.5 * (theta_o - (mom.lo() + k * mom.h()))));
-        double v = 0.0;
-        for (int c = 0; c < 3; ++c) {
-          const double* r0 = &sh.e[static_cast<std::size_t>(ls[p][c].i0) * nt];
-          const double* r1 = &sh.e[static_cast<std::size_t>(ls[p][c].i1) * nt];
-          const double w = ls[p][c].w;
-          v += (1.0 - w) * ((1.0 - lt.w) * r0[lt.i0] + lt.w * r0[lt.i1]) + w * ((1.0 - lt.w) * r1[lt.i0] + lt.w * r1[lt.i1]);
+        Lerp& lt = at_node[static_cast<std::size_t>(k)];
+        if (!located[static_cast<std::size_t>(k)]) {
+          lt = sh.theta.locate(std::fabs(0.5 * (theta_o - (mom.lo() + k * mom.h()))));
+          located[static_cast<std::size_t>(k)] = 1;
         }
-        return v / 3.0;
+        return (1.0 - lt.w) * ebar[static_cast<std::size_t>(lt.i0)] + lt.w * ebar[static_cast<std::size_t>(lt.i1)];
       });
       pt.c[p] = pt.g[p].total();
       sum += pt.c[p];
@@ -573,6 +592,10 @@ class HairScattering {
       s += share[q] * d;
     }
     return s / norm;
+  }
+  static bool same_axis(const Axis& a, const Axis& b) {
+    return a.spacing == b.spacing && a.placement == b.placement && a.wrap == b.wrap && a.lo == b.lo && a.hi == b.hi && a.count == b.count &&
+           a.values == b.values && a.interpolation == b.interpolation && a.lo_end == b.lo_end;
   }
   // The axis with its ends clamped: θd and σa reach the shaping tables as |θd| ≤ π/2 and σa ≥ 0, so
   // an even θd axis needs no fold there (and locate() no remainder).
