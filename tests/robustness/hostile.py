@@ -18,6 +18,7 @@ the documented exit code, and no file left where none may be. Probes:
                  (130/143/129)
   stale-temps    a SIGKILLed bake's temporaries are removed by the next bake; user files that look
                  like temporaries (any pid) survive; no temporary is written through a link
+  sidecars       a 60 MB sidecar read in bounded memory; oversized, deep or long-listed sidecars refused
   storage        external storage (a copy, /dev/zero, a FIFO, a relative path), virtual datasets,
                  external and soft links, never-written values: refused before any value is read
   heap-scan      a file packed with overlapping global-heap signatures is screened in linear time
