@@ -197,6 +197,60 @@ TEST_CASE("Up to date means the contents match, not only the sizes", "[io][hosti
   CHECK_FALSE(outputs_up_to_date(c));
 }
 
+// The loader's refusal of `p`, or "" when it loads.
+std::string load_refusal(const fs::path& p) {
+  try {
+    load_tables(p);
+    return "";
+  } catch (const IoError& e) {
+    return e.what();
+  }
+}
+
+TEST_CASE("Sidecars are read for the fields the loader uses; large, deep or long-listed ones are refused naming the file", "[io][hostile]") {
+  const fs::path dir = temp_dir("sidecar");
+  const BakeConfig c = config_in(dir);
+  BakeReport report;
+  write_outputs(bake(c, {}, &report), c, report);
+  const fs::path h5 = output_paths(c).hdf5, side = output_paths(c).sidecar;
+  const std::string text = file_bytes(side);
+  const json doc = json::parse(text);
+  REQUIRE(load_refusal(h5).empty());
+  // A field the loader does not use, of 4 MB of nested objects: read, and the kept fields still
+  // decide (the set is up to date; a wrong recorded size is refused).
+  std::string unit;
+  for (int i = 0; i < 20; ++i) unit += "{\"a\":";
+  unit += "0" + std::string(20, '}');
+  std::string padding = "[";
+  while (padding.size() < (std::size_t{4} << 20)) padding += unit + ",";
+  padding.back() = ']';
+  write_bytes(side, text.substr(0, text.rfind('}')) + ", \"padding\": " + padding + "}");
+  CHECK(load_refusal(h5).empty());
+  CHECK(outputs_up_to_date(c));
+  json wrong = doc;
+  for (json& f : wrong["files"]) f["bytes"] = f["bytes"].get<std::uint64_t>() + 1;
+  std::string wrong_text = wrong.dump();
+  write_bytes(side, wrong_text.substr(0, wrong_text.rfind('}')) + ", \"padding\": " + padding + "}");
+  CHECK(load_refusal(h5).find("does not match its set's sidecar") != std::string::npos);
+  CHECK_FALSE(outputs_up_to_date(c));
+  // Nested too deeply, a "files" list too long, over the size cap (a sparse file: the size is
+  // refused before anything is read): one line naming the sidecar, and not up to date.
+  json long_list = doc;
+  for (int i = 0; i < 20000; ++i) long_list["files"].push_back({{"path", "x" + std::to_string(i)}});
+  const std::string deep = text.substr(0, text.rfind('}')) + ", \"x\": " + std::string(5000, '[') + std::string(5000, ']') + "}";
+  for (const auto& [contents, phrase] : {std::pair<std::string, std::string>{deep, "nests deeper than 24 levels"},
+                                         {long_list.dump(), "holds more than 65536 values"}, {"", "is 257.0 MiB, more than the 256 MiB"}}) {
+    write_bytes(side, contents);
+    if (contents.empty()) fs::resize_file(side, std::uintmax_t{257} << 20);
+    const std::string why = load_refusal(h5);
+    CHECK(why.rfind(side.string() + ": the set's sidecar ", 0) == 0);
+    CHECK(why.find(phrase) != std::string::npos);
+    CHECK(why.find('\n') == std::string::npos);
+    CHECK_FALSE(outputs_up_to_date(c));
+  }
+  fs::remove_all(dir);
+}
+
 namespace {
 
 // The message of read_hdf5 on `set` written with a valid checksum (the writer computes it), or

@@ -234,8 +234,76 @@ def config_sweep(h, bases):
     print("ok  " + sweep.summary(results, unreached))
 
 
+def probe_sidecars(h):
+    """Sidecars (the .json beside a set) that are large, deep or hold a long "files" list: a 60 MB
+    sidecar of nested objects is read in bounded memory (only the fields the loader uses are kept);
+    one over the size cap, one nested too deeply and one whose "files" list is too long are refused
+    in one line naming the sidecar."""
+    import threading
+    d = os.path.join(h.WORK, "sidecars")
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    src = h.baked_tiny()
+    for ext in ("h5", "json"):
+        shutil.copyfile(os.path.join(src, "t." + ext), os.path.join(d, "t." + ext))
+    side_path = os.path.join(d, "t.json")
+    side = json.load(open(side_path))
+    validate = [h.VALIDATE, os.path.join(d, "t.h5"), "--quiet", "--max-points", "200", "--no-search", "--out", os.path.join(d, "r")]
+
+    def peak(args):
+        """(rc, stderr, peak RSS of this child alone in MiB, seconds); killed after 120 s (a hang)."""
+        t0 = time.monotonic()
+        with open(os.path.join(d, "stderr.txt"), "w+") as ef:
+            p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=ef)
+            timer = threading.Timer(120, p.kill)
+            timer.start()
+            _, status, usage = os.wait4(p.pid, 0)
+            timer.cancel()
+            p.returncode = os.waitstatus_to_exitcode(status)
+            ef.seek(0)
+            err = ef.read()
+        if p.returncode == -9:
+            h.fail("hang: %s did not finish in 120 s" % " ".join(args)[:200])
+        return p.returncode, err, usage.ru_maxrss / 1024.0, time.monotonic() - t0
+
+    rc, err, base, _ = peak(validate)
+    if rc not in (0, 1):
+        h.fail("the unaltered set: validate exit %s: %s" % (rc, err[-300:]))
+        return
+    # 60 MB of nested objects (20 levels each) in a field the loader does not use.
+    unit = "{\"a\":" * 20 + "0" + "}" * 20
+    count = (60 << 20) // (len(unit) + 1)
+    # Written in pieces: a child's peak RSS counts this process's memory at the fork.
+    text = json.dumps(side)
+    with open(side_path, "w") as f:
+        f.write(text[:-1] + ', "padding": [' + unit)
+        piece = ("," + unit) * 4096
+        for _ in range(count // 4096):
+            f.write(piece)
+        f.write("]}")
+    mb = os.path.getsize(side_path) / 1e6
+    rc, err, top, secs = peak(validate)
+    if rc not in (0, 1):
+        h.fail("a %.0f MB sidecar of nested objects: validate exit %s: %s" % (mb, rc, err[-300:]))
+    elif top > base + 400:
+        h.fail("a %.0f MB sidecar of nested objects: peak RSS %.0f MiB against %.0f MiB with the written sidecar" % (mb, top, base))
+    else:
+        print("ok  a %.0f MB sidecar of nested objects: exit %d in %.2f s, peak RSS %.0f MiB (written sidecar: %.0f MiB)" % (mb, rc, secs, top, base))
+    # Over the size cap (256 MiB; refused before reading, so a sparse file will do).
+    with open(side_path, "w") as f:
+        f.truncate(257 << 20)
+    h.expect_error("a 257 MiB sidecar", validate, 2, "t.json: the set's sidecar is 257.0 MiB", timeout=30)
+    for what, text, phrase in (("a sidecar nested 100000 levels deep", text[:-1] + ', "x": ' + "[" * 100000 + "]" * 100000 + "}", "nests deeper"),
+                               ("a sidecar whose files list holds 100000 entries",
+                                json.dumps(dict(side, files=side["files"] + [{"path": "x%d" % i} for i in range(100000)])), "holds more than")):
+        with open(side_path, "w") as f:
+            f.write(text)
+        h.expect_error(what, validate, 2, "t.json: " + "the set's sidecar " + phrase, timeout=30)
+
+
 # The dual-scattering base apart: validating one of its bakes takes about 12 s of CPU (the direct
 # dual-scattering integrals), three times that under the sanitizers, so it runs in the release
 # build only and every other base in the sanitizer build.
 PROBES = {"stale-temps": probe_stale_temps, "storage": probe_storage, "heap-scan": probe_heap_scan, "resources": probe_resources,
+          "sidecars": probe_sidecars,
           "config-sweep": lambda h: config_sweep(h, "-ds"), "config-sweep-ds": lambda h: config_sweep(h, "ds")}

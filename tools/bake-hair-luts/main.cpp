@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "common/cli.hpp"
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -45,6 +46,11 @@ std::optional<std::string> output_directory_problem(std::filesystem::path dir) {
   while (!existing.empty() && !std::filesystem::exists(existing, ec) && existing != existing.parent_path()) existing = existing.parent_path();
   if (!std::filesystem::is_directory(existing, ec))
     return dir.string() + ": cannot create the output directory (" + existing.string() + " is not a directory)";
+  // A file system without storage (procfs, sysfs: statvfs reports no blocks) takes no new
+  // directory or file, whatever access() says for root.
+  struct statvfs fs {};
+  if (::statvfs(existing.c_str(), &fs) == 0 && fs.f_blocks == 0)
+    return dir.string() + ": cannot write files there (" + existing.string() + " is on a file system without storage)";
   if (::access(existing.c_str(), W_OK | X_OK) != 0)
     return dir.string() + ": cannot write into " + (existing == dir ? std::string("the output directory") : existing.string()) + " (" +
            std::generic_category().message(errno) + ")";
@@ -95,9 +101,16 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     return 2;
   }
   if (!output_dir.empty()) config.output.directory = output_dir;
+  // The bake writes there at its end: an unwritable place is refused before the work (and --check
+  // says valid only for what the bake accepts).
+  if (const auto why = output_directory_problem(config.output.directory)) {
+    std::fprintf(stderr, "bake-hair-luts: error: %s\n", why->c_str());
+    return 1;
+  }
   // Size up front: refuse what cannot fit in memory or on disk before any work; tables over the
   // memory budget are baked slab by slab.
-  const hairlut::BakeEstimate size = hairlut::estimate_bake(config);
+  const int bake_threads = threads > 0 ? threads : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
+  const hairlut::BakeEstimate size = hairlut::estimate_bake(config, bake_threads);
   const double mib = 1024.0 * 1024.0;
   const auto physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
   // A budget cannot exceed the machine: it bounds what the plan may hold in memory at once, and
@@ -118,10 +131,20 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
     return 1;
   }
   if (const auto free_bytes = free_disk_bytes(config.output.directory); free_bytes && size.disk_bytes > *free_bytes) {
-    std::fprintf(stderr, "bake-hair-luts: error: %s: the files need about %.0f MiB on disk before compression (%llu values), more than this machine has free in %s (%.0f MiB)\n",
+    std::fprintf(stderr, "bake-hair-luts: error: %s: the files need up to %.1f MiB on disk before compression (%llu values), more than this machine has free in %s (%.1f MiB)\n",
                  config_path.c_str(), static_cast<double>(size.disk_bytes) / mib, static_cast<unsigned long long>(size.values),
                  config.output.directory.string().c_str(), static_cast<double>(*free_bytes) / mib);
     return 1;
+  }
+  // What the bake refuses for slabs (sampling data, target_error, ...) is refused here too, before
+  // the work and by --check.
+  if (plan.slabbed) {
+    try {
+      hairlut::check_slab_by_slab(config);
+    } catch (const hairlut::DomainError& e) {
+      std::fprintf(stderr, "bake-hair-luts: error: %s: %s\n", config_path.c_str(), e.what());
+      return 1;
+    }
   }
   if (plan.slabbed && config.output.exr) {
     std::fprintf(stderr, "bake-hair-luts: error: %s: output.exr: the tables exceed the memory budget of %.0f MiB and are baked slab by slab "
@@ -129,16 +152,11 @@ failure, 2 bad config or command line (one line "bake-hair-luts: error: ..." on 
                  config_path.c_str(), static_cast<double>(budget) / mib);
     return 1;
   }
-  // The bake writes there at its end: an unwritable place is refused before the work (and --check
-  // says valid only for what the bake accepts).
-  if (const auto why = output_directory_problem(config.output.directory)) {
-    std::fprintf(stderr, "bake-hair-luts: error: %s\n", why->c_str());
-    return 1;
-  }
   if (check) {
     if (!quiet) {
       std::printf("%s: valid (config hash %s)\n", config_path.c_str(), config.hash.c_str());
-      std::printf("estimate: %llu values, at most %.1f MiB on disk before compression\n", static_cast<unsigned long long>(size.values),
+      std::printf("estimate: %llu values; disk about %.1f MiB (at most %.1f MiB before compression)\n",
+                  static_cast<unsigned long long>(size.values), static_cast<double>(size.disk_expected_bytes) / mib,
                   static_cast<double>(size.disk_bytes) / mib);
       if (plan.slabbed)
         std::printf("memory: peak about %.1f MiB within the budget of %.0f MiB: generic N_p and M_p baked and written slab by slab "

@@ -28,6 +28,8 @@ json quadrature_json(const NpQuadratureConfig& q) {
           {"energy_method", "gauss-legendre in gamma over [0, pi/2]"}};
 }
 
+}  // namespace
+
 // Tables larger than the memory budget are baked slab by slab, which every checksummed note must
 // precede: refuse what needs whole tables.
 void check_slab_by_slab(const BakeConfig& c) {
@@ -42,6 +44,8 @@ void check_slab_by_slab(const BakeConfig& c) {
     throw DomainError("tables.np.quadrature.method adaptive: tables larger than the memory budget are baked slab by slab, which needs "
                       "the fourier or gauss-legendre method (or raise --memory-budget)");
 }
+
+namespace {
 
 // The table set's self-description: model, conventions, lobes (after folding), quadrature, config.
 void describe(const BakeConfig& c, const detail::BakeRun& s, const BakeReport& report, Precision precision, TableSet& set) {

@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/bake/engine_presets.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
+#include "hairlut/sampler/axis_sampling.hpp"
 
 namespace hairlut {
 namespace {
@@ -27,54 +29,183 @@ std::uint64_t grid(const std::vector<GridAxis>& axes, const std::vector<std::str
   return n;
 }
 
+const GridAxis* named(const std::vector<GridAxis>& axes, const std::string& name) {
+  for (const GridAxis& a : axes)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
+// Whether the importance sampler supports a table over `axes` sampled along the last
+// (table_sampling.cpp writes sampling data exactly for those).
+bool sampled(const std::vector<const GridAxis*>& axes) {
+  std::vector<sampler::Axis> views;
+  for (const GridAxis* a : axes) {
+    if (!a) return false;
+    views.push_back(a->view());
+  }
+  return views.size() >= 2 && sampler::AxisSampler<float>::supports(views.data(), static_cast<int>(views.size()));
+}
+
+// The tally of tables, one call per table (or per `copies` identical tables).
+struct Tally {
+  std::uint64_t values = 0, table_bytes = 0, sampling_bytes = 0, sampling_values = 0, largest = 0, tables = 0;
+  std::uint64_t value_bytes = 4;
+  bool sampling = true;
+  // `n` values per table; `last`: the count of the sampled axis when the sampler's data are
+  // written beside it (0: none).
+  void table(std::uint64_t n, std::uint64_t copies = 1, std::uint64_t last = 0) {
+    values = add(values, mul(n, copies));
+    table_bytes = add(table_bytes, mul(mul(n, value_bytes), copies));
+    largest = std::max(largest, mul(n, value_bytes));
+    tables = add(tables, copies);
+    if (sampling && last > 0) {
+      const std::uint64_t slices = n / last;
+      sampling_bytes = add(sampling_bytes, mul(add(mul(n, 12), mul(slices, 8)), copies));
+      sampling_values = add(sampling_values, mul(add(mul(n, 2), slices), copies));
+      largest = std::max(largest, mul(n, 8));
+      tables = add(tables, mul(3, copies));
+    }
+  }
+};
+
+// Tables of a dual-scattering or mean-energy group with L lobe entries (explicit and residual):
+// the ten shared dual-scattering quantities and a_f, a_b per lobe; E per lobe and the total.
+std::uint64_t dual_scattering_tables(std::uint64_t lobes) { return 10 + 2 * lobes; }
+std::uint64_t mean_energy_tables(std::uint64_t lobes) { return lobes + 1; }
+
 }  // namespace
 
-BakeEstimate estimate_bake(const BakeConfig& c) {
-  const std::uint64_t lobes = static_cast<std::uint64_t>(std::max(c.lobe_count, 0)) + (c.residual ? 1 : 0);
-  const bool generic = !c.marschner && !(c.scene && c.scene->mode == SceneConfig::Mode::per_material);
-  std::uint64_t values = 0, slabbable = 0, row = 0;
-  if (c.np_axes) {
-    const std::uint64_t explicit_lobes = static_cast<std::uint64_t>(std::max(c.lobe_count, 0));
-    values = add(values, mul(grid(*c.np_axes), explicit_lobes));                        // N_p per explicit lobe
-    if (generic) {
-      slabbable = add(slabbable, mul(grid(*c.np_axes), explicit_lobes));
-      row = std::max(row, grid(*c.np_axes, {"beta"}));
-    }
-    values = add(values, mul(grid(*c.np_axes, {"phi", "phi_h"}), lobes + (c.residual ? 1 : 0)));  // energies, residual
+BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
+  const std::uint64_t explicit_lobes = static_cast<std::uint64_t>(std::max(c.lobe_count, 0));
+  const std::uint64_t lobes = explicit_lobes + (c.residual ? 1 : 0);
+  const bool per_material = c.scene && c.scene->mode == SceneConfig::Mode::per_material;
+  const bool generic = !c.marschner && !per_material;
+  Tally t;
+  t.value_bytes = c.output.hdf5_double ? 8 : 4;
+  t.sampling = c.output.sampling_data;
+  std::uint64_t slabbable = 0, row = 0;
+  if (c.np_axes && generic) {  // N_p over (β, σa, θd, φ) per explicit lobe; energies and the residual over (σa, θd)
+    const std::vector<GridAxis>& ax = *c.np_axes;
+    const bool s = sampled({named(ax, "beta"), named(ax, "sigma_a"), named(ax, "theta_d"), named(ax, "phi")});
+    t.table(grid(ax), explicit_lobes, s ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0);
+    slabbable = add(slabbable, mul(grid(ax), explicit_lobes));
+    row = std::max(row, grid(ax, {"beta"}));
+    t.table(c.np_energy_axes ? grid(*c.np_energy_axes) : grid(ax, {"beta", "phi"}), explicit_lobes + (c.residual ? 2 : 0));
   }
-  if (c.np_fourier) {  // the coefficients per explicit lobe; the residual's, the energy and residual tables (energy axes)
+  if (c.np_axes && per_material) {  // per material: RGB N_p over (θd, φ) per explicit lobe, the residual's and the energies over θd
+    const std::vector<GridAxis>& ax = *c.np_axes;
+    const GridAxis rgb = channel_axis({"R", "G", "B"}, "channel");
+    const bool s = sampled({&rgb, named(ax, "theta_d"), named(ax, "phi")});
+    const auto materials = static_cast<std::uint64_t>(c.scene->materials.size());
+    const std::uint64_t slice = grid(ax, {"beta", "sigma_a", "phi"});  // θd (the generic axes are not baked)
+    t.table(mul(mul(3, slice), grid(ax, {"beta", "sigma_a", "theta_d"})), mul(explicit_lobes, materials),
+            s ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0);
+    t.table(mul(3, slice), mul(lobes + (c.residual ? 1 : 0), materials));
+  }
+  if (c.np_axes && c.marschner) {  // N_p over (σa, θd, φ) per lobe, TRT of an eccentric fibre over φh too; energies without φ
+    const std::vector<GridAxis>& ax = *c.np_axes;
+    const GridAxis* h = c.marschner->params.eccentricity != 1.0 ? named(ax, "phi_h") : nullptr;
+    for (std::uint64_t p = 0; p < explicit_lobes; ++p) {
+      const bool with_h = p == 2 && h;
+      std::vector<const GridAxis*> order = {named(ax, "sigma_a"), named(ax, "theta_d")};
+      if (with_h) order.push_back(h);
+      order.push_back(named(ax, "phi"));
+      const std::uint64_t n = with_h ? grid(ax) : grid(ax, {"phi_h"});
+      t.table(n, 1, sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0);
+      t.table(n / static_cast<std::uint64_t>(std::max(named(ax, "phi") ? named(ax, "phi")->count : 1, 1)));
+    }
+  }
+  if (c.np_fourier && !per_material) {  // the coefficients per explicit lobe; the residual's, the energy and residual tables (energy axes)
     const FourierNpConfig& f = *c.np_fourier;
     const auto terms = static_cast<std::uint64_t>((fourier_terms(f.beta_lo, f.tolerance) + 4) / 4 * 4);
-    values = add(values, mul(mul(grid(f.axes), terms), static_cast<std::uint64_t>(std::max(c.lobe_count, 0))));
-    const std::uint64_t energy = c.np_energy_axes ? grid(*c.np_energy_axes) : grid(f.axes);
-    values = add(values, mul(energy, lobes + (c.residual ? 2 : 0)));
+    t.table(mul(grid(f.axes), terms), explicit_lobes);
+    t.table(c.np_energy_axes ? grid(*c.np_energy_axes) : grid(f.axes), lobes + (c.residual ? 2 : 0));
   }
-  if (c.mp_axes) {
-    values = add(values, mul(grid(*c.mp_axes), lobes));
-    if (generic) {
-      slabbable = add(slabbable, mul(grid(*c.mp_axes), lobes));
-      row = std::max(row, grid(*c.mp_axes, {"beta"}));
+  if (c.mp_axes) {  // M_p per lobe and the residual (per material without β)
+    const std::vector<GridAxis>& ax = *c.mp_axes;
+    const std::uint64_t mp_lobes = c.marschner ? explicit_lobes : lobes;
+    if (per_material) {
+      const bool s = sampled({named(ax, "theta_i"), named(ax, "theta_r")});
+      t.table(grid(ax, {"beta"}), mul(mp_lobes, static_cast<std::uint64_t>(c.scene->materials.size())),
+            s ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0);
+    } else {
+      const bool s = sampled({named(ax, "beta"), named(ax, "theta_i"), named(ax, "theta_r")});
+      t.table(grid(ax), mp_lobes, s ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0);
+      if (generic) {
+        slabbable = add(slabbable, mul(grid(ax), mp_lobes));
+        row = std::max(row, grid(ax, {"beta"}));
+      }
     }
   }
-  if (c.melanin_axes) values = add(values, mul(grid(*c.melanin_axes), 3));              // RGB sigma_a
-  if (c.dual_scattering) values = add(values, grid(c.dual_scattering->axes));           // at least one table
+  if (c.melanin_axes) t.table(mul(grid(*c.melanin_axes), 3), 2);  // RGB σa (d'Eon) and the spectral transmittance
+  if (c.dual_scattering) t.table(grid(c.dual_scattering->axes), dual_scattering_tables(lobes) + mean_energy_tables(lobes));
+  std::uint64_t texture_bytes = 0;
+  if (c.engine) {
+    try {
+      for (const EngineTableSpec& spec : engine_preset_tables(*c.engine, c.residual)) {
+        const std::uint64_t n = grid(spec.axes);
+        const std::uint64_t count = spec.kind == "dual_scattering" ? dual_scattering_tables(lobes)
+                                    : spec.kind == "mean_energy"   ? mean_energy_tables(lobes)
+                                    : spec.kind == "hdrp_attenuation" ? 2
+                                                                      : explicit_lobes;
+        t.table(n, count);
+        // Its textures: RGBA half per texel of the group's grid.
+        for (const EngineTexture& tex : engine_preset_textures(*c.engine))
+          if (tex.group == spec.group) texture_bytes = add(texture_bytes, mul(n, 2 * static_cast<std::uint64_t>(tex.channel_count)));
+      }
+    } catch (const std::exception&) {
+      // An unknown preset or texture: the config's validation refuses it.
+    }
+  }
   BakeEstimate e;
-  e.values = values;
-  e.slabbable_values = std::min(slabbable, values);
+  e.values = t.values;
+  e.slabbable_values = std::min(slabbable, t.values);
   e.slabbable_row_values = row;
-  const std::uint64_t stored = c.output.hdf5_double ? 8 : 4;
-  e.value_bytes = stored;
-  e.memory_bytes = mul(values, 2 * stored);
-  std::uint64_t per_value = 0;
-  if (c.output.hdf5) per_value += stored;
-  if (c.output.exr) per_value += c.output.exr_half ? 2 : 4;
-  e.disk_bytes = mul(values, per_value);
+  e.value_bytes = t.value_bytes;
+  e.table_bytes = t.table_bytes;
+  e.sampling_bytes = t.sampling_bytes;
+  e.largest_table_bytes = t.largest;
+  // The sidecar: about 8 KiB per table (its description and axis values) and 64 KiB of metadata.
+  const std::uint64_t sidecar = add(std::uint64_t{64} << 10, mul(t.tables, std::uint64_t{8} << 10));
+  const std::uint64_t held = add(t.table_bytes, t.sampling_bytes);
+  const std::uint64_t thread_count = static_cast<std::uint64_t>(std::max(threads, 1));
+  std::uint64_t writing = 0;  // beyond the tables while the largest file is written
+  std::uint64_t disk = sidecar, expected = sidecar;
+  auto compressed = [](std::uint64_t bytes) { return static_cast<std::uint64_t>(static_cast<double>(bytes) * kDeflatedFraction); };
+  if (c.output.hdf5) {
+    const std::uint64_t file = add(held, sidecar);
+    disk = add(disk, file);
+    if (c.output.hdf5_deflate > 0) {
+      // The image: the deflated file and one growth step of an eighth of the values; each
+      // deflate thread (at most 4) holds a chunk (at most 4 MiB) twice.
+      const std::uint64_t chunk = std::min(t.largest, std::uint64_t{4} << 20);
+      writing = add(add(compressed(file), file / 8), mul(std::min<std::uint64_t>(thread_count, 4), mul(2, chunk)));
+      expected = add(expected, compressed(file));
+    } else {
+      writing = file;
+      expected = add(expected, file);
+    }
+  }
+  if (c.output.exr) {
+    // Every table and sampling array at half or float; written in strips of a few MiB per part.
+    const std::uint64_t file = mul(add(t.values, t.sampling_values), c.output.exr_half ? 2 : 4);
+    disk = add(disk, file);
+    expected = add(expected, c.output.exr_compression == "none" ? file
+                             : c.output.exr_half                ? static_cast<std::uint64_t>(static_cast<double>(file) * kHalfZipFraction)
+                                                                : compressed(file));
+    writing = std::max(writing, std::min(file, std::uint64_t{16} << 20));
+  }
+  disk = add(disk, texture_bytes);
+  expected = add(expected, static_cast<std::uint64_t>(static_cast<double>(texture_bytes) * kHalfZipFraction));
+  e.memory_bytes = add(add(held, writing), mul(thread_count, kBakeThreadBytes));
+  e.disk_bytes = disk;
+  e.disk_expected_bytes = expected;
   return e;
 }
 
 MemoryPlan plan_memory(const BakeEstimate& e, std::uint64_t budget) {
   MemoryPlan plan;
-  plan.peak_bytes = add(e.memory_bytes, kBakeOverheadBytes);
+  plan.peak_bytes = add(e.memory_bytes, kBakeBaseBytes);
   if (budget == 0 || plan.peak_bytes <= budget) return plan;
   // Slabbed: the other tables held whole (written to disk directly, no file image), two slabs.
   const std::uint64_t whole = mul(e.values - e.slabbable_values, e.value_bytes);

@@ -105,13 +105,16 @@ std::optional<TableTruth> marschner_truth(const Table& t, const MarschnerConfig&
 
 // N_p(β, φ) of lobe p at (θd, σa) by the Fourier series (azimuthal_fourier.hpp) to 1e−10 for every
 // β ≥ beta_min: the coefficients once, each β's weights once per β (the last one is kept), then
-// N terms per φ. For the peak search only (the points use the Gauss–Legendre reference).
+// N terms per φ. For the peak search only (the points use the Gauss–Legendre reference). The
+// rules come from `rules`, shared by every slab of a table: a new slab (each point of the
+// worst-point search's climb) would otherwise build its rule again, O(order²), and near η = 1 the
+// order reaches about 1700 (fourier_nodes), which made rule building 98% of a validation.
 PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double sigma, int p, double beta_min, int beta_axis, double beta_fixed,
-                         int phi_axis) {
+                         int phi_axis, GaussLegendreCache& rules) {
   constexpr double kTolerance = 1e-10;
   const FibreGeometry g = FibreGeometry::make(eta, theta_d);
   const int terms = fourier_terms(beta_min, kTolerance);
-  const GaussLegendreRule rule(fourier_nodes(terms, p, g, kTolerance));
+  const GaussLegendreRule& rule = rules.get(fourier_nodes(terms, p, g, kTolerance));
   struct State {
     std::vector<double> c, w;
     double beta = -1.0;
@@ -184,8 +187,8 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.make = build(false);
     tr.make_white = build(true);
     const double beta_min = std::max(radians(0.25), t.axes[0].nodes().front());
-    tr.make_fast = [=](const std::vector<double>& x, bool white) {
-      return fourier_np(info.eta, info.path, x[2], white ? 0.0 : x[1], p, beta_min, 0, 0.0, 3);
+    tr.make_fast = [=, rules = std::make_shared<GaussLegendreCache>()](const std::vector<double>& x, bool white) {
+      return fourier_np(info.eta, info.path, x[2], white ? 0.0 : x[1], p, beta_min, 0, 0.0, 3, *rules);
     };
     tr = peak_over_phi(tr);
     tr.peak_axis = 3;
@@ -207,9 +210,9 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.slab_axes = {0, 1};
     tr.make = build(false);
     tr.make_white = build(true);
-    tr.make_fast = [=](const std::vector<double>& x, bool white) {
+    tr.make_fast = [=, rules = std::make_shared<GaussLegendreCache>()](const std::vector<double>& x, bool white) {
       const auto c = static_cast<std::size_t>(std::clamp<long>(std::lround(x[0]), 0, static_cast<long>(sig.size()) - 1));
-      return fourier_np(info.eta, info.path, x[1], white ? 0.0 : sig[c], p, std::max(beta, radians(0.25)), -1, beta, 2);
+      return fourier_np(info.eta, info.path, x[1], white ? 0.0 : sig[c], p, std::max(beta, radians(0.25)), -1, beta, 2, *rules);
     };
     tr = peak_over_phi(tr);
     tr.peak_axis = 2;

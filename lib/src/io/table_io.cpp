@@ -10,13 +10,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
 #include <optional>
 #include <random>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include "hairlut/io/engine_exr.hpp"
@@ -178,14 +181,44 @@ class DirectoryLock {
   int fd_ = -1;
 };
 
-// Sidecars hairlut writes are a few MiB at most (a table's description is about 2 KiB) and nest
-// six levels deep: a larger or deeper one is not read (parsed JSON takes up to 40 times its text).
-constexpr std::uintmax_t kMaxSidecarBytes = std::uintmax_t{32} << 20;
+// A sidecar is read for a few top-level fields only (`keep`: "format", "files", "config_hash",
+// "hairlut_version"); everything else (the tables' descriptions, the config, the report) is parsed
+// and dropped, so that memory does not grow with the file (a parsed JSON document takes up to 40
+// times its text: a 60 MB sidecar took 2.2 GB). The size cap bounds the time to parse (about 1 s
+// per 100 MiB), the depth cap the parser's stack, the cap on kept values what the kept fields hold
+// (the "files" list: a few entries per output file). The writer refuses a sidecar over the size cap
+// (write_outputs), so that the reader accepts every sidecar hairlut writes.
+constexpr std::uintmax_t kMaxSidecarBytes = std::uintmax_t{256} << 20;
 constexpr int kMaxSidecarDepth = 24;
+constexpr std::size_t kMaxSidecarKeptValues = std::size_t{1} << 16;
 
-json parse_sidecar(std::istream& in) {
-  return json::parse(in, [](int depth, json::parse_event_t, json&) {
-    if (depth > kMaxSidecarDepth) throw json::out_of_range::create(410, "sidecar nested too deeply", nullptr);
+// Why a sidecar of `bytes` bytes is not read, or nothing.
+std::optional<std::string> sidecar_size_problem(std::uintmax_t bytes) {
+  if (bytes <= kMaxSidecarBytes) return std::nullopt;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "the set's sidecar is %.1f MiB, more than the %llu MiB a sidecar may be (not read)",
+                static_cast<double>(bytes) / 1048576.0, static_cast<unsigned long long>(kMaxSidecarBytes >> 20));
+  return std::string(buf);
+}
+
+// Thrown by parse_sidecar's callback: why the sidecar is not read (one phrase).
+struct SidecarRefused {
+  std::string why;
+};
+
+json parse_sidecar(std::istream& in, std::initializer_list<std::string_view> keep) {
+  bool keeping = false;
+  std::size_t kept = 0;
+  return json::parse(in, [&](int depth, json::parse_event_t event, json& parsed) {
+    if (depth > kMaxSidecarDepth) throw SidecarRefused{"the set's sidecar nests deeper than " + std::to_string(kMaxSidecarDepth) + " levels (not read)"};
+    if (depth == 1 && event == json::parse_event_t::key) {
+      const std::string& name = parsed.get_ref<const std::string&>();
+      keeping = std::find(keep.begin(), keep.end(), name) != keep.end();
+      return keeping;
+    }
+    if (depth >= 1 && !keeping) return false;  // dropped (also every element of a root that is not an object)
+    if (depth >= 1 && ++kept > kMaxSidecarKeptValues)
+      throw SidecarRefused{"the set's sidecar holds more than " + std::to_string(kMaxSidecarKeptValues) + " values in its top-level fields (not read)"};
     return true;
   });
 }
@@ -198,11 +231,14 @@ void check_against_sidecar(const fs::path& file) {
   const fs::path sidecar = fs::path(file).replace_extension(".json");
   std::error_code ec;
   const auto side_bytes = fs::file_size(sidecar, ec);
-  if (ec || !fs::is_regular_file(sidecar, ec) || side_bytes > kMaxSidecarBytes) return;
+  if (ec || !fs::is_regular_file(sidecar, ec)) return;
+  if (const auto why = sidecar_size_problem(side_bytes)) throw IoError(sidecar.string() + ": " + *why);
   json side;
   try {
     std::ifstream in(sidecar, std::ios::binary);
-    side = parse_sidecar(in);
+    side = parse_sidecar(in, {"format", "files"});
+  } catch (const SidecarRefused& e) {
+    throw IoError(sidecar.string() + ": " + e.why);
   } catch (const json::exception&) {
     throw IoError(sidecar.string() + ": the set's sidecar is not valid JSON (incomplete or corrupted set)");
   }
@@ -236,7 +272,7 @@ bool outputs_up_to_date(const BakeConfig& c) {
   std::ifstream in(paths.sidecar);
   if (!in) return false;
   try {
-    const json s = parse_sidecar(in);
+    const json s = parse_sidecar(in, {"config_hash", "hairlut_version", "files"});
     if (s.value("config_hash", std::string()) != c.hash || s.value("hairlut_version", std::string()) != kVersion) return false;
     std::size_t formats = 0;
     for (const json& f : s.at("files")) {
@@ -252,6 +288,8 @@ bool outputs_up_to_date(const BakeConfig& c) {
     }
     return formats == static_cast<std::size_t>(c.output.hdf5) + static_cast<std::size_t>(c.output.exr) + engine_outputs(c).size();
   } catch (const std::exception&) {
+    return false;
+  } catch (const SidecarRefused&) {
     return false;
   }
 }
@@ -375,6 +413,8 @@ std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, co
   }
   const fs::path side_tmp = create_temporary(paths.sidecar, temps);
   const std::string side_text = text.indented(side, 4) + "\n";
+  if (const auto why = sidecar_size_problem(side_text.size()))
+    throw IoError(paths.sidecar.string() + ": " + *why + "; its tables' axes have too many nodes to describe");
   detail::write_file_bytes(side_tmp, side_text);
   std::vector<fs::path> finals;
   auto commit = [&](const fs::path& tmp, const fs::path& final_path) {

@@ -83,6 +83,9 @@ std::size_t bake_np_grid(const NpGridRequest& request, const BakeOptions& option
 /// notes included) is final when bake returns. Refused (DomainError) for what needs those tables
 /// whole: the adaptive N_p method, tables.np.target_error and the Marschner model.
 TableSet bake(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr, SlabbedTables* slabbed = nullptr);
+/// What bake() refuses when asked for slabs (DomainError, one line): the tool's --check calls it
+/// for a slabbed plan, so that it says valid only for what the bake accepts.
+void check_slab_by_slab(const BakeConfig& config);
 
 /// The tables of a model "marschner2003" config (bake() calls it for such configs): N_R, N_TT,
 /// N_TRT over (sigma_a, theta_d, [phi_h,] phi) with their energies, Gaussian M_p over
