@@ -47,12 +47,17 @@ double beta_n_of(double b) { return kPiD / std::sqrt(3.0) * std::sqrt(kPiD / 8.0
 
 // The shipped per-show example config reduced to one material, pbrt's fibre: its σa, and per lobe
 // pbrt's longitudinal deviations (R β_m, TT β_m / 2, TRT and beyond 2 β_m) with β_n; the default
-// tables' tilts.
+// tables' tilts. The axes are pinned to those of docs/bench/runtime.md's figures, so that a rerun
+// measures the same tables whatever resolution the shipped config settles on.
 hairlut::TableSet bake_material(const Settings& st, const double* sigma_a, double beta_m, double beta_n) {
   std::ifstream in(st.source_dir + "/tables/configs/show-example.json");
   json j = json::parse(in);
   const double m = beta_m * 180.0 / kPiD, n = beta_n * 180.0 / kPiD;
   j["lobes"]["tilt_deg"] = {{"R", -4}, {"TT", 2}, {"TRT", 6}, {"TRRT", 10}, {"residual", 10}};
+  j["tables"]["np"]["axes"]["theta_d"]["count"] = 64;
+  j["tables"]["np"]["axes"]["phi"]["count"] = 129;
+  j["tables"]["mp"]["axes"]["theta_i"]["count"] = 91;
+  j["tables"]["mp"]["axes"]["theta_r"]["count"] = 181;
   j["scene"]["materials"] = json::array();
   j["scene"]["materials"].push_back({{"name", "pbrt"},
                                      {"sigma_a", {sigma_a[0], sigma_a[1], sigma_a[2]}},
@@ -258,7 +263,7 @@ json bench_runtime(const Settings& st) {
                  {"generic_tables", "tables/default/hairlut-default.h5 (shipped default: float32, cubic, tilts R -4, TT 2, TRT 6, TRRT and residual 10 deg)"},
                  {"fourier_tables", "tables/configs/generic-1e-3.json's Fourier N_p (256 cos theta_d x 64 sqrt sigma_a, 132 terms, float32) with "
                                     "tables/configs/default.json's M_p axes and tilts, baked in memory"},
-                 {"material_tables", "tables/configs/show-example.json's axes (N_p over 64 theta_d x 129 phi, M_p over 91 theta_i x 181 theta_r, linear, float32) baked for one "
+                 {"material_tables", "tables/configs/show-example.json with N_p over 64 cos theta_d x 129 phi, M_p over 91 theta_i x 181 theta_r (linear, float32) baked for one "
                                      "material: the fibre's sigma_a, beta per lobe R beta_m, TT beta_m / 2, TRT and residual 2 beta_m (pbrt's variances), beta_n; the default tilts"},
                  {"peer", "tools/bench-hair-luts/pbrt_hair.cpp: pbrt-v4 HairBxDF f, Sample_f, PDF re-implemented in float (commits in pbrt_hair.hpp); "
                           "beta_m 0.3, beta_n 0.3, alpha 2 deg, eta 1.55, 4 spectral samples, 64 offsets h"},
