@@ -207,7 +207,7 @@ std::string load_refusal(const fs::path& p) {
   }
 }
 
-TEST_CASE("Sidecars are read for the fields the loader uses; large, deep or long-listed ones are refused naming the file", "[io][hostile]") {
+TEST_CASE("Sidecars are read for the fields the loader uses, and large, deep or long-listed ones are refused naming the file", "[io][hostile]") {
   const fs::path dir = temp_dir("sidecar");
   const BakeConfig c = config_in(dir);
   BakeReport report;

@@ -153,3 +153,32 @@ TEST_CASE("The search looks at a grazing end of an angle axis, closer than any c
   CHECK(r.found == Approx(1.0).margin(1e-9));
   CHECK(points_of(r, "grazing") > 0);
 }
+
+TEST_CASE("The search follows a feature into a grazing corner, where random points across it miss", "[sampled_error][search]") {
+  // M_p-like: a ridge narrow across the diagonal θr = α − θi (the truth names it as its feature
+  // along the peak axis θr), present only within 2e-3 rad of θi = π/2 and between the θr nodes
+  // there, so the table (exact at its nodes) reads 0 on it. Compact support: no slope anywhere
+  // else for the local maximisation to follow, so only points placed on the ridge find it.
+  const double half_pi = 1.5707963267948966, alpha = 0.3;
+  auto f = [=](const std::vector<double>& x) {
+    const double a = 1.0 - std::pow((x[1] - (alpha - x[0])) / 5e-4, 2), b = 1.0 - (half_pi - x[0]) / 2e-3;
+    return a > 0.0 && b > 0.0 ? a * a * b * b : 0.0;
+  };
+  GridAxis ti = axis("theta_i", -half_pi, half_pi, 37), tr = axis("theta_r", -half_pi, half_pi, 37);
+  ti.units = tr.units = "rad";
+  TableSet set;
+  set.tables.push_back(tabulate({ti, tr}, f));
+  TableTruth truth = absolute(f);
+  truth.peak_axis = 1;
+  truth.features = [=](const std::vector<double>& x) { return std::vector<double>{alpha - x[0]}; };
+  SampledErrorOptions o;
+  o.points = 256;
+  o.seed = 5;  // one whose random grazing points miss the ridge (without the ridge points: 0 found)
+  o.search = true;
+  const SampledError r = measure_sampled_error(set, set.tables[0], truth, o);
+  INFO("found " << r.found << " at " << r.worst_at[0] << ", " << r.worst_at[1]);
+  // At θi = π/2 the ridge has height 1 at θr = α − π/2, 0.43 of a cell from the nearest node.
+  CHECK(r.found == Approx(1.0).margin(1e-9));
+  CHECK(std::abs(r.worst_at[0] - half_pi) < 1e-6);
+  CHECK(std::abs(r.worst_at[1] - (alpha - half_pi)) < 1e-6);
+}

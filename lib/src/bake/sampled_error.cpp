@@ -379,6 +379,27 @@ std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction&
             }
             tasks.push_back(std::move(task));
           }
+          // The features followed into the grazing end: a ridge along both angles (M_p's specular
+          // cone, θr ≈ α − θi) is narrow across the diagonal, so random points on the peak axis
+          // miss where it meets the corner.
+          if (pk >= 0 && truth.features && searchable(t.axes[static_cast<std::size_t>(pk)])) {
+            const GridAxis& pa = t.axes[static_cast<std::size_t>(pk)];
+            for (int l = 0; l < 4; ++l) {
+              std::vector<double> x = random_point(t, rng);
+              Task task;
+              for (double v : along) {
+                x[static_cast<std::size_t>(k)] = v;
+                for (double f : truth.features(x)) {
+                  const double w = cell_width(pa, std::clamp(f, pa.lo, pa.hi));
+                  for (double o : {-0.5, -0.25, 0.0, 0.25, 0.5}) {
+                    x[static_cast<std::size_t>(pk)] = std::clamp(f + o * w, pa.lo, pa.hi);
+                    task.push_back(x);
+                  }
+                }
+              }
+              if (!task.empty()) tasks.push_back(std::move(task));
+            }
+          }
         }
       }
     }
