@@ -30,6 +30,7 @@ Usage: check_docs.py --source S --build B --work W [--python PY] [--only FILE...
 """
 
 import argparse
+import concurrent.futures
 import json
 import os
 import re
@@ -41,6 +42,8 @@ from pathlib import Path
 FENCE = re.compile(r"^```([A-Za-z0-9_+-]*)\s*$")
 MARKER = re.compile(r"^<!--\s*doc-test:\s*(.*?)\s*-->\s*$")
 SKIP = {"text", "console", "output"}
+# A block's output, collected with its document's (documents run in parallel).
+CAPTURE = {"stdout": subprocess.PIPE, "stderr": subprocess.STDOUT, "text": True, "errors": "replace"}
 BENCH_COMMANDS = {
     "bench": "bench-hair-luts --out docs/bench --slices 80",
     "representations": "bench-hair-luts --representations-only --out docs/bench",
@@ -143,18 +146,20 @@ def scratch(source, build, work):
     return work
 
 
-def fixtures(source, build, directory, text, env):
+def fixtures(source, build, directory, text, env, log):
     """A block that opens a shipped config's file by its bare name (h5py.File("hairlut-NAME.h5"))
     gets it: tables/configs/NAME.json baked into the block's directory first."""
     for name in sorted(set(re.findall(r"[\"'](hairlut-([\w.-]+)\.h5)[\"']", text))):
         file, config = name[0], source / "tables" / "configs" / f"{name[1]}.json"
         if not (directory / file).exists() and config.exists():
-            print(f"baking {config.name} for {file}", flush=True)
-            subprocess.run([str(build / "tools" / "bake-hair-luts" / "bake-hair-luts"), "--config", str(config), "--output-dir", str(directory),
-                            "--quiet", "--threads", "2"], check=True, env=env)
+            log(f"baking {config.name} for {file}")
+            r = subprocess.run([str(build / "tools" / "bake-hair-luts" / "bake-hair-luts"), "--config", str(config), "--output-dir", str(directory),
+                                "--quiet", "--threads", "2"], env=env, **CAPTURE)
+            log(r.stdout)
+            r.check_returncode()
 
 
-def run_document(source, build, work, doc, python, env_base):
+def run_document(source, build, work, doc, python, env_base, log):
     errors = []
     directory = None
     python_now, python_env = python, dict(env_base)
@@ -196,7 +201,7 @@ def run_document(source, build, work, doc, python, env_base):
                 for script in re.findall(r"(?<![\w/])(\./scripts/[\w.-]+)", text):
                     if not os.access(source / script, os.X_OK):
                         errors.append(f"{where}: {script} is not an executable file")
-                print(f"{where}: syntax checked")
+                log(f"{where}: syntax checked")
                 continue
             env = dict(env_base)
             if marker.startswith("python-pip"):
@@ -207,15 +212,17 @@ def run_document(source, build, work, doc, python, env_base):
                 env["HAIRLUT_BUILD_DIR"] = str(build)
                 env.pop("PYTHONPATH", None)
                 python_now, python_env = str(venv / "bin" / "python3"), dict(env)
-            print(f"{where}: sh\n{text}", flush=True)
-            r = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", text], cwd=directory, env=env, timeout=900)
+            log(f"{where}: sh\n{text}")
+            r = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", text], cwd=directory, env=env, timeout=900, **CAPTURE)
+            log(r.stdout)
             if r.returncode != 0:
                 errors.append(f"{where}: the sh block exits {r.returncode}")
             continue
         if lang == "python":
-            fixtures(source, build, directory, text, env_base)
-            print(f"{where}: python ({python_now})\n{text}", flush=True)
-            r = subprocess.run([python_now, "-"], input=text, text=True, cwd=directory, env=python_env, timeout=900)
+            fixtures(source, build, directory, text, env_base, log)
+            log(f"{where}: python ({python_now})\n{text}")
+            r = subprocess.run([python_now, "-"], input=text, cwd=directory, env=python_env, timeout=900, **CAPTURE)
+            log(r.stdout)
             if r.returncode != 0:
                 errors.append(f"{where}: the python block exits {r.returncode}")
             continue
@@ -229,6 +236,7 @@ def main():
     ap.add_argument("--build", type=Path)
     ap.add_argument("--work", type=Path)
     ap.add_argument("--python", default="/usr/bin/python3")
+    ap.add_argument("--jobs", type=int, default=2, help="documents run at once (default 2)")
     ap.add_argument("--only", nargs="*", help="documents to run (paths relative to the source); default: all")
     ap.add_argument("--update-performance", action="store_true", help="copy the bench tables into docs/performance.md and stop")
     a = ap.parse_args()
@@ -255,11 +263,18 @@ def main():
     if not (shim / "python3").exists():
         (shim / "python3").symlink_to(a.python)
     env["PATH"] = f"{shim}:{env.get('PATH', '/usr/bin:/bin')}"
-    for d in docs:
-        rel = str(d.relative_to(source))
-        if a.only and rel not in a.only:
-            continue
-        errors += run_document(source, build, a.work.resolve(), d, a.python, env)
+    # Documents are independent (each has its own scratch checkout), so two run at once; each one's
+    # output is collected and printed whole, in document order.
+    def one(d):
+        out = []
+        errs = run_document(source, build, a.work.resolve(), d, a.python, env, lambda text: out.append(text.rstrip("\n")) if text else None)
+        return out, errs
+
+    chosen = [d for d in docs if not a.only or str(d.relative_to(source)) in a.only]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        for out, errs in pool.map(one, chosen):
+            print("\n".join(out), flush=True)
+            errors += errs
     for e in errors:
         print("error:", e, file=sys.stderr)
     print(f"{len(docs)} documents, {len(errors)} problems")
