@@ -17,6 +17,8 @@ import os
 import shutil
 import sys
 
+import child_peak
+
 BAKE, WORK = sys.argv[1], sys.argv[2]
 TOLERANCE = 0.20
 failures = []
@@ -57,22 +59,9 @@ def per_material(directory):
     }
 
 
-def run(args, file_out=None):
+def run(args):
     """(rc, stdout, stderr, peak RSS MiB of the child alone)."""
-    pid = os.fork()
-    if pid == 0:
-        fd = os.open(os.path.join(WORK, "stdout.txt"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
-        fe = os.open(os.path.join(WORK, "stderr.txt"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
-        os.dup2(fd, 1)
-        os.dup2(fe, 2)
-        try:
-            os.execv(args[0], args)
-        finally:
-            os._exit(127)
-    _, status, usage = os.wait4(pid, 0)
-    out = open(os.path.join(WORK, "stdout.txt")).read()
-    err = open(os.path.join(WORK, "stderr.txt")).read()
-    return os.waitstatus_to_exitcode(status), out, err, usage.ru_maxrss / 1024.0
+    return child_peak.peak_mib_of(args, WORK)
 
 
 def figure(text, before, after):

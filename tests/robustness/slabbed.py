@@ -20,13 +20,13 @@ plus the in-memory file image, over 4 times the budget). Checks that
 import filecmp
 import json
 import os
-import resource
 import shutil
-import signal
 import sys
 
 import h5py
 import numpy as np
+
+import child_peak
 
 BAKE, WORK = sys.argv[1], sys.argv[2]
 BUDGET_MIB = 64
@@ -59,27 +59,7 @@ def write_config(path, doc):
 
 
 def peak_mib_of(args, file_size_limit=None):
-    """Runs a tool and returns (rc, stdout, stderr, peak RSS MiB) from getrusage of the child alone."""
-    pid = os.fork()
-    if pid == 0:
-        if file_size_limit is not None:  # a full disk: writes past the limit fail with EFBIG
-            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-            resource.setrlimit(resource.RLIMIT_FSIZE, (file_size_limit, file_size_limit))
-        fd = os.open(os.path.join(WORK, "stdout.txt"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
-        fe = os.open(os.path.join(WORK, "stderr.txt"), os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
-        os.dup2(fd, 1)
-        os.dup2(fe, 2)
-        try:
-            os.execv(args[0], args)
-        finally:
-            os._exit(127)
-    _, status, usage = os.wait4(pid, 0)
-    rc = os.waitstatus_to_exitcode(status)
-    with open(os.path.join(WORK, "stdout.txt")) as f:
-        out = f.read()
-    with open(os.path.join(WORK, "stderr.txt")) as f:
-        err = f.read()
-    return rc, out, err, usage.ru_maxrss / 1024.0
+    return child_peak.peak_mib_of(args, WORK, file_size_limit)
 
 
 def main():
