@@ -60,6 +60,8 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/schemas/ DESTINATION ${CMAKE_INSTALL_DAT
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/tables/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/tables/configs FILES_MATCHING PATTERN "*.json"
         PATTERN "generic.json" EXCLUDE)
 install(FILES ${PROJECT_SOURCE_DIR}/tables/configs/generic.json DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/bench)
+# The GLSL runtime (an include for shaders; docs/gpu.md), beside the data it reads.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/shaders/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/shaders FILES_MATCHING PATTERN "*.glsl")
 # The shipped default tables, which installed tools default to (bench-hair-luts).
 install(FILES ${PROJECT_SOURCE_DIR}/tables/default/hairlut-default.h5 ${PROJECT_SOURCE_DIR}/tables/default/hairlut-default.json
         DESTINATION ${CMAKE_INSTALL_DATADIR}/hairlut/tables/default)

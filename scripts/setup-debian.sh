@@ -25,6 +25,8 @@ packages=(
   python3-venv python3-pip                 # `pip install ./python` as the README shows it (docs test)
   json-schema-test-suite                   # the official JSON Schema tests (draft 7 files)
   clang libclang-rt-dev                    # libFuzzer with AddressSanitizer and UBSan (fuzz tests)
+  libvulkan-dev glslang-tools spirv-tools  # the GLSL runtime's test: Vulkan loader and headers, SPIR-V built at build time
+  mesa-vulkan-drivers                      # lavapipe: Vulkan on the CPU, so that the GLSL test runs without a GPU
 )
 
 optional=(

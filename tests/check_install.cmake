@@ -29,6 +29,7 @@ get_filename_component(libdir ${lib} DIRECTORY)
 foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/hair_scattering.hpp include/hairlut/tables/tables.hpp include/hairlut/util/version.hpp
           share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
           share/hairlut/tables/configs/default.json share/hairlut/tables/default/hairlut-default.h5 share/doc/hairlut/LICENSE
+          share/hairlut/shaders/hairlut.glsl
           bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts bin/render-hair-luts)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")

@@ -1,0 +1,190 @@
+// hairlut.glsl — S(wo, wi) of one hair material from its baked tables, in a shader: what
+// hairlut::sampler::MaterialScattering::eval (material_scattering.hpp) computes, with the tables in
+// textures. GLSL 4.50 (Vulkan or OpenGL), no extensions.
+//
+// The tables are those of a per-material bake (materials/<name>/np_<lobe>, mp_<lobe>, np_residual,
+// mp_residual; docs/table-format.md): RGB N_p over (θd, φ) per lobe and M_p over (θi, θr), every
+// axis linear in its mapped coordinate (θd uniform or cos-spaced), so each lookup is one bilinear
+// filter and the sampler hardware can do it. S = Σ_p M_p(θi, θo) N_p(θd, |φ|) + M_res N_res(θd).
+//
+// Textures (examples/gpu/material_textures.hpp lays them out; docs/gpu.md):
+//   HAIRLUT_NP_TEXTURE  sampler2DArray; x = φ node, y = θd node, one layer per explicit lobe
+//                       (RGB = the channels) and, when the material has one, one more layer for
+//                       the residual (its N, uniform in φ, repeated along x).
+//   HAIRLUT_MP_TEXTURE  sampler2DArray; x = θr node, y = θi node, each layer four lobes in RGBA
+//                       (lobe p in layer p / 4, component p % 4; the residual is lobe P).
+// Several materials on the same axes share the two textures; HairlutMaterial.lobes.zw say where
+// a material's layers start. The sampler must clamp to the edge; for the hardware filter it must
+// filter linearly (float32 textures need VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT, which
+// not every GPU has; half-float textures are always filterable).
+//
+// Before including, a shader may define:
+//   HAIRLUT_NP_TEXTURE, HAIRLUT_MP_TEXTURE  its own sampler2DArray names; otherwise this file
+//       declares hairlut_np_texture and hairlut_mp_texture at (HAIRLUT_SET, HAIRLUT_BINDING) and
+//       (HAIRLUT_SET, HAIRLUT_BINDING + 1), default set 0, bindings 0 and 1;
+//   HAIRLUT_FILTER  HAIRLUT_FILTER_HARDWARE (default): textureLod with the sampler's bilinear
+//       filter at texel centres, (s + ½) / count for node coordinate s; HAIRLUT_FILTER_EXPLICIT:
+//       four texelFetch taps weighted in float arithmetic (the C++ runtime's reconstruction to
+//       float rounding, on any GPU and for float32 textures that cannot be filtered);
+//   HAIRLUT_WEIGHT_BITS  with the explicit filter, rounds the weights to this many fractional bits
+//       (8 emulates the fixed-point weights of common GPU filter units); 0 (default) keeps them.
+//   HAIRLUT_BUILTIN_INVERSE_TRIG  1: the direction interface takes θ and φ from GLSL's asin and
+//       atan, whose precision the specification leaves loose; 0 (default): from this file's own.
+//
+// Directions are unit vectors in the fibre frame (x along the fibre, root to tip), wo the held one
+// (towards the viewer), wi the sampled one (towards the light), as HairScattering::eval takes them;
+// angles [rad] θ = asin(w.x), φ = φo − φi. Arguments must be finite.
+#ifndef HAIRLUT_GLSL
+#define HAIRLUT_GLSL
+
+#define HAIRLUT_FILTER_HARDWARE 0
+#define HAIRLUT_FILTER_EXPLICIT 1
+#ifndef HAIRLUT_FILTER
+#define HAIRLUT_FILTER HAIRLUT_FILTER_HARDWARE
+#endif
+#ifndef HAIRLUT_WEIGHT_BITS
+#define HAIRLUT_WEIGHT_BITS 0
+#endif
+#ifndef HAIRLUT_BUILTIN_INVERSE_TRIG
+#define HAIRLUT_BUILTIN_INVERSE_TRIG 0
+#endif
+#ifndef HAIRLUT_SET
+#define HAIRLUT_SET 0
+#endif
+#ifndef HAIRLUT_BINDING
+#define HAIRLUT_BINDING 0
+#endif
+#ifndef HAIRLUT_NP_TEXTURE
+layout(set = HAIRLUT_SET, binding = HAIRLUT_BINDING) uniform sampler2DArray hairlut_np_texture;
+#define HAIRLUT_NP_TEXTURE hairlut_np_texture
+#endif
+#ifndef HAIRLUT_MP_TEXTURE
+layout(set = HAIRLUT_SET, binding = HAIRLUT_BINDING + 1) uniform sampler2DArray hairlut_mp_texture;
+#define HAIRLUT_MP_TEXTURE hairlut_mp_texture
+#endif
+
+// One material (std140 and std430 alike: 96 bytes). Each axis maps its argument x to the node
+// coordinate s = clamp((x − a) b, 0, last): vec4(a, b, last, 1 / count). x is θ for θi and θr, |φ|
+// folded into [0, π] for φ, and |θd| (uniform θd axis) or 1 − cos θd (cos-spaced: the nodes are
+// uniform in cos θd, and 1 − cos θd keeps its precision near θd = 0).
+struct HairlutMaterial {
+  vec4 theta_d;
+  vec4 phi;
+  vec4 theta_i;
+  vec4 theta_r;
+  ivec4 lobes;  // explicit lobes P, residual (1) or not (0), first N_p layer, first M_p layer
+  ivec4 flags;  // x: θd axis cos-spaced (1) or uniform (0); yzw: 0
+};
+
+const float HAIRLUT_PI = 3.14159265358979;
+
+float hairlut_node(vec4 axis, float x) { return clamp((x - axis.x) * axis.y, 0.0, axis.z); }
+
+// asin and atan2 to a few float ulp. GLSL's built-ins need not be close (the Vulkan environment
+// allows atan 4096 ulp; lavapipe's asin errs by up to 4e-4 rad, a tenth of a 0.3° node), and a
+// direction's angles place it on the θ and φ axes. Cephes' single-precision polynomials.
+float hairlut_asin(float x) {
+  float a = abs(x);
+  bool big = a > 0.5;
+  float z = big ? 0.5 * (1.0 - a) : a * a;
+  float r = big ? sqrt(z) : a;
+  float p = ((((4.2163199048e-2 * z + 2.4181311049e-2) * z + 4.5470025998e-2) * z + 7.4953002686e-2) * z + 1.6666752422e-1) * z * r + r;
+  if (big) p = 1.5707963267948966 - 2.0 * p;
+  return x < 0.0 ? -p : p;
+}
+// The angle of (x, y) for y ≥ 0, in [0, π]; 0 at the origin.
+float hairlut_atan2_upper(float y, float x) {
+  float ax = abs(x), hi = max(ax, y), lo = min(ax, y);
+  if (hi == 0.0) return 0.0;
+  float t = lo / hi, base = 0.0;  // t ∈ [0, 1]
+  if (t > 0.41421356237) {
+    base = 0.78539816339744831;
+    t = (t - 1.0) / (t + 1.0);
+  }
+  float z = t * t;
+  float r = base + (((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1) * z * t + t;
+  if (y > ax) r = 1.5707963267948966 - r;
+  return x < 0.0 ? 3.14159265358979 - r : r;
+}
+
+#if HAIRLUT_FILTER == HAIRLUT_FILTER_HARDWARE
+// Node i is the centre of texel i; the sampler's clamp holds the last node beyond it.
+#define HAIRLUT_DEFINE_BILINEAR(NAME, TEX)                                  \
+  vec4 NAME(vec2 s, vec2 last, vec2 inv_count, int layer) {                 \
+    return textureLod(TEX, vec3((s + 0.5) * inv_count, float(layer)), 0.0); \
+  }
+#else
+// The C++ runtime's cell and weight; (1 − w) a + w b, not a + w (b − a), so that nonnegative
+// values are combined without cancellation.
+#define HAIRLUT_DEFINE_BILINEAR(NAME, TEX)                                                            \
+  vec4 NAME(vec2 s, vec2 last, vec2 inv_count, int layer) {                                           \
+    vec2 i = min(floor(s), max(last - 1.0, 0.0));                                                     \
+    vec2 w = s - i;                                                                                   \
+    if (HAIRLUT_WEIGHT_BITS > 0) {                                                                    \
+      float q = float(1 << HAIRLUT_WEIGHT_BITS);                                                      \
+      w = round(w * q) / q;                                                                           \
+    }                                                                                                 \
+    ivec2 i0 = ivec2(i), i1 = min(i0 + 1, ivec2(last));                                               \
+    vec4 a = texelFetch(TEX, ivec3(i0.x, i0.y, layer), 0), b = texelFetch(TEX, ivec3(i1.x, i0.y, layer), 0); \
+    vec4 c = texelFetch(TEX, ivec3(i0.x, i1.y, layer), 0), d = texelFetch(TEX, ivec3(i1.x, i1.y, layer), 0); \
+    return (a * (1.0 - w.x) + b * w.x) * (1.0 - w.y) + (c * (1.0 - w.x) + d * w.x) * w.y;             \
+  }
+#endif
+HAIRLUT_DEFINE_BILINEAR(hairlut_np_bilinear, HAIRLUT_NP_TEXTURE)
+HAIRLUT_DEFINE_BILINEAR(hairlut_mp_bilinear, HAIRLUT_MP_TEXTURE)
+
+// S from θo, θi, 1 − cos θd (the cos-spaced axis) or |θd| (the uniform one) and |φ| ∈ [0, π].
+vec3 hairlut_eval_located(HairlutMaterial m, float theta_o, float theta_i, float theta_d_x, float phi_abs) {
+  vec2 sn = vec2(hairlut_node(m.phi, phi_abs), hairlut_node(m.theta_d, theta_d_x));
+  vec2 sm = vec2(hairlut_node(m.theta_r, theta_o), hairlut_node(m.theta_i, theta_i));
+  vec2 n_last = vec2(m.phi.z, m.theta_d.z), n_inv = vec2(m.phi.w, m.theta_d.w);
+  vec2 m_last = vec2(m.theta_r.z, m.theta_i.z), m_inv = vec2(m.theta_r.w, m.theta_i.w);
+  int lobes = m.lobes.x + m.lobes.y;
+  vec3 s = vec3(0.0);
+  for (int k = 0; 4 * k < lobes; ++k) {
+    vec4 mp = hairlut_mp_bilinear(sm, m_last, m_inv, m.lobes.w + k);
+    for (int c = 0; c < 4 && 4 * k + c < lobes; ++c) s += mp[c] * hairlut_np_bilinear(sn, n_last, n_inv, m.lobes.z + 4 * k + c).rgb;
+  }
+  return s;
+}
+
+// S per channel [1/sr] at θo (held), θi (sampled) and φ = φo − φi [rad], as
+// HairScattering::eval(fibre, theta_o, theta_i, phi, rgb).
+vec3 hairlut_eval_angles(HairlutMaterial m, float theta_o, float theta_i, float phi) {
+  float td = 0.5 * (theta_o - theta_i);
+  float sd = sin(td);
+  float x = m.flags.x != 0 ? sd * sd / (1.0 + cos(td)) : abs(td);
+  float f = abs(phi);
+  if (f > HAIRLUT_PI) f = abs(f - 2.0 * HAIRLUT_PI * floor(f / (2.0 * HAIRLUT_PI) + 0.5));
+  return hairlut_eval_located(m, theta_o, theta_i, x, f);
+}
+
+// S per channel [1/sr] for unit vectors wo, wi in the fibre frame, as HairScattering::eval(fibre,
+// wo, wi, rgb): θ from the component along the fibre, |φ| the angle between the projections on the
+// normal plane, 1 − cos θd from the chord between (sin θo, cos θo) and (sin θi, cos θi).
+vec3 hairlut_eval(HairlutMaterial m, vec3 wo, vec3 wi) {
+  float so = clamp(wo.x, -1.0, 1.0), si = clamp(wi.x, -1.0, 1.0);
+  float co = sqrt((1.0 - so) * (1.0 + so)), ci = sqrt((1.0 - si) * (1.0 + si));
+#if HAIRLUT_BUILTIN_INVERSE_TRIG
+  float to = asin(so), ti = asin(si);
+#else
+  float to = hairlut_asin(so), ti = hairlut_asin(si);
+#endif
+  float x;
+  if (m.flags.x != 0) {
+    float ds = so - si, dc = co - ci;
+    float s2 = 0.25 * (ds * ds + dc * dc);  // sin²θd
+    x = s2 / (1.0 + sqrt(max(0.0, 1.0 - s2)));
+  } else {
+    x = abs(0.5 * (to - ti));
+  }
+  float cross_ = wo.y * wi.z - wo.z * wi.y, dot_ = wo.y * wi.y + wo.z * wi.z;
+#if HAIRLUT_BUILTIN_INVERSE_TRIG
+  float f = cross_ == 0.0 && dot_ == 0.0 ? 0.0 : atan(abs(cross_), dot_);
+#else
+  float f = hairlut_atan2_upper(abs(cross_), dot_);
+#endif
+  return hairlut_eval_located(m, to, ti, x, f);
+}
+
+#endif  // HAIRLUT_GLSL

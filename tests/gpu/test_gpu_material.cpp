@@ -1,0 +1,344 @@
+// The GLSL runtime (lib/shaders/hairlut.glsl) through Vulkan against the C++ runtime: loads a
+// per-material table set, lays its materials out as textures (examples/gpu/material_textures.hpp,
+// float32 and half), evaluates S at random points in a compute shader and compares each channel
+// with HairScattering::eval at the same (float) arguments.
+//
+// Checked (exit 1 when not met): float32 textures with the explicit filter, through the direction
+// and the angle interface, agree at every point within the bound float arithmetic allows,
+//   |S_gpu − S_cpp| ≤ K u (S + π Σ_x |∂S/∂x|),  u = 2⁻²⁴, K = 32, x ∈ {θo, θi, φ}:
+// S is a sum of products of nonnegative bilinear interpolants (about 20 rounded operations per
+// value, no cancellation: ≤ 20 u S), and each node coordinate comes from an angle through a few
+// rounded operations and one sin, cos, asin or atan (a few ulp each), so each argument is located
+// to within about 8 u π [rad]; K = 32 leaves a factor of 1.5 to 4 on both. ∂S/∂x is the C++
+// runtime's one-sided difference quotient (the larger side). The same check must reject the
+// reconstruction with θi located half a node off (the bound is tight enough to see a mapping bug).
+// Measured and reported, not checked: half textures (storage rounding), the hardware bilinear
+// filter of this device at texel centres (float32 and half), and explicit taps with weights rounded
+// to 8 fractional bits (an emulation of common GPU filter units; lavapipe's own filter is the
+// hardware row).
+//
+//   test-gpu-material --tables FILE.h5 --spirv DIR --out DIR [--points N] [--device NAME]
+// Exit 0 pass, 1 a check failed, 2 bad input, 77 no Vulkan device (skipped).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "hairlut/io/table_io.hpp"
+#include "hairlut/tables/hair_views.hpp"
+#include "material_textures.hpp"
+#include "vk_compute.hpp"
+
+namespace {
+
+using hairlut::sampler::HairScattering;
+using hairlut::sampler::MaterialTables;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kU = 0x1p-24;
+constexpr double kK = 32.0;
+
+// The material tables of group g ("materials/<name>") as the header-only runtime takes them.
+MaterialTables<float> material_tables(const hairlut::TableSet& set, const std::string& g) {
+  MaterialTables<float> m;
+  const auto& lobes = set.metadata.at("lobes");
+  auto get = [&](const std::string& path) -> const hairlut::Table& {
+    const hairlut::Table* t = set.find(path);
+    if (!t) throw std::runtime_error("table " + path + ": missing");
+    if (t->precision != hairlut::Precision::float32) throw std::runtime_error("table " + path + ": not float32");
+    return *t;
+  };
+  m.lobes = static_cast<int>(lobes.size());
+  for (int p = 0; p < m.lobes && p < m.kMaxLobes; ++p) {
+    const std::string lobe = lobes[static_cast<std::size_t>(p)].get<std::string>();
+    const hairlut::Table& n = get(g + "/np_" + lobe);
+    const hairlut::Table& mp = get(g + "/mp_" + lobe);
+    m.np[p] = n.f32.data(), m.mp[p] = mp.f32.data();
+    if (p == 0) m.theta_d = n.axes[1].view(), m.phi = n.axes[2].view(), m.theta_i = mp.axes[0].view(), m.theta_r = mp.axes[1].view();
+  }
+  if (set.find(g + "/np_residual")) m.np_residual = get(g + "/np_residual").f32.data(), m.mp_residual = get(g + "/mp_residual").f32.data();
+  return m;
+}
+
+std::vector<std::string> material_groups(const hairlut::TableSet& set) {
+  std::vector<std::string> groups;
+  for (const hairlut::Table& t : set.tables)
+    if (t.group.rfind("materials/", 0) == 0 && std::find(groups.begin(), groups.end(), t.group) == groups.end()) groups.push_back(t.group);
+  return groups;
+}
+
+// The points, as the shader reads them (two vec4 each), and the C++ runtime's S and bound there.
+struct Points {
+  std::vector<float> gpu;
+  std::vector<double> s, tol;  // per point and channel
+  std::size_t count() const { return gpu.size() / 8; }
+};
+
+double uniform(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1p-53; }
+
+// Σ_x |∂S/∂x| per channel at the angles (the C++ angle interface), x ∈ {θo, θi, φ}.
+void slopes(const HairScattering<float>& rt, double to, double ti, double phi, double* slope) {
+  const hairlut::sampler::Fibre f{};
+  const double h = 1e-5;
+  double s0[3];
+  rt.eval(f, to, ti, phi, s0);
+  for (int c = 0; c < 3; ++c) slope[c] = 0.0;
+  for (int x = 0; x < 3; ++x) {
+    double side_max[3] = {0.0, 0.0, 0.0};
+    for (int side = -1; side <= 1; side += 2) {
+      double a[3] = {to, ti, phi}, s1[3];
+      a[x] += side * h;
+      rt.eval(f, a[0], a[1], a[2], s1);
+      for (int c = 0; c < 3; ++c) side_max[c] = std::max(side_max[c], std::fabs(s1[c] - s0[c]) / h);
+    }
+    for (int c = 0; c < 3; ++c) slope[c] += side_max[c];
+  }
+}
+
+Points make_points(const std::vector<HairScattering<float>>& rts, std::size_t n, bool angles) {
+  std::mt19937_64 g(angles ? 20261206u : 1206u);
+  Points p;
+  const std::size_t materials = rts.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t mat = i % materials;
+    float a[4], b[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    double s[3], d[3] = {0.0, 0.0, 0.0};
+    const hairlut::sampler::Fibre f{};
+    if (angles) {
+      a[0] = static_cast<float>((uniform(g) - 0.5) * kPi), a[1] = static_cast<float>((uniform(g) - 0.5) * kPi);
+      a[2] = static_cast<float>((uniform(g) - 0.5) * 4.0 * kPi);
+      rts[mat].eval(f, a[0], a[1], a[2], s);
+      slopes(rts[mat], a[0], a[1], a[2], d);
+    } else {
+      // Uniform on the sphere, plus the frame's special pairs first: wi = wo, wi = −wo, along the fibre.
+      double w[2][3];
+      for (auto& v : w) {
+        const double z = 2.0 * uniform(g) - 1.0, ph = 2.0 * kPi * uniform(g), r = std::sqrt(std::max(0.0, 1.0 - z * z));
+        v[0] = z, v[1] = r * std::cos(ph), v[2] = r * std::sin(ph);
+      }
+      if (i < 2) w[1][0] = w[0][0], w[1][1] = w[0][1], w[1][2] = w[0][2];
+      else if (i < 4) w[1][0] = -w[0][0], w[1][1] = -w[0][1], w[1][2] = -w[0][2];
+      else if (i < 6) w[1][0] = 1.0, w[1][1] = w[1][2] = 0.0;
+      double wo[3], wi[3];
+      for (int k = 0; k < 3; ++k) a[k] = static_cast<float>(w[0][k]), b[k] = static_cast<float>(w[1][k]), wo[k] = a[k], wi[k] = b[k];
+      rts[mat].eval(f, wo, wi, s);
+      double to, ti;
+      to = std::asin(std::clamp(wo[0], -1.0, 1.0)), ti = std::asin(std::clamp(wi[0], -1.0, 1.0));
+      const double cr = wo[1] * wi[2] - wo[2] * wi[1], dt = wo[1] * wi[1] + wo[2] * wi[2];
+      slopes(rts[mat], to, ti, std::atan2(std::fabs(cr), dt), d);
+    }
+    a[3] = static_cast<float>(mat);
+    p.gpu.insert(p.gpu.end(), a, a + 4);
+    p.gpu.insert(p.gpu.end(), b, b + 4);
+    for (int c = 0; c < 3; ++c) {
+      p.s.push_back(s[c]);
+      p.tol.push_back(kK * kU * (s[c] + kPi * d[c]));
+    }
+  }
+  return p;
+}
+
+struct Stats {
+  double max_rel = 0.0, p99_rel = 0.0, median_rel = 0.0, max_over_bound = 0.0;
+  double max_rel_floor = 0.0, p99_rel_floor = 0.0;  // over the values of S ≥ 10⁻⁴ of its largest (per channel)
+  std::size_t over_bound = 0, values = 0, zero_mismatch = 0;
+  double worst[4] = {0, 0, 0, 0};  // point, channel, gpu, cpp
+};
+
+double percentile(std::vector<double>& v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+Stats compare(const Points& p, const std::vector<float>& out) {
+  Stats st;
+  std::vector<double> rel, rel_floor;
+  double peak[3] = {0.0, 0.0, 0.0};
+  for (std::size_t i = 0; i < p.count(); ++i)
+    for (std::size_t c = 0; c < 3; ++c) peak[c] = std::max(peak[c], p.s[i * 3 + c]);
+  for (std::size_t i = 0; i < p.count(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double want = p.s[i * 3 + static_cast<std::size_t>(c)], got = out[i * 4 + static_cast<std::size_t>(c)];
+      const double err = std::fabs(got - want), tol = p.tol[i * 3 + static_cast<std::size_t>(c)];
+      ++st.values;
+      if (!(err <= tol)) ++st.over_bound;
+      const double ratio = tol > 0.0 ? err / tol : (err > 0.0 ? HUGE_VAL : 0.0);
+      if (!(ratio <= st.max_over_bound)) {
+        st.max_over_bound = ratio;
+        st.worst[0] = static_cast<double>(i), st.worst[1] = c, st.worst[2] = got, st.worst[3] = want;
+      }
+      if (want > 0.0) rel.push_back(err / want);
+      else if (got != 0.0) ++st.zero_mismatch;
+      if (want >= 1e-4 * peak[c] && want > 0.0) rel_floor.push_back(err / want);
+    }
+  st.max_rel = percentile(rel, 1.0), st.p99_rel = percentile(rel, 0.99), st.median_rel = percentile(rel, 0.5);
+  st.max_rel_floor = percentile(rel_floor, 1.0), st.p99_rel_floor = percentile(rel_floor, 0.99);
+  return st;
+}
+
+struct Args {
+  std::string tables, spirv, out, device;
+  std::size_t points = 20000;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (i + 1 >= argc) throw std::invalid_argument(k + ": needs a value");
+    const std::string v = argv[++i];
+    if (k == "--tables") a.tables = v;
+    else if (k == "--spirv") a.spirv = v;
+    else if (k == "--out") a.out = v;
+    else if (k == "--device") a.device = v;
+    else if (k == "--points") {
+      char* end = nullptr;
+      const long n = std::strtol(v.c_str(), &end, 10);
+      if (*end || n < 8 || n > 10000000) throw std::invalid_argument("--points: an integer from 8 to 10000000 (got " + v + ")");
+      a.points = static_cast<std::size_t>(n);
+    } else {
+      throw std::invalid_argument("unknown option " + k);
+    }
+  }
+  if (a.tables.empty() || a.spirv.empty() || a.out.empty()) throw std::invalid_argument("--tables, --spirv and --out are required");
+  return a;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const auto start = std::chrono::steady_clock::now();
+  Args args;
+  hairlut::TableSet set;
+  std::vector<std::string> groups;
+  std::vector<HairScattering<float>> rts;
+  hairlut_gpu::MaterialTextures tex;
+  try {
+    args = parse(argc, argv);
+    set = hairlut::load_tables(args.tables);
+    groups = material_groups(set);
+    if (groups.empty() || groups.size() > 4) throw std::runtime_error(args.tables + ": 1 to 4 materials needed (has " + std::to_string(groups.size()) + ")");
+    for (const std::string& g : groups) {
+      rts.push_back(hairlut::hair_scattering<float>(set, g));
+      tex.add(material_tables(set, g));
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "test-gpu-material: error: %s\n", e.what());
+    return 2;
+  }
+  try {
+    gpu_test::Vk vk(args.device);
+    std::printf("device: %s (%s)%s\n", vk.device_name().c_str(), vk.driver_info().c_str(), vk.is_cpu() ? ", a CPU implementation" : "");
+    const auto half_np = hairlut_gpu::to_half(tex.np), half_mp = hairlut_gpu::to_half(tex.mp);
+    const VkFormat f32 = VK_FORMAT_R32G32B32A32_SFLOAT, f16 = VK_FORMAT_R16G16B16A16_SFLOAT;
+    const gpu_test::Vk::Image np32 = vk.texture(f32, tex.np_width, tex.np_height, tex.np_layers, tex.np.data(), tex.np.size() * 4);
+    const gpu_test::Vk::Image mp32 = vk.texture(f32, tex.mp_width, tex.mp_height, tex.mp_layers, tex.mp.data(), tex.mp.size() * 4);
+    const gpu_test::Vk::Image np16 = vk.texture(f16, tex.np_width, tex.np_height, tex.np_layers, half_np.data(), half_np.size() * 2);
+    const gpu_test::Vk::Image mp16 = vk.texture(f16, tex.mp_width, tex.mp_height, tex.mp_layers, half_mp.data(), half_mp.size() * 2);
+    const VkSampler linear = vk.sampler(VK_FILTER_LINEAR);
+    const bool f32_filter = vk.filters_linearly(f32);
+
+    std::map<std::string, VkPipeline> pipelines;
+    for (const char* name : {"explicit", "hardware", "explicit-8bit", "explicit-builtin-trig"})
+      pipelines[name] = vk.pipeline(gpu_test::read_spirv(args.spirv + "/eval_material-" + name + ".spv"));
+
+    const Points dirs = make_points(rts, args.points, false), angs = make_points(rts, args.points, true);
+    const std::size_t n = args.points;
+    gpu_test::Vk::Buffer ubo = vk.buffer(4 * sizeof(hairlut_gpu::GpuMaterial), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    gpu_test::Vk::Buffer in = vk.buffer(n * 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    gpu_test::Vk::Buffer out = vk.buffer(n * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    auto set_materials = [&](const std::vector<hairlut_gpu::GpuMaterial>& m) { std::memcpy(ubo.map, m.data(), m.size() * sizeof m[0]); };
+
+    struct Run {
+      std::string name, filter, texture, interface;
+      bool checked;
+      Stats st;
+    };
+    std::vector<Run> runs;
+    auto run = [&](const std::string& name, const std::string& filter, bool half, bool angles, bool checked) {
+      const Points& p = angles ? angs : dirs;
+      std::memcpy(in.map, p.gpu.data(), p.gpu.size() * 4);
+      vk.run(pipelines.at(filter), half ? np16 : np32, half ? mp16 : mp32, linear, ubo, in, out, static_cast<std::uint32_t>(n), angles ? 1u : 0u);
+      std::vector<float> values(n * 4);
+      std::memcpy(values.data(), out.map, values.size() * 4);
+      runs.push_back({name, filter, half ? "half" : "float32", angles ? "angles" : "directions", checked, compare(p, values)});
+      return runs.back().st;
+    };
+    set_materials(tex.materials);
+    run("float32, explicit filter", "explicit", false, false, true);
+    run("float32, explicit filter, angle interface", "explicit", false, true, true);
+    run("half, explicit filter (storage)", "explicit", true, false, false);
+    if (f32_filter) run("float32, hardware filter", "hardware", false, false, false);
+    run("half, hardware filter", "hardware", true, false, false);
+    run("float32, 8-bit weights (emulated)", "explicit-8bit", false, false, false);
+    run("float32, explicit filter, GLSL's asin and atan", "explicit-builtin-trig", false, false, false);
+    // The bound must see a mapping error: θi located half a node off.
+    std::vector<hairlut_gpu::GpuMaterial> shifted = tex.materials;
+    for (auto& m : shifted) m.theta_i[0] -= 0.5f / m.theta_i[1];
+    set_materials(shifted);
+    const Stats wrong = run("float32, explicit filter, theta_i half a node off (must fail the bound)", "explicit", false, false, false);
+    set_materials(tex.materials);
+
+    bool ok = true;
+    std::vector<std::string> failures;
+    for (const Run& r : runs)
+      if (r.checked && r.st.over_bound > 0) {
+        ok = false;
+        char line[400];
+        std::snprintf(line, sizeof line, "%s: %zu of %zu values beyond the float32 bound (worst: point %.0f channel %.0f, GPU %.9g, C++ %.9g, %.3g x the bound)",
+                      r.name.c_str(), r.st.over_bound, r.st.values, r.st.worst[0], r.st.worst[1], r.st.worst[2], r.st.worst[3], r.st.max_over_bound);
+        failures.push_back(line);
+      }
+    if (wrong.over_bound == 0) {
+      ok = false;
+      failures.push_back("the bound did not reject theta_i located half a node off");
+    }
+
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    nlohmann::ordered_json j;
+    j["device"] = vk.device_name(), j["driver"] = vk.driver_info(), j["tables"] = std::filesystem::path(args.tables).filename().string();
+    j["materials"] = groups, j["points"] = n, j["seconds"] = seconds;
+    j["bound"] = "|S_gpu - S_cpp| <= 32 u (S + pi sum_x |dS/dx|), u = 2^-24";
+    j["float32_filter_linear"] = f32_filter;
+    std::string md =
+        "| run | texture | filter | interface | max rel | p99 rel | median rel | max rel, S ≥ 1e-4 max | p99 rel, S ≥ 1e-4 max | max err / bound | beyond bound |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Run& r : runs) {
+      j["runs"].push_back({{"name", r.name}, {"texture", r.texture}, {"filter", r.filter}, {"interface", r.interface}, {"checked", r.checked},
+                           {"max_rel", r.st.max_rel}, {"p99_rel", r.st.p99_rel}, {"median_rel", r.st.median_rel},
+                           {"max_rel_above_1e-4_peak", r.st.max_rel_floor}, {"p99_rel_above_1e-4_peak", r.st.p99_rel_floor},
+                           {"max_over_bound", r.st.max_over_bound}, {"over_bound", r.st.over_bound}, {"values", r.st.values},
+                           {"zero_mismatch", r.st.zero_mismatch}});
+      char row[512];
+      std::snprintf(row, sizeof row, "| %s%s | %s | %s | %s | %.2e | %.2e | %.2e | %.2e | %.2e | %.3g | %zu of %zu |\n", r.name.c_str(),
+                    r.checked ? " (checked)" : "", r.texture.c_str(), r.filter.c_str(), r.interface.c_str(), r.st.max_rel, r.st.p99_rel, r.st.median_rel,
+                    r.st.max_rel_floor, r.st.p99_rel_floor, r.st.max_over_bound, r.st.over_bound, r.st.values);
+      md += row;
+    }
+    j["failures"] = failures, j["pass"] = ok;
+    std::filesystem::create_directories(args.out);
+    std::ofstream(std::filesystem::path(args.out) / "gpu-material.json") << j.dump(2) << "\n";
+    char head[512];
+    std::snprintf(head, sizeof head, "GLSL runtime on %s, %zu points per run over %zu materials of %s, %.1f s; relative error of S per channel against the C++ runtime:\n\n",
+                  vk.device_name().c_str(), n, groups.size(), j["tables"].get<std::string>().c_str(), seconds);
+    std::ofstream(std::filesystem::path(args.out) / "gpu-material.md") << head << md;
+    std::printf("%s%s", head, md.c_str());
+    for (const std::string& f : failures) std::printf("FAIL: %s\n", f.c_str());
+    std::printf(ok ? "gpu material ok\n" : "gpu material FAILED\n");
+    return ok ? 0 : 1;
+  } catch (const gpu_test::Unavailable& e) {
+    std::printf("SKIP: %s\n", e.what());
+    return 77;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "test-gpu-material: error: %s\n", e.what());
+    return 1;
+  }
+}
