@@ -221,8 +221,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> groups;
   std::vector<HairScattering<float>> rts;
   hairlut_gpu::MaterialTextures tex;
+  std::map<std::string, std::vector<std::uint32_t>> spirv;
   try {
     args = parse(argc, argv);
+    for (const char* name : {"explicit", "hardware", "explicit-8bit", "explicit-builtin-trig"})
+      spirv[name] = gpu_test::read_spirv(args.spirv + "/eval_material-" + name + ".spv");
     set = hairlut::load_tables(args.tables);
     groups = material_groups(set);
     if (groups.empty() || groups.size() > 4) throw std::runtime_error(args.tables + ": 1 to 4 materials needed (has " + std::to_string(groups.size()) + ")");
@@ -247,8 +250,7 @@ int main(int argc, char** argv) {
     const bool f32_filter = vk.filters_linearly(f32);
 
     std::map<std::string, VkPipeline> pipelines;
-    for (const char* name : {"explicit", "hardware", "explicit-8bit", "explicit-builtin-trig"})
-      pipelines[name] = vk.pipeline(gpu_test::read_spirv(args.spirv + "/eval_material-" + name + ".spv"));
+    for (const auto& [name, words] : spirv) pipelines[name] = vk.pipeline(words);
 
     const Points dirs = make_points(rts, args.points, false), angs = make_points(rts, args.points, true);
     const std::size_t n = args.points;
