@@ -8,6 +8,8 @@
 //                (RGB = channels, A = 0) and one for the residual (its N repeated along φ).
 //   M_p texture: width = θr nodes, height = θi nodes; per material ⌈lobes / 4⌉ layers, lobe p in
 //                layer p / 4, component p % 4 (the residual is the last lobe).
+//   rows:        float32 array (std430) of what sampling reads besides the tables
+//                (MaterialScattering::Rows, guides as exact integers), at each material's offsets.
 // Texel (x, y) of layer l is element ((l · height + y) · width + x) · 4 + component, the order
 // vkCmdCopyBufferToImage and glTexSubImage3D read. Values that are negative, NaN or infinite are
 // stored as 0, as the C++ runtime reads them.
@@ -29,13 +31,17 @@ struct GpuMaterial {
   float theta_d[4], phi[4], theta_i[4], theta_r[4];  // a, b, last, 1 / count: s = clamp((x − a) b, 0, last)
   std::int32_t lobes[4];                             // explicit lobes, residual (0/1), first N_p layer, first M_p layer
   std::int32_t flags[4];                             // θd cos-spaced (1) or uniform (0), 0, 0, 0
+  std::int32_t rows0[4];                             // sampling rows' offsets: gq, gcum, gguide, z
+  std::int32_t rows1[4];                             // nbar, ncum, nguide; nq (step 1's θi nodes)
+  float rows2[4];                                    // hq (their step), θi of the first, 0, 0
 };
-static_assert(sizeof(GpuMaterial) == 96, "HairlutMaterial is 96 bytes in std140");
+static_assert(sizeof(GpuMaterial) == 144, "HairlutMaterial is 144 bytes in std140");
 
 struct MaterialTextures {
   int np_width = 0, np_height = 0, np_layers = 0;  // φ, θd, layers
   int mp_width = 0, mp_height = 0, mp_layers = 0;  // θr, θi, layers
   std::vector<float> np, mp;                       // RGBA texels, layer by layer
+  std::vector<float> rows;                         // the sampling rows of every material (a storage buffer)
   std::vector<GpuMaterial> materials;              // in the order added
   int explicit_lobes = 0;
   bool residual = false;
@@ -120,6 +126,23 @@ void MaterialTextures::add(const hairlut::sampler::MaterialTables<T>& t) {
   detail::locate(t.theta_d, g.theta_d), detail::locate(t.phi, g.phi), detail::locate(t.theta_i, g.theta_i), detail::locate(t.theta_r, g.theta_r);
   g.lobes[0] = t.lobes, g.lobes[1] = res ? 1 : 0, g.lobes[2] = np_layers, g.lobes[3] = mp_layers;
   g.flags[0] = t.theta_d.spacing == Spacing::cos ? 1 : 0;
+  // The sampling rows as the C++ runtime builds them.
+  const MaterialScattering<T> ms(t);
+  if (!ms.valid()) throw std::invalid_argument("material " + std::to_string(materials.size()) + ": the runtime cannot sample its tables");
+  const typename MaterialScattering<T>::Rows rw = ms.rows();
+  const std::size_t nr_ = static_cast<std::size_t>(t.theta_r.count), nt_ = static_cast<std::size_t>(t.theta_d.count),
+                    nf_ = static_cast<std::size_t>(t.phi.count), nq = static_cast<std::size_t>(rw.nq), P = static_cast<std::size_t>(t.lobes);
+  auto append = [&](const auto* v, std::size_t n) {
+    const std::size_t at = rows.size();
+    for (std::size_t i = 0; i < n; ++i) rows.push_back(static_cast<float>(v[i]));
+    return static_cast<std::int32_t>(at);
+  };
+  g.rows0[0] = append(rw.gq, nr_ * (nq - 1) * 3), g.rows0[1] = append(rw.gcum, nr_ * nq);
+  g.rows0[2] = append(rw.gguide, nr_ * static_cast<std::size_t>(rw.guide_theta));
+  g.rows0[3] = append(rw.z, nt_ * static_cast<std::size_t>(rw.lobes_padded));
+  g.rows1[0] = append(rw.nbar, P * nt_ * nf_), g.rows1[1] = append(rw.ncum, P * nt_ * nf_);
+  g.rows1[2] = append(rw.nguide, P * nt_ * static_cast<std::size_t>(rw.guide_phi)), g.rows1[3] = rw.nq;
+  g.rows2[0] = static_cast<float>(rw.hq), g.rows2[1] = static_cast<float>(t.theta_i.lo);
   materials.push_back(g);
 
   const std::size_t nf = static_cast<std::size_t>(np_width), nt = static_cast<std::size_t>(np_height);

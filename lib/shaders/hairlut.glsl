@@ -7,6 +7,9 @@
 // axis linear in its mapped coordinate (θd uniform or cos-spaced), so each lookup is one bilinear
 // filter and the sampler hardware can do it. S = Σ_p M_p(θi, θo) N_p(θd, |φ|) + M_res N_res(θd).
 //
+// With HAIRLUT_SAMPLING, hairlut_sampling.glsl adds hairlut_at, hairlut_sample and hairlut_pdf, as
+// HairScattering's at, sample and pdf (the same density, drawn the same way).
+//
 // Textures (examples/gpu/material_textures.hpp lays them out; docs/gpu.md):
 //   HAIRLUT_NP_TEXTURE  sampler2DArray; x = φ node, y = θd node, one layer per explicit lobe
 //                       (RGB = the channels) and, when the material has one, one more layer for
@@ -30,6 +33,9 @@
 //       (8 emulates the fixed-point weights of common GPU filter units); 0 (default) keeps them.
 //   HAIRLUT_BUILTIN_INVERSE_TRIG  1: the direction interface takes θ and φ from GLSL's asin and
 //       atan, whose precision the specification leaves loose; 0 (default): from this file's own.
+//   HAIRLUT_SAMPLING  1: also hairlut_at, hairlut_sample and hairlut_pdf (hairlut_sampling.glsl),
+//       which read the material's sampling rows from the float array HAIRLUT_ROWS (declared at
+//       (HAIRLUT_SET, HAIRLUT_BINDING + 2) unless the shader names its own).
 //
 // Directions are unit vectors in the fibre frame (x along the fibre, root to tip), wo the held one
 // (towards the viewer), wi the sampled one (towards the light), as HairScattering::eval takes them;
@@ -48,6 +54,9 @@
 #ifndef HAIRLUT_BUILTIN_INVERSE_TRIG
 #define HAIRLUT_BUILTIN_INVERSE_TRIG 0
 #endif
+#ifndef HAIRLUT_SAMPLING
+#define HAIRLUT_SAMPLING 0
+#endif
 #ifndef HAIRLUT_SET
 #define HAIRLUT_SET 0
 #endif
@@ -63,7 +72,7 @@ layout(set = HAIRLUT_SET, binding = HAIRLUT_BINDING + 1) uniform sampler2DArray 
 #define HAIRLUT_MP_TEXTURE hairlut_mp_texture
 #endif
 
-// One material (std140 and std430 alike: 96 bytes). Each axis maps its argument x to the node
+// One material (std140 and std430 alike: 144 bytes). Each axis maps its argument x to the node
 // coordinate s = clamp((x − a) b, 0, last): vec4(a, b, last, 1 / count). x is θ for θi and θr, |φ|
 // folded into [0, π] for φ, and |θd| (uniform θd axis) or 1 − cos θd (cos-spaced: the nodes are
 // uniform in cos θd, and 1 − cos θd keeps its precision near θd = 0).
@@ -74,6 +83,9 @@ struct HairlutMaterial {
   vec4 theta_r;
   ivec4 lobes;  // explicit lobes P, residual (1) or not (0), first N_p layer, first M_p layer
   ivec4 flags;  // x: θd axis cos-spaced (1) or uniform (0); yzw: 0
+  ivec4 rows0;  // sampling only: offsets in HAIRLUT_ROWS of gq, gcum, gguide, z
+  ivec4 rows1;  // sampling only: offsets of nbar, ncum, nguide; nq (θi nodes of step 1's rows)
+  vec4 rows2;   // sampling only: hq (their step), θi of the first, 0, 0
 };
 
 const float HAIRLUT_PI = 3.14159265358979;
@@ -186,5 +198,9 @@ vec3 hairlut_eval(HairlutMaterial m, vec3 wo, vec3 wi) {
 #endif
   return hairlut_eval_located(m, to, ti, x, f);
 }
+
+#if HAIRLUT_SAMPLING
+#include "hairlut_sampling.glsl"
+#endif
 
 #endif  // HAIRLUT_GLSL

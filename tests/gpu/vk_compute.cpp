@@ -61,20 +61,20 @@ Vk::Vk(const std::string& prefer) {
   pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, pci.queueFamilyIndex = family_;
   check(vkCreateCommandPool(device_, &pci, nullptr, &pool_), "vkCreateCommandPool");
 
-  VkDescriptorSetLayoutBinding b[5] = {};
-  const VkDescriptorType types[5] = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
-  for (std::uint32_t i = 0; i < 5; ++i) b[i].binding = i, b[i].descriptorType = types[i], b[i].descriptorCount = 1, b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  VkDescriptorSetLayoutBinding b[6] = {};
+  const VkDescriptorType types[6] = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  for (std::uint32_t i = 0; i < 6; ++i) b[i].binding = i, b[i].descriptorType = types[i], b[i].descriptorCount = 1, b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   VkDescriptorSetLayoutCreateInfo lci{};
   lci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  lci.bindingCount = 5, lci.pBindings = b;
+  lci.bindingCount = 6, lci.pBindings = b;
   check(vkCreateDescriptorSetLayout(device_, &lci, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
   VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 8};
   VkPipelineLayoutCreateInfo plci{};
   plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
   plci.setLayoutCount = 1, plci.pSetLayouts = &set_layout_, plci.pushConstantRangeCount = 1, plci.pPushConstantRanges = &push;
   check(vkCreatePipelineLayout(device_, &plci, nullptr, &layout_), "vkCreatePipelineLayout");
-  const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 128}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 64}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 128}};
+  const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 128}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 64}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 192}};
   VkDescriptorPoolCreateInfo dpci{};
   dpci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
   dpci.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT, dpci.maxSets = 64, dpci.poolSizeCount = 3, dpci.pPoolSizes = sizes;
@@ -240,21 +240,22 @@ VkPipeline Vk::pipeline(const std::vector<std::uint32_t>& spirv) {
 }
 
 void Vk::run(VkPipeline pipeline, const Image& np, const Image& mp, VkSampler sampler, const Buffer& uniforms, const Buffer& in, const Buffer& out,
-             std::uint32_t count, std::uint32_t mode) {
+             const Buffer& rows, std::uint32_t count, std::uint32_t mode) {
   VkDescriptorSetAllocateInfo ai{};
   ai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
   ai.descriptorPool = descriptors_, ai.descriptorSetCount = 1, ai.pSetLayouts = &set_layout_;
   VkDescriptorSet set;
   check(vkAllocateDescriptorSets(device_, &ai, &set), "vkAllocateDescriptorSets");
   const VkDescriptorImageInfo images[2] = {{sampler, np.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}, {sampler, mp.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
-  const VkDescriptorBufferInfo buffers[3] = {{uniforms.buffer, 0, VK_WHOLE_SIZE}, {in.buffer, 0, VK_WHOLE_SIZE}, {out.buffer, 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet w[5] = {};
-  for (std::uint32_t i = 0; i < 5; ++i) {
+  const VkDescriptorBufferInfo buffers[4] = {{uniforms.buffer, 0, VK_WHOLE_SIZE}, {in.buffer, 0, VK_WHOLE_SIZE}, {out.buffer, 0, VK_WHOLE_SIZE},
+                                             {rows.buffer, 0, VK_WHOLE_SIZE}};
+  VkWriteDescriptorSet w[6] = {};
+  for (std::uint32_t i = 0; i < 6; ++i) {
     w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, w[i].dstSet = set, w[i].dstBinding = i, w[i].descriptorCount = 1;
     if (i < 2) w[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[i].pImageInfo = &images[i];
     else w[i].descriptorType = i == 2 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, w[i].pBufferInfo = &buffers[i - 2];
   }
-  vkUpdateDescriptorSets(device_, 5, w, 0, nullptr);
+  vkUpdateDescriptorSets(device_, 6, w, 0, nullptr);
   VkCommandBuffer cmd = begin();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set, 0, nullptr);

@@ -1,6 +1,6 @@
 // A minimal Vulkan compute harness for the GLSL runtime's test: one device and queue, 2D array
 // textures uploaded once, host-visible buffers, and a compute pipeline with the test's fixed
-// layout (set 0: binding 0 and 1 combined image samplers, 2 a uniform buffer, 3 and 4 storage
+// layout (set 0: binding 0 and 1 combined image samplers, 2 a uniform buffer, 3, 4 and 5 storage
 // buffers; 8 bytes of push constants). Everything is destroyed with the object.
 #pragma once
 
@@ -51,10 +51,10 @@ class Vk {
   /// A compute pipeline from SPIR-V words, in the test's layout.
   VkPipeline pipeline(const std::vector<std::uint32_t>& spirv);
 
-  /// Binds the textures (with the sampler) and buffers, pushes (count, mode) and runs groups of
+  /// Binds the textures (with the sampler) and buffers (in, out, rows at 3, 4, 5), pushes (count, mode) and runs groups of
   /// 64 invocations over `count`; returns when the queue is idle.
   void run(VkPipeline pipeline, const Image& np, const Image& mp, VkSampler sampler, const Buffer& uniforms, const Buffer& in,
-           const Buffer& out, std::uint32_t count, std::uint32_t mode);
+           const Buffer& out, const Buffer& rows, std::uint32_t count, std::uint32_t mode);
 
  private:
   std::uint32_t memory_type(std::uint32_t bits, VkMemoryPropertyFlags want) const;

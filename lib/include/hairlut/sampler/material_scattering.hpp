@@ -186,6 +186,25 @@ class MaterialScattering {
   bool valid() const { return valid_; }
   int lobes() const { return L_; }
 
+  /// What sample() and pdf() read besides the tables, for a renderer that samples elsewhere (a GPU:
+  /// examples/gpu/material_textures.hpp). With nr θr nodes, nt θd nodes, nf φ nodes, P explicit
+  /// lobes: step 1's rows, per θr node r, gq [r][cell][3] (A, B, C on each of nq − 1 cells of step
+  /// hq from θi = −π/2) and gcum [r][nq] (prefix masses), gguide [r][64]; step 2's lobe energies
+  /// z [θd node][lobes_padded]; step 3's rows nbar, ncum [lobe][θd node][φ node], nguide
+  /// [lobe][θd node][32]. Valid while this object lives.
+  struct Rows {
+    const double *gq = nullptr, *gcum = nullptr, *z = nullptr, *nbar = nullptr, *ncum = nullptr;
+    const std::uint16_t *gguide = nullptr, *nguide = nullptr;
+    int nq = 0, lobes_padded = 0, guide_theta = kGuideTheta, guide_phi = kGuidePhi;
+    double hq = 0.0;
+  };
+  Rows rows() const {
+    Rows r;
+    r.gq = gq_.data(), r.gcum = gcum_.data(), r.z = z_.data(), r.nbar = nbar_.data(), r.ncum = ncum_.data();
+    r.gguide = gguide_.data(), r.nguide = nguide_.data(), r.nq = nq_, r.lobes_padded = SM_, r.hq = hq_;
+    return r;
+  }
+
   /// S per channel at θo, θi and φ = φo − φi [rad] (finite arguments).
   void eval(const Incl& o, const Incl& i, double phi, double* rgb) const {
     Terms s;
