@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Static cost of S per evaluation in compiled SPIR-V: hairlut.glsl's direction interface (both
-filters) against pbrt-v4's HairBxDF::f in GLSL (tests/gpu/pbrt_hair_f.comp).
+filters) and its sampling against pbrt-v4's HairBxDF::f in GLSL (tests/gpu/pbrt_hair_f.comp).
 
 Each shader is compiled by glslangValidator and optimised by spirv-opt -O (every function inlined
 into main; the same main around each: read wo and wi, write S). Counted in main: instructions that
@@ -32,6 +32,10 @@ void main() {
   values[i] = vec4(hairlut_eval(material, points[2 * i].xyz, points[2 * i + 1].xyz), 0.0);
 }
 """
+SAMPLE = MAIN.replace('#include "hairlut.glsl"', '#define HAIRLUT_SAMPLING 1\n#include "hairlut.glsl"').replace(
+    "values[i] = vec4(hairlut_eval(material, points[2 * i].xyz, points[2 * i + 1].xyz), 0.0);",
+    "HairlutSample s = hairlut_sample(material, hairlut_at(material, points[2 * i].xyz), points[2 * i + 1].xyz);\n"
+    "  values[i] = vec4(s.weight, s.pdf);")
 SKIP = re.compile(r"OpLabel|OpLoopMerge|OpSelectionMerge|OpFunction|OpVariable|OpPhi|OpBranch\b|OpCompositeExtract|OpAccessChain")
 CHEAP = {"FMax", "FMin", "FClamp", "Fma", "FAbs", "Floor", "Round", "SMin", "SMax", "UMin", "UMax"}
 
@@ -60,9 +64,11 @@ def main():
     with tempfile.TemporaryDirectory() as d:
         work = Path(d)
         (work / "eval.comp").write_text(MAIN)
+        (work / "sample.comp").write_text(SAMPLE)
         include = f"-I{source / 'lib' / 'shaders'}"
         rows = [("hairlut.glsl hairlut_eval, hardware filter", cost(work / "eval.comp", [include, "-DHAIRLUT_FILTER=0"], work)),
                 ("hairlut.glsl hairlut_eval, explicit filter", cost(work / "eval.comp", [include, "-DHAIRLUT_FILTER=1"], work)),
+                ("hairlut_sampling.glsl hairlut_at + hairlut_sample, hardware filter", cost(work / "sample.comp", [include, "-DHAIRLUT_FILTER=0"], work)),
                 ("pbrt-v4 HairBxDF::f (tests/gpu/pbrt_hair_f.comp)", cost(source / "tests" / "gpu" / "pbrt_hair_f.comp", [], work))]
     print("| shader | instructions | texture reads | GLSL.std.450 calls | loops (instructions header to merge) |")
     print("|---|---|---|---|---|")
