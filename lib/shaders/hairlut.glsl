@@ -1,6 +1,7 @@
 // hairlut.glsl — S(wo, wi) of one hair material from its baked tables, in a shader: what
 // hairlut::sampler::MaterialScattering::eval (material_scattering.hpp) computes, with the tables in
-// textures. GLSL 4.50 (Vulkan or OpenGL), no extensions.
+// textures. GLSL 4.50 for Vulkan; for OpenGL, declare the textures yourself (HAIRLUT_NP_TEXTURE,
+// HAIRLUT_MP_TEXTURE and, to sample, HAIRLUT_ROWS below), since OpenGL's GLSL has no descriptor sets.
 //
 // The tables are those of a per-material bake (materials/<name>/np_<lobe>, mp_<lobe>, np_residual,
 // mp_residual; docs/table-format.md): RGB N_p over (θd, φ) per lobe and M_p over (θi, θr), every
