@@ -187,7 +187,7 @@ class DirectoryLock {
 // times its text: a 60 MB sidecar took 2.2 GB). The size cap bounds the time to parse (about 1 s
 // per 100 MiB), the depth cap the parser's stack, the cap on kept values what the kept fields hold
 // (the "files" list: a few entries per output file). The writer refuses a sidecar over the size cap
-// (write_outputs), so that the reader accepts every sidecar hairlut writes.
+// (write_table_set), so that the reader accepts every sidecar hairlut writes.
 constexpr std::uintmax_t kMaxSidecarBytes = std::uintmax_t{256} << 20;
 constexpr int kMaxSidecarDepth = 24;
 constexpr std::size_t kMaxSidecarKeptValues = std::size_t{1} << 16;
