@@ -1,29 +1,24 @@
-# Install rules: the library and its headers, the CMake package (hairlut::hairlut, hairlut::sampler),
-# a pkg-config file, the tools, the schemas and shipped configs, the licence. The package is
-# relocatable: `cmake --install build/release --prefix P` works for any P.
+# Install rules: the library's layers and their headers, the CMake package (hairlut::runtime, the
+# compiled layers hairlut::physics … hairlut::report, the umbrella hairlut::hairlut), a pkg-config
+# file, the tools, the schemas and shipped configs, the licence. The package is relocatable:
+# `cmake --install build/release --prefix P` works for any P.
 include(CMakePackageConfigHelpers)
 
 set(HAIRLUT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/hairlut CACHE STRING "Where hairlutConfig.cmake is installed (relative to the prefix)")
 mark_as_advanced(HAIRLUT_CMAKE_DIR)
-get_target_property(_hairlut_type hairlut TYPE)
-if(_hairlut_type STREQUAL "STATIC_LIBRARY")
-  set(HAIRLUT_STATIC ON)
-else()
-  set(HAIRLUT_STATIC OFF)
-  # Installed tools find the installed shared library.
-  set_target_properties(hairlut-eval bake-hair-luts validate-hair-luts bench-hair-luts compare-hair-models
-                        PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
-endif()
+# The compiled layers, bottom to top (the order a static link needs them in, reversed).
+set(HAIRLUT_LAYERS physics tables formats bake report)
+set(_hairlut_layer_targets "")
+foreach(_layer IN LISTS HAIRLUT_LAYERS)
+  list(APPEND _hairlut_layer_targets hairlut_${_layer})
+endforeach()
 
-install(TARGETS hairlut EXPORT hairlut-targets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(TARGETS hairlut_sampler EXPORT hairlut-sampler-targets)
+install(TARGETS ${_hairlut_layer_targets} hairlut EXPORT hairlut-targets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(TARGETS hairlut_runtime EXPORT hairlut-runtime-targets)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/include/hairlut DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.hpp")
 install(FILES ${PROJECT_BINARY_DIR}/lib/generated/hairlut/util/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hairlut/util)
 install(EXPORT hairlut-targets NAMESPACE hairlut:: DESTINATION ${HAIRLUT_CMAKE_DIR} FILE hairlut-targets.cmake)
-install(EXPORT hairlut-sampler-targets NAMESPACE hairlut:: DESTINATION ${HAIRLUT_CMAKE_DIR} FILE hairlut-sampler-targets.cmake)
+install(EXPORT hairlut-runtime-targets NAMESPACE hairlut:: DESTINATION ${HAIRLUT_CMAKE_DIR} FILE hairlut-runtime-targets.cmake)
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/hairlutConfig.cmake.in ${PROJECT_BINARY_DIR}/hairlutConfig.cmake
                               INSTALL_DESTINATION ${HAIRLUT_CMAKE_DIR})
@@ -31,22 +26,22 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/hairlutConfig.cmake.in
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/hairlutConfigVersion.cmake COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/hairlutConfig.cmake ${PROJECT_BINARY_DIR}/hairlutConfigVersion.cmake DESTINATION ${HAIRLUT_CMAKE_DIR})
 
-# pkg-config: relocatable (prefix from the .pc file's own place). A static libhairlut.a carries
+# pkg-config: relocatable (prefix from the .pc file's own place). The static layers carry
 # undefined references to HDF5 (and its high-level library), OpenEXR, zlib and the OpenMP runtime,
 # so every consumer's link needs them: they go into Requires and Libs, not the .private fields that
-# only `pkg-config --static` reads. The OpenMP runtime is named by its libraries (libgomp for GCC)
-# rather than -fopenmp, so that a one-line compile-and-link does not compile the consumer with
-# OpenMP. A shared libhairlut records its own dependencies and needs none of this.
-if(HAIRLUT_STATIC)
-  set(HAIRLUT_PC_REQUIRES_STATIC " OpenEXR hdf5 zlib")
-  set(HAIRLUT_PC_LIBS_STATIC " -lhdf5_hl")
-  foreach(_omp_lib IN LISTS OpenMP_CXX_LIB_NAMES)
-    string(APPEND HAIRLUT_PC_LIBS_STATIC " -l${_omp_lib}")
-  endforeach()
-else()
-  set(HAIRLUT_PC_REQUIRES_STATIC "")
-  set(HAIRLUT_PC_LIBS_STATIC "")
-endif()
+# only `pkg-config --static` reads. The layers are named top first, as a static link needs them.
+# The OpenMP runtime is named by its libraries (libgomp for GCC) rather than -fopenmp, so that a
+# one-line compile-and-link does not compile the consumer with OpenMP.
+set(HAIRLUT_PC_LIBS "")
+set(_hairlut_top_first ${HAIRLUT_LAYERS})
+list(REVERSE _hairlut_top_first)
+foreach(_layer IN LISTS _hairlut_top_first)
+  string(APPEND HAIRLUT_PC_LIBS " -lhairlut_${_layer}")
+endforeach()
+string(APPEND HAIRLUT_PC_LIBS " -lhdf5_hl")
+foreach(_omp_lib IN LISTS OpenMP_CXX_LIB_NAMES)
+  string(APPEND HAIRLUT_PC_LIBS " -l${_omp_lib}")
+endforeach()
 file(RELATIVE_PATH HAIRLUT_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
 string(REGEX REPLACE "/$" "" HAIRLUT_PC_TO_PREFIX "${HAIRLUT_PC_TO_PREFIX}")
 configure_file(${PROJECT_SOURCE_DIR}/hairlut.pc.in ${PROJECT_BINARY_DIR}/hairlut.pc @ONLY)

@@ -20,6 +20,7 @@
 #include <hairlut/physics/longitudinal_mp.hpp>
 #include <hairlut/bake/np_point.hpp>
 #include <hairlut/util/quadrature.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/tables/tables.hpp>
 #include <hairlut/tables/hair_views.hpp>

@@ -2,7 +2,8 @@
 # a stranger would: checks the installed files and that the documents the README links are there,
 # runs an installed tool and checks that the tools default to installed data, configures and builds the
 # consumer project SOURCE/examples/engine-consumer with find_package(hairlut CONFIG) against that
-# prefix only, runs it on TABLE, checks the package version rule and the sampler-only component,
+# prefix only, runs it on TABLE, checks the package version rule, the runtime-only component (and
+# its earlier name, sampler) and a consumer of one compiled layer (physics),
 # compiles the consumer once more with the installed pkg-config file's flags (plain and --static),
 # and imports the installed Python module with PYTHON when it was built.
 # VERSION is the project version; CXX the C++ compiler; CONFIG the build configuration.
@@ -20,12 +21,17 @@ file(MAKE_DIRECTORY ${WORK})
 run("cmake --install" ${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix} --config ${CONFIG})
 
 # The installed files.
-file(GLOB libs ${prefix}/lib*/libhairlut.a ${prefix}/lib*/libhairlut.so)
+file(GLOB libs ${prefix}/lib*/libhairlut_physics.a)
 if(NOT libs)
-  message(FATAL_ERROR "no libhairlut installed under ${prefix}/lib*")
+  message(FATAL_ERROR "no libhairlut_physics.a installed under ${prefix}/lib*")
 endif()
 list(GET libs 0 lib)
 get_filename_component(libdir ${lib} DIRECTORY)
+foreach(layer tables formats bake report)
+  if(NOT EXISTS ${libdir}/libhairlut_${layer}.a)
+    message(FATAL_ERROR "not installed: ${libdir}/libhairlut_${layer}.a")
+  endif()
+endforeach()
 foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/hair_scattering.hpp include/hairlut/tables/tables.hpp include/hairlut/util/version.hpp
           share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
           share/hairlut/tables/configs/default.json share/hairlut/tables/default/hairlut-default.h5 share/doc/hairlut/LICENSE
@@ -36,7 +42,7 @@ foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/hair_scatt
   endif()
 endforeach()
 foreach(f cmake/hairlut/hairlutConfig.cmake cmake/hairlut/hairlutConfigVersion.cmake cmake/hairlut/hairlut-targets.cmake
-          cmake/hairlut/hairlut-sampler-targets.cmake pkgconfig/hairlut.pc)
+          cmake/hairlut/hairlut-runtime-targets.cmake pkgconfig/hairlut.pc)
   if(NOT EXISTS ${libdir}/${f})
     message(FATAL_ERROR "not installed: ${libdir}/${f}")
   endif()
@@ -126,25 +132,55 @@ message(STATUS "${run_out}")
 run("sampler-only" ${consumer}/sampler-only)
 message(STATUS "${run_out}")
 
-# Version rule and the dependency-free sampler component.
+# Version rule and the dependency-free runtime component, also under its earlier name.
 file(WRITE ${WORK}/package-check/CMakeLists.txt "cmake_minimum_required(VERSION 3.22)
 project(package_check LANGUAGES NONE)
 find_package(hairlut 99.0 CONFIG QUIET)
 if(hairlut_FOUND)
   message(FATAL_ERROR \"a request for hairlut 99.0 accepted version \${hairlut_VERSION}\")
 endif()
-find_package(hairlut ${VERSION} CONFIG REQUIRED COMPONENTS sampler)
-if(NOT TARGET hairlut::sampler OR TARGET hairlut::hairlut OR nlohmann_json_DIR)
-  message(FATAL_ERROR \"COMPONENTS sampler must give hairlut::sampler alone, without dependencies\")
+find_package(hairlut ${VERSION} CONFIG REQUIRED COMPONENTS runtime)
+if(NOT TARGET hairlut::runtime OR TARGET hairlut::physics OR TARGET hairlut::hairlut OR nlohmann_json_DIR)
+  message(FATAL_ERROR \"COMPONENTS runtime must give hairlut::runtime alone, without dependencies\")
 endif()
-get_target_property(features hairlut::sampler INTERFACE_COMPILE_FEATURES)
-get_target_property(links hairlut::sampler INTERFACE_LINK_LIBRARIES)
+get_target_property(features hairlut::runtime INTERFACE_COMPILE_FEATURES)
+get_target_property(links hairlut::runtime INTERFACE_LINK_LIBRARIES)
 if(NOT features STREQUAL \"cxx_std_17\" OR links)
-  message(FATAL_ERROR \"hairlut::sampler: features \${features}, links \${links}\")
+  message(FATAL_ERROR \"hairlut::runtime: features \${features}, links \${links}\")
+endif()
+find_package(hairlut ${VERSION} CONFIG REQUIRED COMPONENTS sampler)
+get_target_property(aliased hairlut::sampler ALIASED_TARGET)
+if(NOT aliased STREQUAL \"hairlut::runtime\" OR TARGET hairlut::hairlut)
+  message(FATAL_ERROR \"COMPONENTS sampler must give hairlut::sampler, an alias of hairlut::runtime (got \${aliased})\")
 endif()
 ")
-run("the package version and sampler component check" ${CMAKE_COMMAND} -S ${WORK}/package-check -B ${WORK}/package-check/build
+run("the package version and runtime component check" ${CMAKE_COMMAND} -S ${WORK}/package-check -B ${WORK}/package-check/build
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+
+# One compiled layer alone: a consumer of hairlut::physics builds and runs without HDF5, OpenEXR
+# and zlib, which the package then does not look up.
+file(WRITE ${WORK}/physics-only/CMakeLists.txt "cmake_minimum_required(VERSION 3.22)
+project(physics_only LANGUAGES CXX)
+find_package(hairlut ${VERSION} CONFIG REQUIRED COMPONENTS physics)
+if(DEFINED HDF5_FOUND OR DEFINED OpenEXR_DIR OR DEFINED ZLIB_FOUND)
+  message(FATAL_ERROR \"COMPONENTS physics looked up a file format library\")
+endif()
+add_executable(physics-only physics_only.cpp)
+target_link_libraries(physics-only PRIVATE hairlut::physics)
+")
+file(WRITE ${WORK}/physics-only/physics_only.cpp "#include <cstdio>
+#include <hairlut/physics/longitudinal_mp.hpp>
+int main() {
+  const double m = hairlut::longitudinal_deon(0.01, 0.5, -0.5);  // d'Eon's M_p, variance 0.01, theta_i 0.5, theta_r -0.5
+  std::printf(\"M_p %.6f\\n\", m);
+  return m > 0.0 ? 0 : 1;
+}
+")
+run("configuring the physics-only consumer" ${CMAKE_COMMAND} -S ${WORK}/physics-only -B ${WORK}/physics-only/build -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+run("building the physics-only consumer" ${CMAKE_COMMAND} --build ${WORK}/physics-only/build)
+run("physics-only" ${WORK}/physics-only/build/physics-only)
+message(STATUS "physics-only: ${run_out}")
 
 # pkg-config: the same consumer built with the installed hairlut.pc's flags. The README's line,
 # `c++ -std=c++20 prog.cpp $(pkg-config --cflags --libs hairlut)`, has no --static: the installed

@@ -1,12 +1,15 @@
-# The library's layers, bottom to top, and the rule that dependencies point down only.
+# The library's layers, bottom to top, and the rule that dependencies point down only. Each folder
+# belongs to one link target (lib/CMakeLists.txt, docs/architecture.md), and a target links only the
+# targets below it, so a call upwards already fails to link; this script is the fast check of the
+# includes, which the link does not see (a header-only use of a higher layer, a declaration).
 #
-#   sampler  header-only, dependency-free table sampler and importance sampling (an engine copies it)
-#   util     angles, errors, hashing, quadrature rules
-#   physics  the scattering functions themselves
-#   tables   grids, table sets and their typed views
-#   bake     configs, the bakers, engine presets, the resolution planner and its error measure
-#   io       HDF5, OpenEXR and engine textures
-#   report   validation, comparison, reports, plots, benchmark pieces
+#   sampler  hairlut::runtime  header-only, dependency-free table sampler and renderer runtime (an engine copies it)
+#   util     hairlut::physics  angles, errors, hashing, quadrature rules
+#   physics  hairlut::physics  the scattering functions themselves
+#   tables   hairlut::tables   grids, table sets and their typed views
+#   io       hairlut::formats  HDF5, OpenEXR, engine textures, PNG, a table set's files and sidecar
+#   bake     hairlut::bake     configs, the bakers, engine presets, the resolution planner, a config's outputs
+#   report   hairlut::report   validation, comparison, reports, plots, benchmark pieces
 #
 # Usage: cmake -DROOT=<a tree with lib/include/hairlut and lib/src> -P check_layers.cmake
 # Every header and source of the library must sit in a layer folder (hairlut.hpp, the umbrella
@@ -14,7 +17,7 @@
 # below, by its layer path ("hairlut/physics/fresnel.hpp"), and a private header of lib/src only
 # from its own folder. The first violation of each file is reported with file and line; the script
 # fails if there is any.
-set(layers sampler util physics tables bake io report)
+set(layers sampler util physics tables io bake report)
 string(JOIN " < " layer_order ${layers})
 
 if(NOT ROOT)

@@ -23,11 +23,14 @@ endfunction()
 
 set(fresnel "lib/include/hairlut/physics/fresnel.hpp")
 fixture(clean ${fresnel} "#include \"hairlut/util/angles.hpp\"" lib/include/hairlut/util/angles.hpp "#include <cmath>"
+        lib/include/hairlut/bake/outputs.hpp "#include \"hairlut/io/table_io.hpp\"" lib/include/hairlut/io/table_io.hpp "#pragma once"
         lib/src/physics/fresnel.cpp "#include \"hairlut/physics/fresnel.hpp\"\n#include \"roots.hpp\""
         lib/src/physics/roots.hpp "#pragma once" lib/include/hairlut/hairlut.hpp "#include \"hairlut/report/x.hpp\"")
 expect(clean PASS)
 fixture(upward ${fresnel} "#include \"hairlut/bake/config.hpp\"" lib/include/hairlut/bake/config.hpp "")
 expect(upward "physics/ includes hairlut/bake/config.hpp, a higher layer")
+fixture(formats lib/include/hairlut/io/table_io.hpp "#include \"hairlut/bake/config.hpp\"" lib/include/hairlut/bake/config.hpp "")
+expect(formats "io/ includes hairlut/bake/config.hpp, a higher layer")
 fixture(flat ${fresnel} "#include <hairlut/angles.hpp>")
 expect(flat "includes hairlut/angles.hpp, not a layer header")
 fixture(outside lib/include/hairlut/fresnel.hpp "")

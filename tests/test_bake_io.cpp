@@ -14,6 +14,7 @@
 #include <hairlut/bake/config.hpp>
 #include <hairlut/physics/melanin.hpp>
 #include <hairlut/io/hdf5_io.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/report/validate.hpp>
 #include <random>

@@ -8,6 +8,7 @@
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/physics/dual_scattering.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/engine_exr.hpp>
 #include <hairlut/physics/longitudinal_mp.hpp>
 #include <hairlut/io/table_io.hpp>

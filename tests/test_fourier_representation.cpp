@@ -13,6 +13,7 @@
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/io/hdf5_io.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/physics/attenuation.hpp>
 #include <hairlut/physics/azimuthal_fourier.hpp>

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/engine_exr.hpp>
 #include <hairlut/bake/hdrp_kernels.hpp>
 #include <hairlut/util/quadrature.hpp>

@@ -6,6 +6,7 @@
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/hairlut.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/report/validate.hpp>
 #include <unistd.h>

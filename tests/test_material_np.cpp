@@ -8,6 +8,7 @@
 #include <hairlut/physics/melanin.hpp>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 
 #include <cstring>

@@ -9,6 +9,7 @@
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/bake/json_schema.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <string>
 #include <unistd.h>

@@ -16,6 +16,7 @@
 #include <hairlut/bake/bake_estimate.hpp>
 #include <hairlut/util/error.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <optional>
 #include <string>

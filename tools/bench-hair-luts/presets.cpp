@@ -6,6 +6,7 @@
 #include <fstream>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/engine_exr.hpp>
 #include <sstream>
 

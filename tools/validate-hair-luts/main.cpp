@@ -15,6 +15,7 @@
 #include <hairlut/util/error.hpp>
 #include <hairlut/report/report.hpp>
 #include <hairlut/report/validate_engine.hpp>
+#include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/report/validate.hpp>
 #include <string>

@@ -13,7 +13,7 @@
 #include "bake_internal.hpp"
 #include "bake_stages.hpp"
 #include "hairlut/bake/resolution.hpp"
-#include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/bake/beta_bands.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
 #include "hairlut/physics/lobe_energy.hpp"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "hairlut/bake/bake.hpp"
-#include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/bake/beta_bands.hpp"
 #include "hairlut/util/quadrature.hpp"
 
 namespace hairlut::detail {

@@ -1,4 +1,4 @@
-#include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/bake/beta_bands.hpp"
 
 #include <cmath>
 
@@ -13,15 +13,6 @@
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
-
-std::string beta_band_suffix(int k) { return k == 0 ? std::string() : "_band" + std::to_string(k); }
-
-int beta_band_of(const std::vector<double>& his, double beta) {
-  const int n = static_cast<int>(his.size());
-  for (int k = 0; k + 1 < n; ++k)
-    if (beta <= his[static_cast<std::size_t>(k)]) return k;
-  return n > 0 ? n - 1 : 0;
-}
 
 std::vector<BetaBand> parse_beta_bands(const nlohmann::json& bands, const nlohmann::json& np_axes_json,
                                        const std::function<std::vector<GridAxis>(const nlohmann::json&, const std::string&)>& make_axes) {

@@ -175,26 +175,6 @@ AbsorptionMapping AbsorptionMapping::from_json(const nlohmann::json& j) {
   return m;
 }
 
-json EngineTexture::describe() const {
-  json j;
-  j["preset"] = preset;
-  j["texture"] = name;
-  j["engine_format"] = engine_format;
-  j["channel_count"] = channel_count;
-  j["tiles_per_row"] = tiles_per_row;
-  j["flip_y"] = flip_y;
-  json ch = json::object();
-  const char* names[4] = {"R", "G", "B", "A"};
-  for (int c = 0; c < channel_count; ++c) {
-    const EngineChannel& e = channels[c];
-    if (e.table.empty()) ch[names[c]] = {{"constant", e.constant}};
-    else ch[names[c]] = {{"table", e.table}, {"scale", e.scale}, {"saturate", e.saturate}};
-  }
-  j["channels"] = ch;
-  j["description"] = description;
-  return j;
-}
-
 const std::vector<std::string>& engine_preset_names() {
   static const std::vector<std::string> names = {kUnreal, kUnity, kUnityDeon};
   return names;

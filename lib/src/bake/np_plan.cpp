@@ -12,7 +12,7 @@
 #include "bake_stages.hpp"
 #include "hairlut/bake/resolution.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
-#include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/bake/beta_bands.hpp"
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
 

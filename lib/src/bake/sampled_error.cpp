@@ -1,5 +1,8 @@
 #include "hairlut/bake/sampled_error.hpp"
 
+// half's conversions inline (bit shifts, the same values as libImath's table): this layer links no
+// OpenEXR or Imath library.
+#define IMATH_HALF_NO_LOOKUP_TABLE
 #include <Imath/half.h>
 #include <omp.h>
 

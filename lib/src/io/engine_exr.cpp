@@ -153,4 +153,14 @@ EngineImage read_engine_texture(const std::filesystem::path& file) {
   return img;
 }
 
+bool is_engine_texture(const std::filesystem::path& file) {
+  try {
+    if (!std::filesystem::is_regular_file(file)) return false;
+    Imf::InputFile in(file.string().c_str());
+    return in.header().findTypedAttribute<Imf::StringAttribute>("hairlut.engine") != nullptr;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 }  // namespace hairlut

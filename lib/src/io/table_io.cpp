@@ -187,7 +187,7 @@ class DirectoryLock {
 // times its text: a 60 MB sidecar took 2.2 GB). The size cap bounds the time to parse (about 1 s
 // per 100 MiB), the depth cap the parser's stack, the cap on kept values what the kept fields hold
 // (the "files" list: a few entries per output file). The writer refuses a sidecar over the size cap
-// (write_outputs), so that the reader accepts every sidecar hairlut writes.
+// (write_table_set), so that the reader accepts every sidecar hairlut writes.
 constexpr std::uintmax_t kMaxSidecarBytes = std::uintmax_t{256} << 20;
 constexpr int kMaxSidecarDepth = 24;
 constexpr std::size_t kMaxSidecarKeptValues = std::size_t{1} << 16;
@@ -259,13 +259,17 @@ void check_against_sidecar(const fs::path& file) {
 
 }  // namespace
 
-OutputPaths output_paths(const BakeConfig& c) {
-  const fs::path base = c.output.directory / c.output.basename;
+OutputPaths set_paths(const fs::path& directory, const std::string& basename) {
+  const fs::path base = directory / basename;
   return {fs::path(base.string() + ".h5"), fs::path(base.string() + ".exr"), fs::path(base.string() + ".json")};
 }
 
-bool outputs_up_to_date(const BakeConfig& c) {
-  const OutputPaths paths = output_paths(c);
+fs::path engine_texture_path(const fs::path& directory, const std::string& basename, const EngineTexture& texture) {
+  return directory / (basename + "-" + texture.file_suffix + ".exr");
+}
+
+bool table_set_up_to_date(const SetFiles& files, const std::string& config_hash) {
+  const OutputPaths paths = set_paths(files.directory, files.basename);
   std::error_code ec;
   if (fs::symlink_status(paths.sidecar, ec).type() != fs::file_type::regular || fs::file_size(paths.sidecar, ec) > kMaxSidecarBytes)
     return false;
@@ -273,10 +277,10 @@ bool outputs_up_to_date(const BakeConfig& c) {
   if (!in) return false;
   try {
     const json s = parse_sidecar(in, {"config_hash", "hairlut_version", "files"});
-    if (s.value("config_hash", std::string()) != c.hash || s.value("hairlut_version", std::string()) != kVersion) return false;
+    if (s.value("config_hash", std::string()) != config_hash || s.value("hairlut_version", std::string()) != kVersion) return false;
     std::size_t formats = 0;
     for (const json& f : s.at("files")) {
-      const fs::path p = c.output.directory / f.at("path").get<std::string>();
+      const fs::path p = files.directory / f.at("path").get<std::string>();
       // The size, then the contents: a file changed in place (a flipped byte, zeroed pixels) is
       // not up to date. Only a regular file is hashed (never a FIFO or a device planted there).
       if (fs::symlink_status(p, ec).type() != fs::file_type::regular || ec) return false;
@@ -286,7 +290,7 @@ bool outputs_up_to_date(const BakeConfig& c) {
       if (!recorded.is_string() || file_hash(p, algorithm) != recorded.get<std::string>()) return false;
       ++formats;
     }
-    return formats == static_cast<std::size_t>(c.output.hdf5) + static_cast<std::size_t>(c.output.exr) + engine_outputs(c).size();
+    return formats == static_cast<std::size_t>(files.hdf5) + static_cast<std::size_t>(files.exr) + files.engine.size();
   } catch (const std::exception&) {
     return false;
   } catch (const SidecarRefused&) {
@@ -300,16 +304,16 @@ namespace {
 // to the writer (hashed from its bytes in memory); other files are read back and hashed.
 // With `text`, each table's axes are placeholders for text->indented (at depth 4: root, "tables",
 // the table, "axes").
-json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport& report,
+json sidecar_document(const TableSet& set, const SetFiles& out, const SidecarSource& source,
                       const std::vector<std::pair<std::string, fs::path>>& files, const std::vector<detail::FileDigest>& digests,
                       detail::TableText* text = nullptr) {
   json s;
   s["format"] = "hairlut-tables";
   s["format_version"] = kFormatVersionMajor;
   s["hairlut_version"] = kVersion;
-  s["name"] = c.name;
-  s["model"] = c.model;
-  s["config_hash"] = c.hash;
+  s["name"] = source.name;
+  s["model"] = source.model;
+  s["config_hash"] = source.config_hash;
   s["files"] = json::array();
   for (std::size_t i = 0; i < files.size(); ++i) {
     const auto& [format, path] = files[i];
@@ -318,21 +322,21 @@ json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport
               {"path", path.filename().string()},
               {"bytes", known ? digests[i].bytes : fs::file_size(path)},
               {hash_sidecar_key(kFileHash), known ? digests[i].hash : file_hash(path)}};
-    if (format == "hdf5") f["precision"] = c.output.hdf5_double ? "float64" : "float32";
+    if (format == "hdf5") f["precision"] = out.hdf5_double ? "float64" : "float32";
     else if (format == "engine-exr") f["precision"] = "half";  // engine textures are RGBA half
-    else f["precision"] = c.output.exr_half ? "half" : "float32";
+    else f["precision"] = out.exr_options.half ? "half" : "float32";
     s["files"].push_back(f);
   }
   // EXR part and channel of each table.
   std::map<std::string, std::pair<std::string, std::string>> exr_place;
-  if (c.output.exr)
+  if (out.exr)
     for (const auto& [part, paths] : exr_part_plan(set))
       for (std::size_t i = 0; i < paths.size(); ++i) exr_place[paths[i]] = {part, paths.size() > 1 ? std::string(1, "RGBA"[i]) : ""};
   s["tables"] = json::array();
   for (const Table& t : set.tables) {
     json d = text ? text->with_placeholders(t) : t.describe();
-    if (c.output.hdf5) d["hdf5"] = {{"dataset", "/" + t.path()}};
-    if (c.output.exr) {
+    if (out.hdf5) d["hdf5"] = {{"dataset", "/" + t.path()}};
+    if (out.exr) {
       const auto& [part, channel] = exr_place[t.path()];
       d["exr"] = {{"part", part}};
       if (!channel.empty()) d["exr"]["channel"] = channel;
@@ -343,14 +347,12 @@ json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport
     }
     s["tables"].push_back(d);
   }
-  json folded = json::array();
-  for (const auto& f : report.folded) folded.push_back({{"lobe", f.lobe}, {"max_energy", f.max_energy}});
-  s["report"] = {{"explicit_lobes", report.explicit_lobes}, {"folded_lobes", folded}, {"notes", report.notes}, {"entries", report.entries}};
+  s["report"] = source.report;
   s["metadata"] = set.metadata;
-  // Engine textures (tables.engine): which file holds which texture and how it is laid out.
-  if (c.engine) {
+  // Engine textures: which file holds which texture and how it is laid out.
+  if (!out.engine.empty()) {
     s["engine_textures"] = json::array();
-    for (const EngineOutput& e : engine_outputs(c)) {
+    for (const EngineOutput& e : out.engine) {
       json d = e.texture.describe();
       d["path"] = e.path.filename().string();
       s["engine_textures"].push_back(d);
@@ -361,43 +363,40 @@ json sidecar_document(const TableSet& set, const BakeConfig& c, const BakeReport
 
 }  // namespace
 
-json sidecar_json(const TableSet& set, const BakeConfig& c, const BakeReport& report,
-                  const std::vector<std::pair<std::string, fs::path>>& files) {
-  return sidecar_document(set, c, report, files, {});
+json sidecar_json(const TableSet& set, const SetFiles& files, const SidecarSource& source,
+                  const std::vector<std::pair<std::string, fs::path>>& written) {
+  return sidecar_document(set, files, source, written, {});
 }
 
-std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, const BakeReport& report, const std::atomic<bool>* cancel,
-                                    const SlabbedTables* slabbed, const LockWait& wait) {
-  if (slabbed && !slabbed->empty() && c.output.exr)
-    throw DomainError("output.exr: tables larger than the memory budget are baked slab by slab into HDF5 only (EXR files hold "
-                      "engine-sized textures); set output.exr to false or raise --memory-budget");
-  if (c.output.exr && has_fourier_np(set))
-    throw IoError(output_paths(c).exr.string() + ": the Fourier N_p tables (np_fourier) are written to HDF5 only; OpenEXR has no layout for them");
-  const std::vector<EngineOutput> engines = engine_outputs(c);
-  const OutputPaths paths = output_paths(c);
+std::vector<fs::path> write_table_set(const TableSet& set, const SetFiles& out, const SidecarSource& source, const std::atomic<bool>* cancel,
+                                      const SlabbedTables* slabbed, const LockWait& wait) {
+  const OutputPaths paths = set_paths(out.directory, out.basename);
+  if (out.exr && slabbed && !slabbed->empty())
+    throw IoError(paths.exr.string() + ": tables baked slab by slab are written to HDF5 only; OpenEXR holds tables whole");
+  if (out.exr && has_fourier_np(set))
+    throw IoError(paths.exr.string() + ": the Fourier N_p tables (np_fourier) are written to HDF5 only; OpenEXR has no layout for them");
   std::error_code ec;
-  fs::create_directories(c.output.directory, ec);
-  if (ec) throw IoError(c.output.directory.string() + ": cannot create output directory (" + ec.message() + ")");
+  fs::create_directories(out.directory, ec);
+  if (ec) throw IoError(out.directory.string() + ": cannot create output directory (" + ec.message() + ")");
   // One bake at a time writes and commits into a directory, so that its set is never mixed with
   // another's; readers of the directory wait for the commit (load_tables).
-  const DirectoryLock lock(c.output.directory, true, wait, cancel);
+  const DirectoryLock lock(out.directory, true, wait, cancel);
   TempFiles temps;
   std::vector<std::pair<std::string, fs::path>> written;  // format, temporary path
   std::vector<detail::FileDigest> digests;                 // of written[i] where known from memory
-  if (c.output.hdf5) {
+  if (out.hdf5) {
     const fs::path t = create_temporary(paths.hdf5, temps);
-    const Hdf5WriteOptions h5{c.output.hdf5_deflate, report.threads};
-    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, h5), digests.emplace_back();
-    else digests.push_back(detail::write_hdf5_digest(set, t, h5));
+    if (slabbed) write_hdf5_slabbed(set, *slabbed, t, out.hdf5_options), digests.emplace_back();
+    else digests.push_back(detail::write_hdf5_digest(set, t, out.hdf5_options));
     written.emplace_back("hdf5", t);
   }
-  if (c.output.exr) {
+  if (out.exr) {
     const fs::path t = create_temporary(paths.exr, temps);
-    write_exr(set, t, {c.output.exr_half, c.output.exr_compression});
+    write_exr(set, t, out.exr_options);
     written.emplace_back("exr", t);
   }
   std::vector<fs::path> engine_finals;  // final paths of the engine textures, in `written` order after hdf5/exr
-  for (const EngineOutput& e : engines) {
+  for (const EngineOutput& e : out.engine) {
     const fs::path t = create_temporary(e.path, temps);
     write_engine_texture(set, e.texture, t);
     written.emplace_back("engine-exr", t);
@@ -405,10 +404,10 @@ std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, co
   }
   // The sidecar describes the final names.
   detail::TableText text;
-  json side = sidecar_document(set, c, report, written, digests, &text);
+  json side = sidecar_document(set, out, source, written, digests, &text);
   for (auto& f : side["files"]) {
     const auto parsed = parse_temporary(f["path"].get<std::string>());
-    if (!parsed) throw IoError(c.output.directory.string() + ": internal: a temporary file name was not recognised");
+    if (!parsed) throw IoError(out.directory.string() + ": internal: a temporary file name was not recognised");
     f["path"] = parsed->first;
   }
   const fs::path side_tmp = create_temporary(paths.sidecar, temps);
@@ -432,20 +431,20 @@ std::vector<fs::path> write_outputs(const TableSet& set, const BakeConfig& c, co
   return finals;
 }
 
-void remove_stale_temporaries(const BakeConfig& c, const LockWait& wait) {
+void remove_stale_temporaries(const fs::path& directory, const std::string& basename, const LockWait& wait) {
   std::error_code ec;
-  if (!fs::is_directory(c.output.directory, ec)) return;
+  if (!fs::is_directory(directory, ec)) return;
   // Under the directory's lock, so that a bake committing there (in this process too) is not
   // robbed of its temporaries.
-  const DirectoryLock lock(c.output.directory, true, wait);
-  const std::string prefix = c.output.basename + ".";
+  const DirectoryLock lock(directory, true, wait);
+  const std::string prefix = basename + ".";
   const long self = static_cast<long>(::getpid());
-  for (const auto& entry : fs::directory_iterator(c.output.directory, ec)) {
+  for (const auto& entry : fs::directory_iterator(directory, ec)) {
     const std::string n = entry.path().filename().string();
-    // Only a name create_temporary made, for an output of this config (basename.ext or an engine
+    // Only a name create_temporary made, for a file of this set (basename.ext or an engine
     // texture basename-*), ...
     const auto parsed = parse_temporary(n);
-    if (!parsed || (parsed->first.rfind(prefix, 0) != 0 && parsed->first.rfind(c.output.basename + "-", 0) != 0)) continue;
+    if (!parsed || (parsed->first.rfind(prefix, 0) != 0 && parsed->first.rfind(basename + "-", 0) != 0)) continue;
     // ... a regular file (never a link) owned by this user, ...
     struct stat st {};
     if (::lstat(entry.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;

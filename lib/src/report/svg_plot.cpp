@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <utility>
 
-#include "png.hpp"
+#include "hairlut/io/png.hpp"
 
 #include <algorithm>
 #include <cmath>

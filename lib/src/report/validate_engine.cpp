@@ -1,9 +1,5 @@
 #include "hairlut/report/validate_engine.hpp"
 
-#include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfInputFile.h>
-#include <OpenEXR/ImfStringAttribute.h>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -54,16 +50,6 @@ void check_cancel(const ValidationOptions& o) {
 }
 
 }  // namespace
-
-bool is_engine_texture(const std::filesystem::path& file) {
-  try {
-    if (!std::filesystem::is_regular_file(file)) return false;
-    Imf::InputFile in(file.string().c_str());
-    return in.header().findTypedAttribute<Imf::StringAttribute>("hairlut.engine") != nullptr;
-  } catch (const std::exception&) {
-    return false;
-  }
-}
 
 json validate_engine_texture(const std::filesystem::path& file, const ValidationOptions& opt) {
   const EngineImage img = read_engine_texture(file);

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+// half's conversions inline (bit shifts, the same values as libImath's table): this layer links no
+// OpenEXR or Imath library.
+#define IMATH_HALF_NO_LOOKUP_TABLE
 #include <Imath/half.h>
 
 #include "hairlut/util/error.hpp"

@@ -16,17 +16,12 @@
 #include <vector>
 
 #include "hairlut/bake/config.hpp"
+#include "hairlut/util/error.hpp"  // BakeCancelled
 #include "hairlut/util/quadrature.hpp"
 #include "hairlut/tables/slab_stream.hpp"
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
-
-/// Thrown by bake() when the cancellation flag was raised.
-class BakeCancelled : public std::runtime_error {
- public:
-  BakeCancelled() : std::runtime_error("bake cancelled") {}
-};
 
 struct BakeOptions {
   int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default (all cores)

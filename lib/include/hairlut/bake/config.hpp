@@ -14,7 +14,7 @@
 #include "hairlut/physics/attenuation.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
 #include "hairlut/bake/engine_presets.hpp"
-#include "hairlut/tables/beta_bands.hpp"
+#include "hairlut/bake/beta_bands.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/util/hash.hpp"

@@ -1,6 +1,6 @@
 // Roughness and absorption parameterisations (one engine parameter → hairlut's per-lobe β_m, β_n,
 // tilt and σa) and the export presets that reproduce the axes, resolutions, encodings and texel
-// placement of real-time engines' hair look-up textures. docs/presets/<name>.md describes each preset
+// placement of real-time engines' hair look-up textures (a texture's layout: io/engine_texture.hpp). docs/presets/<name>.md describes each preset
 // and the engine source files it follows.
 #pragma once
 
@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/io/engine_texture.hpp"
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/physics/hair_model.hpp"
 
@@ -57,29 +58,6 @@ struct AbsorptionMapping {
 HairModel table_model(const RoughnessMapping& roughness, const AbsorptionMapping& absorption, double eta, AbsorptionPath path,
                       double roughness_x, double absorption_x);
 
-
-/// The sampled quantities of an engine texture channel.
-struct EngineChannel {
-  std::string table;     ///< table path ("unreal/dual_scattering/a_f"), or empty for a constant
-  double constant = 0.0; ///< the value when `table` is empty
-  double scale = 1.0;    ///< the texture stores clamp(scale × value) (see saturate)
-  bool saturate = false; ///< clamp to [0, 1] as the engine's own bake does
-};
-
-/// One engine texture: a 3D texture of X × Y × Z texels written as a 2D atlas of Z tiles of X × Y.
-struct EngineTexture {
-  int channel_count = 4;    ///< channels written: R, G (2), R, G, B (3) or R, G, B, A (4), the engine's own count
-  std::string preset;       ///< "unreal-hair-strands", "unity-hdrp-hair"
-  std::string name;         ///< "dual-scattering", "mean-energy", "attenuation", ...
-  std::string file_suffix;  ///< appended to the output basename: <basename>-<suffix>.exr
-  std::string group;        ///< table group of its sources
-  EngineChannel channels[4];  ///< R, G, B, A (those past channel_count are not written)
-  int tiles_per_row = 1;    ///< tile of slice z at column z % tiles_per_row, row z / tiles_per_row
-  bool flip_y = false;      ///< texel row y at image row Y − 1 − y within its tile (bottom-left origin)
-  std::string engine_format;  ///< the engine's texture format, e.g. "PF_FloatRGBA (RGBA16F)"
-  std::string description;    ///< which shader reads it and how
-  nlohmann::ordered_json describe() const;
-};
 
 /// tables.engine of a config: which preset, which of its textures, and the few constants an engine
 /// team may need to match its own build.

@@ -1,8 +1,9 @@
-// OpenEXR files of engine textures (engine_presets.hpp): one single-part half-float image per
-// texture with the engine's channel count (RG or RGBA), the 3D texture's Z slices laid out as tiles
-// of X × Y texels the way the engine lays them out or imports them (Unreal's 4 × 4 atlas; HDRP's 64
-// slices as an 8 × 8 flipbook for Unity's 3D-texture import, bottom-left origin in each cell). The header states the layout, each axis and each channel
-// (`hairlut.engine.*`, all of it as JSON in `hairlut.engine`); `exrheader FILE` prints them.
+// OpenEXR files of engine textures (their layout: engine_texture.hpp): one single-part half-float
+// image per texture with the engine's channel count (RG or RGBA), the 3D texture's Z slices laid
+// out as tiles of X × Y texels the way the engine lays them out or imports them (Unreal's 4 × 4
+// atlas; HDRP's 64 slices as an 8 × 8 flipbook for Unity's 3D-texture import, bottom-left origin in
+// each cell). The header states the layout, each axis and each channel (`hairlut.engine.*`, all of
+// it as JSON in `hairlut.engine`); `exrheader FILE` prints them.
 #pragma once
 
 #include <array>
@@ -11,22 +12,16 @@
 #include <string>
 #include <vector>
 
-#include "hairlut/bake/config.hpp"
-#include "hairlut/bake/engine_presets.hpp"
+#include "hairlut/io/engine_texture.hpp"
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
 
-/// A texture of a config and the file it goes to: <output.directory>/<basename>-<suffix>.exr.
+/// An engine texture and the file it goes to (bake/outputs.hpp: engine_outputs names a config's).
 struct EngineOutput {
   EngineTexture texture;
   std::filesystem::path path;
 };
-/// The engine textures a config writes (none without tables.engine).
-std::vector<EngineOutput> engine_outputs(const BakeConfig& config);
-
-/// Image position (column, row) of texel (x, y, z) of a texture of X × Y texels per slice.
-std::array<long, 2> engine_pixel(const EngineTexture& texture, int X, int Y, int x, int y, int z);
 
 /// Writes the texture from the set's tables (all of the texture's tables share three axes: Z, Y, X
 /// in storage order). Writes the texture's first channel_count channels. Values are scaled and
@@ -45,5 +40,8 @@ struct EngineImage {
 };
 /// Reads a file written by write_engine_texture. Throws IoError.
 EngineImage read_engine_texture(const std::filesystem::path& file);
+
+/// True when `file` is an OpenEXR file with a `hairlut.engine` header (an engine texture). Never throws.
+bool is_engine_texture(const std::filesystem::path& file);
 
 }  // namespace hairlut

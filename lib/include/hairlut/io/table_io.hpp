@@ -1,9 +1,11 @@
-// The files of one bake: HDF5 and/or OpenEXR tables plus a JSON sidecar that describes every
-// table (schemas/hairlut-tables.schema.json). Files are written to temporary names in the output
-// directory and renamed into place only when complete, so an interrupted bake never leaves a
-// partial file at the destination. The sidecar, renamed last, is the set's manifest: it records
-// each file's size and hash (XXH3-64; FNV-1a 64 in sets of format 1.x), which load_tables checks. A bake holds an exclusive lock (flock)
-// on the output directory while it writes and commits, so two bakes never interleave their files.
+// The files of one table set: HDF5 and/or OpenEXR tables and engine textures plus a JSON sidecar
+// that describes every table (schemas/hairlut-tables.schema.json); which files a bake config
+// writes is bake/outputs.hpp's. Files are written to temporary names in the output directory and
+// renamed into place only when complete, so an interrupted writer never leaves a partial file at
+// the destination. The sidecar, renamed last, is the set's manifest: it records each file's size
+// and hash (XXH3-64; FNV-1a 64 in sets of format 1.x), which load_tables checks. A writer holds an
+// exclusive lock (flock) on the output directory while it writes and commits, so two bakes never
+// interleave their files.
 #pragma once
 
 #include <atomic>
@@ -13,27 +15,49 @@
 #include <string>
 #include <vector>
 
-#include "hairlut/bake/bake.hpp"
-#include "hairlut/bake/config.hpp"
+#include "hairlut/io/engine_exr.hpp"
 #include "hairlut/io/exr_io.hpp"
 #include "hairlut/io/hdf5_io.hpp"
+#include "hairlut/tables/slab_stream.hpp"
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
 
-/// Where a config's outputs go.
+/// The files of one table set, named by its directory and base name: <basename>.h5, <basename>.exr
+/// and the sidecar <basename>.json (load_tables finds a file's sidecar by this rule); an engine
+/// texture goes to <basename>-<suffix>.exr (engine_texture_path).
 struct OutputPaths {
   std::filesystem::path hdf5, exr, sidecar;
 };
-OutputPaths output_paths(const BakeConfig& config);
+OutputPaths set_paths(const std::filesystem::path& directory, const std::string& basename);
+std::filesystem::path engine_texture_path(const std::filesystem::path& directory, const std::string& basename, const EngineTexture& texture);
 
-/// True when the sidecar records this config's hash and library version and every file it lists
-/// exists as a regular file with the recorded size and content hash: re-baking would change nothing.
-bool outputs_up_to_date(const BakeConfig& config);
+/// What a table set is written as: which files, in which encodings.
+struct SetFiles {
+  std::filesystem::path directory;   ///< holds every file: created if missing, locked while the set is written
+  std::string basename;              ///< names the files (set_paths) and the temporaries a stopped writer left
+  bool hdf5 = false, exr = false;    ///< whole-set files written
+  Hdf5WriteOptions hdf5_options;
+  bool hdf5_double = false;          ///< the tables are float64 (the sidecar records the HDF5 file's precision)
+  ExrWriteOptions exr_options;
+  std::vector<EngineOutput> engine;  ///< engine textures, each to its own file
+};
 
-/// The sidecar document for a table set written to the given files.
-nlohmann::ordered_json sidecar_json(const TableSet& set, const BakeConfig& config, const BakeReport& report,
-                                    const std::vector<std::pair<std::string, std::filesystem::path>>& files);
+/// Where a set came from, as its sidecar records it beside what the writer knows (the files, the
+/// tables, the set's metadata). `config_hash` is what table_set_up_to_date compares.
+struct SidecarSource {
+  std::string name, model, config_hash;
+  nlohmann::ordered_json report;  ///< the sidecar's "report": what the producer decided and measured
+};
+
+/// True when the sidecar records `config_hash` and this library's version and lists exactly the
+/// files `files` asks for, each a regular file with the recorded size and content hash: writing the
+/// set again would change nothing.
+bool table_set_up_to_date(const SetFiles& files, const std::string& config_hash);
+
+/// The sidecar document for a table set written to the given files (format, path).
+nlohmann::ordered_json sidecar_json(const TableSet& set, const SetFiles& files, const SidecarSource& source,
+                                    const std::vector<std::pair<std::string, std::filesystem::path>>& written);
 
 /// How a writer waits for the output directory's lock while another process (a bake committing
 /// there) holds it: `notice` (optional) hears once that it waits and who holds the lock ("pid N
@@ -44,21 +68,21 @@ struct LockWait {
   std::function<void(const std::string&)> notice;
 };
 
-/// Writes every requested format and the sidecar (temporary names, then rename). Before each
+/// Writes every file `files` asks for and the sidecar (temporary names, then rename). Before each
 /// rename it checks `cancel`; if raised, it removes the temporaries and throws BakeCancelled.
-/// Returns the final paths written. Throws IoError. With `slabbed` (bake's slabbed tables), the
-/// HDF5 file is baked and written slab by slab (write_hdf5_slabbed); EXR output is refused then
-/// (DomainError), and the producers' exceptions (BakeCancelled) pass through. The output directory's
-/// lock is waited for as `wait` says.
-std::vector<std::filesystem::path> write_outputs(const TableSet& set, const BakeConfig& config, const BakeReport& report,
-                                                 const std::atomic<bool>* cancel = nullptr, const SlabbedTables* slabbed = nullptr,
-                                                 const LockWait& wait = {});
+/// Returns the final paths written. Throws IoError (also for Fourier N_p tables or `slabbed`
+/// tables in an EXR file, which has no layout for them). With `slabbed`, the HDF5 file is written
+/// slab by slab (write_hdf5_slabbed), and the producers' exceptions (BakeCancelled) pass through.
+/// The output directory's lock is waited for as `wait` says.
+std::vector<std::filesystem::path> write_table_set(const TableSet& set, const SetFiles& files, const SidecarSource& source,
+                                                   const std::atomic<bool>* cancel = nullptr, const SlabbedTables* slabbed = nullptr,
+                                                   const LockWait& wait = {});
 
-/// Removes temporary files a killed bake of this config may have left in the output directory
-/// (under the directory's lock, waited for as `wait` says):
-/// only regular files of this user whose names write_outputs made (a keyed hash in the name), for
-/// this config's outputs, of processes no longer running (or of an earlier process with this pid).
-void remove_stale_temporaries(const BakeConfig& config, const LockWait& wait = {});
+/// Removes temporary files a killed writer may have left in `directory` (under the directory's
+/// lock, waited for as `wait` says): only regular files of this user whose names write_table_set
+/// made (a keyed hash in the name), for the files of `basename`, of processes no longer running
+/// (or of an earlier process with this pid).
+void remove_stale_temporaries(const std::filesystem::path& directory, const std::string& basename, const LockWait& wait = {});
 
 /// Loads a table file written by hairlut, choosing the reader by the file's magic bytes
 /// (HDF5 or OpenEXR). When the file's set has a sidecar beside it that lists the file, the file

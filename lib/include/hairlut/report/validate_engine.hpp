@@ -8,12 +8,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "hairlut/io/engine_exr.hpp"  // is_engine_texture
 #include "hairlut/report/validate.hpp"
 
 namespace hairlut {
-
-/// True when `file` is an OpenEXR file with a `hairlut.engine` header (an engine texture). Never throws.
-bool is_engine_texture(const std::filesystem::path& file);
 
 /// Checks an engine texture; returns a report document {"source", "validator", "texture", "summary",
 /// "checks": [{id, title, status, value, threshold, comparison, detail}]}. The texels recomputed are

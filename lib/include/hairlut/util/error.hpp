@@ -19,6 +19,14 @@ class DomainError : public std::invalid_argument {
   explicit DomainError(const std::string& message) : std::invalid_argument(one_line(message)) {}
 };
 
+/// Thrown when the caller's cancellation flag was raised: by bake(), by the writers of a bake's
+/// files (while they wait for a lock or before they commit) and by the validators. Here, at the
+/// bottom, because every layer that polls the flag throws it.
+class BakeCancelled : public std::runtime_error {
+ public:
+  BakeCancelled() : std::runtime_error("bake cancelled") {}
+};
+
 /// Throws DomainError("<name> <requirement> (got <value>)").
 [[noreturn]] void throw_domain_error(std::string_view name, std::string_view requirement, double value);
 [[noreturn]] void throw_domain_error(std::string_view name, std::string_view requirement, long long value);

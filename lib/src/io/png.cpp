@@ -1,4 +1,4 @@
-#include "png.hpp"
+#include "hairlut/io/png.hpp"
 
 #include <zlib.h>
 

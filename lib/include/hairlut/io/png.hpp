@@ -1,5 +1,5 @@
 // A small PNG encoder for reports: 8-bit RGB images (zlib-compressed, filter 0 per row),
-// returned as bytes or as a data: URI to embed in HTML or SVG. Internal to the report layer.
+// returned as bytes or as a data: URI to embed in HTML or SVG (the reports' plots).
 #pragma once
 
 #include <cstdint>
