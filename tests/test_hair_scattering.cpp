@@ -159,11 +159,14 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnaceSampled, importance-sampled 
     for (double bm = 0.1; bm < 1.0; bm += 0.2)
       for (double bn = 0.1; bn < 1.0; bn += 0.2) {
         const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
+        // wo is held: its shading point is built once (rt.sample(f, wo, u) is rt.at(f, wo).sample(u),
+        // the same numbers; the tests with a new wo per sample build one per sample).
+        const Runtime::ShadingPoint sp = rt.at(f, wo);
         const int count = 10000;
         double sum = 0.0;
         for (int i = 0; i < count; ++i) {
           const double u[3] = {rng(), rng(), rng()};
-          const sampler::ScatteringSample s = rt.sample(f, wo, u);
+          const sampler::ScatteringSample s = sp.sample(u);
           if (s.pdf > 0.0) sum += average(s.weight);
         }
         const double avg = sum / count, want = tilted ? model_albedo(f.beta_m, std::asin(wo[0])) : 1.0;
@@ -263,9 +266,10 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingConsistency, importance and unif
         // pbrt's Li(w) = w.z², z a normal direction (its frame's z is our y).
         auto li = [](const double* w) { return w[1] * w[1]; };
         double importance = 0.0, uniform = 0.0;
+        const Runtime::ShadingPoint sp = rt.at(f, wo);  // wo is held (as in WhiteFurnaceSampled)
         for (int i = 0; i < count; ++i) {
           const double u[3] = {rng(), rng(), rng()};
-          const sampler::ScatteringSample s = rt.sample(f, wo, u);
+          const sampler::ScatteringSample s = sp.sample(u);
           if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
           double wi[3], rgb[3];
           uniform_sphere(u[1], u[2], wi);
@@ -344,13 +348,14 @@ TEST_CASE("HairScattering: sampled densities integrate to one over the sphere", 
       if (!tilted && bm > 0.3) continue;
       const sampler::Fibre f = fibre(rt, bm, 0.3, 0.5);
       const double wo[3] = {std::sin(to), std::cos(to), 0.0};
+      const Runtime::ShadingPoint sp = rt.at(f, wo);  // sp.pdf(wi) is rt.pdf(f, wo, wi), built once
       const int nt = 1440, np = 120;
       double s = 0.0;
       for (int a = 0; a < nt; ++a)
         for (int b = 0; b < np; ++b) {
           const double ti = -0.5 * kPi + (a + 0.5) * kPi / nt, ph = 2.0 * kPi * (b + 0.5) / np;
           const double wi[3] = {std::sin(ti), std::cos(ti) * std::cos(ph), std::cos(ti) * std::sin(ph)};
-          s += rt.pdf(f, wo, wi) * std::cos(ti);
+          s += sp.pdf(wi) * std::cos(ti);
         }
       s *= (kPi / nt) * (2.0 * kPi / np);
       INFO("tilted " << tilted << " beta_m " << f.beta_m << " theta_o " << to);

@@ -65,6 +65,7 @@ TEST_CASE("The reported off-node error bounds the sampler's error at other point
   const TableSet set = small_set();
   ValidationOptions opt;
   opt.max_points = 8000;  // random points per table
+  opt.seed = 2;           // a fixed search, so that the test gives the same verdict in every run
   const auto r = validate_tables(set, "unit", opt);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
