@@ -324,7 +324,21 @@ double row_peak(F f) {
 inline double energy_hat(const Table& energy, const GridAxis& theta_i_axis, double sigma_a, double theta_o, double theta_i) {
   sampler::Axis axes[2] = {energy.axes[0].view(), energy.axes[1].view()};
   for (sampler::Axis& a : axes) a.interpolation = sampler::Interpolation::linear, a.wrap = sampler::Wrap::clamp;
-  const sampler::TableView<float> view(energy.f32.data(), axes, 2);
+  // Ê interpolates the energies at the nodes: a table storing E / g (reaching 90°) times g at
+  // each node.
+  static std::map<const Table*, std::vector<float>> node_energies;
+  const float* values = energy.f32.data();
+  if (const sampler::GrazingFactor g = energy.grazing_factor(); !g.none()) {
+    auto [it, fresh] = node_energies.try_emplace(&energy);
+    if (fresh) {
+      const auto sa = energy.axes[0].nodes(), td = energy.axes[1].nodes();
+      it->second = energy.f32;
+      for (std::size_t i = 0; i < it->second.size(); ++i)
+        it->second[i] = static_cast<float>(it->second[i] * g(sa[i / td.size()], td[i % td.size()]));
+    }
+    values = it->second.data();
+  }
+  const sampler::TableView<float> view(values, axes, 2);
   const GridAxis& ti = theta_i_axis;
   const double h = (ti.hi - ti.lo) / (ti.count - 1), s = std::clamp((theta_i - ti.lo) / h, 0.0, ti.count - 1.0);
   const int k = std::min(static_cast<int>(s), ti.count - 2);

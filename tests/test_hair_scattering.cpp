@@ -522,10 +522,13 @@ TEST_CASE("HairScattering: eval is the tables' S as TableView reads each table",
       double want = 0.0;
       for (int p = 0; p < 4; ++p) {
         const double xm[3] = {f.beta_m, ti, to}, xn[4] = {f.beta_n, f.sigma_a[c], td, std::fabs(phi)}, xe[2] = {f.sigma_a[c], td};
-        want += std::max(0.0, mp[static_cast<std::size_t>(p)](xm)) * std::max(0.0, np[static_cast<std::size_t>(p)](xn) * en[static_cast<std::size_t>(p)](xe));
+        // An energy table reaching θd = 90° stores E_p / g (its grazing factor).
+        const double g = set.find(std::string("np/energy_") + lobes[p])->grazing_factor()(f.sigma_a[c], td);
+        want += std::max(0.0, mp[static_cast<std::size_t>(p)](xm)) * std::max(0.0, np[static_cast<std::size_t>(p)](xn) * en[static_cast<std::size_t>(p)](xe)) * g;
       }
       const double xm[3] = {f.beta_m, ti, to}, xr[2] = {f.sigma_a[c], td};
-      want += std::max(0.0, mres(xm)) * std::max(0.0, nres(xr) * (residual_factor ? eres(xr) : 1.0));
+      const double g = nres_table->grazing_factor()(f.sigma_a[c], td) * (residual_factor ? set.find(nres_factor)->grazing_factor()(f.sigma_a[c], td) : 1.0);
+      want += std::max(0.0, mres(xm)) * std::max(0.0, nres(xr) * (residual_factor ? eres(xr) : 1.0)) * g;
       const double err = std::fabs(rgb[c] - want) / std::max(want, 1e-3);
       worst = std::max(worst, err);
     }

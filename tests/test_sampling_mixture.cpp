@@ -122,11 +122,12 @@ LinearTables linear_tables(const TableSet& set, bool cubic_sampled_axis) {
     if (e) ea[0] = e->axes[0].view(), ea[1] = e->axes[1].view();
     if (p + 1 < out.names.size()) {
       axes_of(np, 3, na);
-      out.h.np[p] = sampler::NpLobe<float, double>(np.f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr);
+      out.h.np[p] = sampler::NpLobe<float, double>(np.f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr, e ? e->grazing_factor() : sampler::GrazingFactor{});
       out.h.mp[p] = sampler::MpLobe<float, double>(mp.f32.data(), ma);
     } else {
       axes_of(np, -1, na);
-      out.h.np_residual = sampler::NpResidual<float, double>(np.f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr);
+      out.h.np_residual = sampler::NpResidual<float, double>(np.f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr,
+                                                             np.grazing_factor(), e ? e->grazing_factor() : sampler::GrazingFactor{});
       out.h.mp_residual = sampler::MpLobe<float, double>(mp.f32.data(), ma);
     }
   }

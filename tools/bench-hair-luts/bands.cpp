@@ -95,7 +95,7 @@ sampler::HairTables<float, R> trt_bands(const TableSet& set, bool linear_beta_si
     for (int d = 0; d < 4; ++d) ba[d] = b.axes[static_cast<std::size_t>(d)].view();
     if (linear_beta_sigma) ba[0].interpolation = ba[1].interpolation = sampler::Interpolation::linear;
     h.band_hi[k] = b.axes[0].hi;
-    (k == 0 ? h.np[2] : h.np_band[k - 1][2]) = sampler::NpLobe<float, R>(b.f32.data(), ba, energy.f32.data(), ea);
+    (k == 0 ? h.np[2] : h.np_band[k - 1][2]) = sampler::NpLobe<float, R>(b.f32.data(), ba, energy.f32.data(), ea, energy.grazing_factor());
   }
   return h;
 }

@@ -43,10 +43,11 @@ hairlut::sampler::HairTables<float, double> reconstruction(const hairlut::TableS
     if (e) ea[0] = e->axes[0].view(), ea[1] = e->axes[1].view();
     axes_of(*np, p < h.lobes ? 3 : -1, na);
     if (p < h.lobes) {
-      h.np[p] = NpLobe<float, double>(np->f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr);
+      h.np[p] = NpLobe<float, double>(np->f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr, e ? e->grazing_factor() : GrazingFactor{});
       h.mp[p] = MpLobe<float, double>(mp->f32.data(), ma);
     } else {
-      h.np_residual = NpResidual<float, double>(np->f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr);
+      h.np_residual = NpResidual<float, double>(np->f32.data(), na, e ? e->f32.data() : nullptr, e ? ea : nullptr,
+                                                np->grazing_factor(), e ? e->grazing_factor() : GrazingFactor{});
       h.mp_residual = MpLobe<float, double>(mp->f32.data(), ma);
     }
   }

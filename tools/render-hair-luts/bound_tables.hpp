@@ -31,6 +31,7 @@ struct TableRef {
   const hairlut::sampler::Axis* axes = nullptr;
   int dims = 0;
   Coordinate coords[8] = {};
+  hairlut::sampler::GrazingFactor grazing;  ///< the values are the quantity divided by g(σa, θd) (Table::grazing_factor)
 };
 
 /// The tables of one lobe.
@@ -67,6 +68,7 @@ inline BoundTables bound_tables(const hairlut::TableSet& set, const std::string&
     r.data = t->f32.data();
     r.axes = a.data();
     r.dims = static_cast<int>(a.size());
+    r.grazing = t->grazing_factor();
     for (int d = 0; d < r.dims; ++d) r.coords[d] = coordinate_named(t->axes[static_cast<std::size_t>(d)].name);
     return r;
   };

@@ -135,12 +135,13 @@ struct Bounder {
       if (l.factor.data) {
         const hairlut::sampler::TableView<float> fv(l.factor.data, l.factor.axes, l.factor.dims);
         fill(l.factor, f.sigma_a);
-        factor = std::max(0.0, fv(x));
+        const double td = 0.5 * (tr - ti);
+        factor = std::max(0.0, fv(x)) * l.factor.grazing(f.sigma_a, td);
         fill(l.factor, 0.0);
-        white_factor = std::max(0.0, fv(x));
+        white_factor = std::max(0.0, fv(x)) * l.factor.grazing(0.0, td);
       }
       fill(l.np, f.sigma_a);
-      const double n = std::max(0.0, nv(x)) * factor;
+      const double n = std::max(0.0, nv(x)) * l.np.grazing(f.sigma_a, 0.5 * (tr - ti)) * factor;
       double d;  // the validator's denominator for this N_p, bounded from the tables
       const bool has_phi = l.np.coords[l.np.dims - 1] == Coordinate::phi;
       const double eps = l.factor.data ? eps_n + eps_e * (1.0 + eps_n) : eps_n;

@@ -17,6 +17,7 @@
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
+#include "hairlut/sampler/sampler_fibre.hpp"
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
 
@@ -251,6 +252,53 @@ namespace detail {
 
 namespace {
 
+// Whether a θd axis has its last node at 90°, where the energies of the lobes p ≥ 1 and of the
+// residual vanish (Fresnel transmission 1 − F ~ cos θd at grazing).
+bool reaches_grazing(const GridAxis& theta_d) {
+  const std::vector<double> n = theta_d.nodes();
+  return !n.empty() && std::abs(n.back() - 0.5 * kPi) <= 1e-12;
+}
+
+// The factor g(σa, θd) by which an energy table reaching 90° divides its values, so that what it
+// stores has a finite, non-zero limit there (docs/table-format.md, "Energies at grazing"). At
+// grazing 1 − F ≈ k u cos γi with u = cos θd, k = 2 (1 + η²) / √(η² − 1), and each internal segment
+// transmits T∞ = exp(−τ σa), τ = 2 / cos θt∞ (chord; 4 / cos θt∞ for the papers' path),
+// cos θt∞ = √(1 − 1/η²). So E_R → 1 (none); E_p ≈ (2/3) k² T∞^p u² for p ≥ 1 (n = 2); the
+// residual (1 − f)² f^{P−1} T^P / (1 − f T) ≈ k u T∞^{P−1} J(a), a = x / u, x = expm1(τ σa) / k,
+// J(a) = ∫ cos³γ / (a + cos γ) dγ over [0, π/2], which goes from π/4 (σa = 0: E ~ u) to 2/(3a)
+// (σa > 0: E ~ u²) over σa of the order of u. J(a) ≈ (π/4)(1 + b a) / (1 + c a + d a²) with
+// b = 2.58, c = b + 4/π (J's slope −1 at 0), d = 3πb/8 (its 2/(3a) tail), within 4.5e-4 for every
+// a ≥ 0, so g = u (1 + b a) / (1 + c a + d a²) leaves the residual a stored value within 4.5e-4 of
+// (π/4) k T∞^{P−1} near the corner (σa, θd) → (0, 90°), where E / u alone is a step in σa / u.
+sampler::GrazingFactor grazing_factor_of(const BakeConfig& c, const GridAxis& theta_d, int p, bool residual) {
+  sampler::GrazingFactor g;
+  if (!reaches_grazing(theta_d) || !(c.eta > 1.0) || p == 0) return g;
+  g.cos_power = residual ? 1 : 2;
+  if (residual) {
+    const double k = 2.0 * (1.0 + c.eta * c.eta) / std::sqrt(c.eta * c.eta - 1.0), cos_t = std::sqrt(1.0 - 1.0 / (c.eta * c.eta));
+    g.x_scale = 1.0 / k;
+    g.tau = (c.path == AbsorptionPath::chord ? 2.0 : 4.0) / cos_t;
+    g.b = 2.58;
+    g.c = g.b + 4.0 / kPi;
+    g.d = 3.0 * kPi * g.b / 8.0;
+  }
+  return g;
+}
+
+void set_grazing_attributes(Table& t, const sampler::GrazingFactor& g) {
+  if (g.none()) return;
+  t.attributes["cos_theta_d_power"] = g.cos_power;
+  if (g.x_scale != 0.0) t.attributes["grazing_absorption"] = {{"x_scale", g.x_scale}, {"tau", g.tau}, {"b", g.b}, {"c", g.c}, {"d", g.d}};
+}
+
+// A value over g at a node: θd = 90° is evaluated as the double nearest π/2 (below it), where cos θd = 6.1e-17
+// and the physics gives the limit ratio to rounding.
+// (g underflows only where the energy has: such a node stores 0.)
+double divided_by_factor(const Table& t, double value, double sigma_a, double theta_d) {
+  const double g = t.grazing_factor()(sigma_a, std::min(theta_d, 0.5 * kPi));
+  return g > 0.0 ? value / g : 0.0;
+}
+
 // The energy and residual tables over `axes` (σa, θd), without values.
 void append_energy_tables(const BakeRun& s, const std::vector<GridAxis>& axes, TableSet& set) {
   const BakeConfig& c = *s.config;
@@ -258,17 +306,23 @@ void append_energy_tables(const BakeRun& s, const std::vector<GridAxis>& axes, T
   for (int p = 0; p < lobe_set.size(); ++p) {
     const bool res = p == s.lobes;
     const std::string lobe = res ? "residual" : lobe_name(p);
+    const sampler::GrazingFactor g = grazing_factor_of(c, axes[1], p, res);
     Table t = make_table("np", "energy_" + lobe, "energy", "1",
-                         "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : ""),
+                         "energy 1/2 int A dh = int N_p dphi of lobe " + lobe + (res ? " (all p >= " + std::to_string(p) + ")" : "") +
+                             (g.none() ? "" : " divided by its grazing factor"),
                          axes, s.precision);
     t.attributes = {{"lobe", lobe}, {"p", p}};
+    set_grazing_attributes(t, g);
     set.tables.push_back(std::move(t));
   }
   if (c.residual) {
+    const sampler::GrazingFactor g = grazing_factor_of(c, axes[1], s.lobes, true);
     Table t = make_table("np", "residual", "N_p", "1/rad",
-                         "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)",
+                         "residual lobes p >= " + std::to_string(s.lobes) + " spread uniformly in phi: energy/(2 pi)" +
+                             (g.none() ? "" : ", divided by its grazing factor"),
                          axes, s.precision);
     t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
+    set_grazing_attributes(t, g);
     set.tables.push_back(std::move(t));
   }
 }
@@ -281,8 +335,14 @@ void bake_energy_values(const BakeRun& s, std::size_t first, TableSet& set, Bake
   const std::vector<double> sigmas = axes[0].nodes(), thetas = axes[1].nodes();
   const std::size_t nt = thetas.size(), residual_index = first + static_cast<std::size_t>(lobe_set.size());
   bake_energies(s, lobe_set, sigmas, thetas, s.options, [&](std::size_t is, std::size_t it, const std::vector<double>& e) {
-    for (std::size_t p = 0; p < e.size(); ++p) set.tables[first + p].set(is * nt + it, e[p]);
-    if (c.residual) set.tables[residual_index].set(is * nt + it, e.back() / kTwoPi);
+    for (std::size_t p = 0; p < e.size(); ++p) {
+      Table& t = set.tables[first + p];
+      t.set(is * nt + it, divided_by_factor(t, e[p], sigmas[is], thetas[it]));
+    }
+    if (c.residual) {
+      Table& t = set.tables[residual_index];
+      t.set(is * nt + it, divided_by_factor(t, e.back() / kTwoPi, sigmas[is], thetas[it]));
+    }
   });
   report.entries += static_cast<std::size_t>(lobe_set.size()) * sigmas.size() * nt;
 }

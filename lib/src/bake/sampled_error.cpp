@@ -34,6 +34,15 @@ struct Random {
   }
 };
 
+// The domain measured along an axis: its range, except that a θd axis ending within 2° short of
+// 90° is measured up to 90° (a renderer asks up to grazing; beyond the last node it reads that
+// node, or the limit where the table stores E / cos^n θd). Axes of smaller ranges are subsets the
+// config chose.
+double domain_hi(const GridAxis& a) {
+  constexpr double kHalfPi = 1.5707963267948966, kNear = 2.0 * 3.14159265358979323846 / 180.0;
+  return a.name == "theta_d" && a.units == "rad" && a.hi < kHalfPi && a.hi >= kHalfPi - kNear ? kHalfPi : a.hi;
+}
+
 bool on_nodes(const GridAxis& a) { return a.name == "channel" || (a.spacing == Spacing::explicit_values && !a.labels.empty()) || a.count < 2; }
 
 double draw(const GridAxis& a, Random& r) {
@@ -45,7 +54,7 @@ double draw(const GridAxis& a, Random& r) {
   }
   if (a.spacing == Spacing::explicit_values) return a.values.front() + u * (a.values.back() - a.values.front());
   if (a.spacing == Spacing::log) return std::exp(std::log(a.lo) + u * (std::log(a.hi) - std::log(a.lo)));
-  return a.lo + u * (a.hi - a.lo);
+  return a.lo + u * (domain_hi(a) - a.lo);
 }
 
 // Largest |f| along axis k over [lo, hi] with the other coordinates of x: a grid, then golden
@@ -185,7 +194,7 @@ std::pair<double, double> end_region(const GridAxis& a, bool last) {
   const auto n = a.nodes();
   if (n.size() < 2) return {a.lo, a.lo};
   if (a.wrap == Wrap::periodic) return last ? std::pair{n.back(), a.hi} : std::pair{a.lo, n.front() > a.lo ? n.front() : n[1]};
-  return last ? std::pair{n[n.size() - 2], a.hi} : std::pair{a.lo, n[1]};
+  return last ? std::pair{n[n.size() - 2], domain_hi(a)} : std::pair{a.lo, n[1]};
 }
 
 // A point between the end and the inner bound of an end region at fraction d from the end (in
@@ -193,7 +202,7 @@ std::pair<double, double> end_region(const GridAxis& a, bool last) {
 double toward(const GridAxis& a, bool last, double d) {
   const auto [lo, hi] = end_region(a, last);
   const double t0 = sampler::mapped(a.spacing, last ? hi : lo), t1 = sampler::mapped(a.spacing, last ? lo : hi);
-  return std::clamp(sampler::unmapped(a.spacing, t0 + d * (t1 - t0)), a.lo, a.hi);
+  return std::clamp(sampler::unmapped(a.spacing, t0 + d * (t1 - t0)), a.lo, domain_hi(a));
 }
 
 // The local cell width of axis a at x (in x).
@@ -364,7 +373,7 @@ std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction&
       const GridAxis& a = t.axes[static_cast<std::size_t>(k)];
       if (a.units != "rad") continue;
       for (bool last : {false, true}) {
-        const double end = last ? a.hi : a.lo;
+        const double end = last ? domain_hi(a) : a.lo;
         if (std::abs(std::abs(end) - 1.5707963267948966) > 0.0873) continue;
         std::vector<double> along;
         for (int j = 0; j <= 12; ++j) along.push_back(toward(a, last, std::ldexp(1.0, -j)));
@@ -436,7 +445,7 @@ std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction&
         std::vector<double> step(dims, 0.0), tlo(dims), thi(dims);
         for (int k : axes) {
           const GridAxis& a = t.axes[static_cast<std::size_t>(k)];
-          const double t0 = sampler::mapped(a.spacing, a.lo), t1 = sampler::mapped(a.spacing, a.hi);
+          const double t0 = sampler::mapped(a.spacing, a.lo), t1 = sampler::mapped(a.spacing, domain_hi(a));
           tlo[static_cast<std::size_t>(k)] = std::min(t0, t1), thi[static_cast<std::size_t>(k)] = std::max(t0, t1);
           step[static_cast<std::size_t>(k)] = 0.25 * std::abs(t1 - t0) / std::max(1, a.count - 1);
         }
@@ -453,7 +462,7 @@ std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction&
               if (evaluations >= opt.climb_evaluations) break;
               std::vector<double> y = best.x;
               const double tv = std::clamp(sampler::mapped(a.spacing, y[kk]) + sign * step[kk], tlo[kk], thi[kk]);
-              y[kk] = std::clamp(sampler::unmapped(a.spacing, tv), a.lo, a.hi);
+              y[kk] = std::clamp(sampler::unmapped(a.spacing, tv), a.lo, domain_hi(a));
               if (y[kk] == best.x[kk]) continue;
               Sample q = eval(y);
               ++evaluations;

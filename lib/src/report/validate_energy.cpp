@@ -389,7 +389,7 @@ json absorption_section(const TableSet& set, const ModelInfo& info, const Valida
     double emax = 0.0;
     for (std::size_t i = 0; i < sig.size(); ++i)
       for (std::size_t j = 0; j < th.size(); ++j) {
-        grid[i][j] = e->get(i * th.size() + j);
+        grid[i][j] = e->get(i * th.size() + j) * e->grazing_factor()(sig[i], th[j]);  // a table reaching 90° stores E / g
         emax = std::max(emax, grid[i][j]);
       }
     energies.push_back({{"lobe", l}, {"sigma_a", sig}, {"theta_d", th}, {"energy", grid}});

@@ -73,7 +73,7 @@ sampler::HairTables<T, R> hair_tables(const TableSet& set) {
     axes_of<T>(n, na);
     const Table* e = factor_of<T>(set, n);
     if (e) axes_of<T>(*e, ea);
-    h.np[p] = sampler::NpLobe<T, R>(values<T>(n), na, e ? values<T>(*e) : nullptr, e ? ea : nullptr);
+    h.np[p] = sampler::NpLobe<T, R>(values<T>(n), na, e ? values<T>(*e) : nullptr, e ? ea : nullptr, e ? e->grazing_factor() : sampler::GrazingFactor{});
     // β bands (beta_bands.hpp): band k ≥ 1 is np/<lobe>_band<k>.
     const auto bands = set.metadata.find("np_beta_bands");
     const int nb = bands != set.metadata.end() && bands->is_array() ? static_cast<int>(bands->size()) : 1;
@@ -88,7 +88,7 @@ sampler::HairTables<T, R> hair_tables(const TableSet& set) {
       axes_of<T>(b, ba);
       const Table* be = factor_of<T>(set, b);
       if (be) axes_of<T>(*be, bea);
-      h.np_band[k - 1][p] = sampler::NpLobe<T, R>(values<T>(b), ba, be ? values<T>(*be) : nullptr, be ? bea : nullptr);
+      h.np_band[k - 1][p] = sampler::NpLobe<T, R>(values<T>(b), ba, be ? values<T>(*be) : nullptr, be ? bea : nullptr, be ? be->grazing_factor() : sampler::GrazingFactor{});
     }
     const Table& m = require<T>(set, "mp/" + lobe, {"beta", "theta_i", "theta_r"});
     sampler::Axis ma[3];
@@ -101,7 +101,8 @@ sampler::HairTables<T, R> hair_tables(const TableSet& set) {
     axes_of<T>(n, na);
     const Table* e = factor_of<T>(set, n);
     if (e) axes_of<T>(*e, ea);
-    h.np_residual = sampler::NpResidual<T, R>(values<T>(n), na, e ? values<T>(*e) : nullptr, e ? ea : nullptr);
+    h.np_residual = sampler::NpResidual<T, R>(values<T>(n), na, e ? values<T>(*e) : nullptr, e ? ea : nullptr,
+                                              n.grazing_factor(), e ? e->grazing_factor() : sampler::GrazingFactor{});
     const Table& m = require<T>(set, "mp/residual", {"beta", "theta_i", "theta_r"});
     sampler::Axis ma[3];
     axes_of<T>(m, ma);

@@ -32,7 +32,23 @@ double Table::sample(const std::vector<double>& x) const {
                                                        : sampler::sample(f64.data(), v.data(), dims, x.data());
   // Cubic interpolation may undershoot below zero next to a steep fall; a non-negative quantity
   // stays non-negative (shifts are signed, and spectral transmittance is negative out of gamut).
-  return quantity == "shift" || quantity == "transmittance" ? value : std::max(value, 0.0);
+  const double clamped = quantity == "shift" || quantity == "transmittance" ? value : std::max(value, 0.0);
+  const sampler::GrazingFactor g = grazing_factor();
+  if (g.none()) return clamped;
+  double sigma_a = 0.0, theta_d = 0.0;
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    if (axes[k].name == "sigma_a") sigma_a = x[k];
+    if (axes[k].name == "theta_d") theta_d = x[k];
+  }
+  return clamped * g(sigma_a, theta_d);
+}
+
+sampler::GrazingFactor Table::grazing_factor() const {
+  sampler::GrazingFactor g;
+  g.cos_power = attributes.value("cos_theta_d_power", 0);
+  if (const auto a = attributes.find("grazing_absorption"); a != attributes.end() && a->is_object())
+    g.x_scale = a->value("x_scale", 0.0), g.tau = a->value("tau", 0.0), g.b = a->value("b", 0.0), g.c = a->value("c", 0.0), g.d = a->value("d", 0.0);
+  return g;
 }
 
 double TableSet::sample_value(const Table& t, const std::vector<double>& x) const {

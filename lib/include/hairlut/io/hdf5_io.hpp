@@ -35,11 +35,13 @@ class IoError : public std::runtime_error {
 /// Format 2.0 changed the checksums (content checksum and the sidecar's file digests) from FNV-1a
 /// 64 to XXH3-64 and names the algorithm in each file; this hairlut writes 2.0 and still reads
 /// every 1.x file (1.1, and 1.2 with N_p in the Fourier representation), verifying FNV-1a there.
-/// Every file this hairlut writes, with Fourier tables or without, records 2.0, which holds all of
-/// 1.2's additions (a 1.x file recorded the lowest minor version whose additions it held).
+/// Every file this hairlut writes, with Fourier tables or without, records 2.1, which holds all of
+/// 1.2's additions (a 1.x file recorded the lowest minor version whose additions it held). Format
+/// 2.1 adds the attributes cos_theta_d_power and grazing_absorption on energy and residual tables
+/// whose θd axis reaches 90°.
 inline constexpr int kFormatVersionMajor = 2;
 inline constexpr int kFormatVersionMajorOldest = 1;  ///< the oldest major version this hairlut reads
-inline constexpr int kFormatVersionMinor = 0;        ///< the minor version this hairlut writes (it reads any)
+inline constexpr int kFormatVersionMinor = 1;        ///< the minor version this hairlut writes (it reads any)
 /// "MAJOR.MINOR" of this hairlut, as every file it writes records it.
 std::string format_version_text();
 

@@ -531,6 +531,12 @@ class HairScattering {
       sh.sigma = PreparedAxis(clamped(v.axis(0).axis())), sh.theta = PreparedAxis(clamped(v.axis(1).axis()));
       const std::size_t count = static_cast<std::size_t>(sh.sigma.axis.count) * static_cast<std::size_t>(sh.theta.axis.count);
       sh.e.assign(v.data(), v.data() + count);
+      // A table that stores E_p / g (reaching 90°): the energies themselves on the nodes.
+      if (!n.energy_factor().none())
+        for (int i = 0; i < sh.sigma.axis.count; ++i)
+          for (int j = 0; j < sh.theta.axis.count; ++j)
+            sh.e[static_cast<std::size_t>(i) * static_cast<std::size_t>(sh.theta.axis.count) + static_cast<std::size_t>(j)] *=
+                n.energy_factor()(node(sh.sigma.axis, i), node(sh.theta.axis, j));
     } else {
       if (!t_.np_residual.valid()) return;
       const Axis sa = t_.np_residual.table().axis(0).axis(), td = t_.np_residual.table().axis(1).axis();

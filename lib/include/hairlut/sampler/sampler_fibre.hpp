@@ -28,6 +28,34 @@
 namespace hairlut {
 namespace sampler {
 
+/// The factor g(σa, θd) by which an energy or residual table whose θd axis reaches 90° divides its
+/// values, so that they stay finite and smooth where the energies vanish (docs/table-format.md,
+/// "Energies at grazing", format 2.1), with u = cos θd (clamped at 0):
+///   g = u^n · u (u + b x) / (u² + c x u + d x²),  x = x_scale · expm1(τ σa),
+/// the second factor present only where x_scale ≠ 0 (the residual, whose energy goes as u for σa = 0
+/// and as u² for σa > 0, the change over σa of the order of u). From the table's attributes
+/// `cos_theta_d_power` (n) and `grazing_absorption` {x_scale, tau, b, c, d}. g = 0 at u = 0 (n ≥ 1)
+/// and where x overflows (σa so large that the energy underflowed).
+struct GrazingFactor {
+  int cos_power = 0;
+  double x_scale = 0.0, tau = 0.0, b = 0.0, c = 0.0, d = 0.0;
+  bool none() const { return cos_power <= 0 && x_scale == 0.0; }
+  template <class R>
+  R operator()(R sigma_a, R theta_d) const {
+    if (none()) return R(1);
+    const R c0 = std::cos(theta_d);
+    const double u = c0 < R(0) ? 0.0 : static_cast<double>(c0);
+    double g = 1.0;
+    for (int i = 0; i < cos_power; ++i) g *= u;
+    if (x_scale != 0.0) {
+      const double x = x_scale * std::expm1(tau * static_cast<double>(sigma_a));
+      const double den = u * u + c * x * u + d * x * x;
+      g = den > 0.0 && den < HUGE_VAL ? g * u * (u + b * x) / den : 0.0;
+    }
+    return static_cast<R>(g);
+  }
+};
+
 namespace detail {
 template <class R>
 R nonnegative(R v) {
@@ -96,18 +124,23 @@ HAIRLUT_SAMPLER_INLINE void fibre_angles(const R* wi, const R* wo, R& theta_i, R
 }
 
 /// N_p of one lobe over (β, σa, θd, φ), stored in that axis order; optionally the shape N_p/E_p
-/// times the energy table over (σa, θd).
+/// times the energy table over (σa, θd). An energy table that reaches θd = 90° stores E_p / g
+/// (GrazingFactor: E_p of the lobes p ≥ 1 vanishes there as cos²θd); the view multiplies g back
+/// after interpolating, so the energy has its limit at grazing.
 template <class T, class R = double>
 class NpLobe {
  public:
   NpLobe() = default;
-  /// axes: beta, sigma_a, theta_d, phi; energy (nullable) and its axes: sigma_a, theta_d.
-  NpLobe(const T* values, const Axis* axes, const T* energy = nullptr, const Axis* energy_axes = nullptr)
+  /// axes: beta, sigma_a, theta_d, phi; energy (nullable) and its axes: sigma_a, theta_d;
+  /// energy_factor: the energy table's grazing factor (none when it has no such attributes).
+  NpLobe(const T* values, const Axis* axes, const T* energy = nullptr, const Axis* energy_axes = nullptr, GrazingFactor energy_factor = {})
       : table_(values, axes), phi_axis_(axes[3]) {
-    if (energy) energy_ = FixedView<T, 2, R>(energy, energy_axes), has_energy_ = true;
+    if (energy) energy_ = FixedView<T, 2, R>(energy, energy_axes), has_energy_ = true, factor_ = energy_factor;
   }
   bool valid() const { return table_.data() != nullptr; }
   bool has_energy() const { return has_energy_; }
+  /// g of the energy table's values E_p / g.
+  const GrazingFactor& energy_factor() const { return factor_; }
   const FixedView<T, 4, R>& table() const { return table_; }
   const FixedView<T, 2, R>& energy() const { return energy_; }
 
@@ -122,7 +155,7 @@ class NpLobe {
   R energy(R sigma_a, R theta_d) const {
     if (!has_energy_) return R(1);
     const R y[2] = {sigma_a, std::fabs(theta_d)};
-    return detail::nonnegative(energy_(y));
+    return detail::nonnegative(energy_(y)) * factor_(sigma_a, theta_d);
   }
 
  private:
@@ -130,6 +163,7 @@ class NpLobe {
   FixedView<T, 2, R> energy_;
   Axis phi_axis_;
   bool has_energy_ = false;
+  GrazingFactor factor_;
 };
 
 /// M_p of one lobe over (β, θi, θr), the lobe's tilt included.
@@ -151,13 +185,18 @@ class MpLobe {
   FixedView<T, 3, R> table_;
 };
 
-/// N of the residual lobes p ≥ P over (σa, θd): their energy spread uniformly in φ and β.
+/// N of the residual lobes p ≥ P over (σa, θd): their energy spread uniformly in φ and β. A table
+/// that reaches θd = 90° stores N / g (GrazingFactor: the residual of a white fibre vanishes as
+/// cos θd, of an absorbing one as cos²θd); the view multiplies g back.
 template <class T, class R = double>
 class NpResidual {
  public:
   NpResidual() = default;
-  /// axes: sigma_a, theta_d; energy (nullable, a factor over the same axes).
-  NpResidual(const T* values, const Axis* axes, const T* energy = nullptr, const Axis* energy_axes = nullptr) : table_(values, axes) {
+  /// axes: sigma_a, theta_d; energy (nullable, a factor over the same axes); factor and
+  /// energy_factor: the two tables' grazing factors (none when they have no such attributes).
+  NpResidual(const T* values, const Axis* axes, const T* energy = nullptr, const Axis* energy_axes = nullptr, GrazingFactor factor = {},
+             GrazingFactor energy_factor = {})
+      : table_(values, axes), factor_(factor), energy_factor_(energy_factor) {
     if (energy) energy_ = FixedView<T, 2, R>(energy, energy_axes), has_energy_ = true;
   }
   bool valid() const { return table_.data() != nullptr; }
@@ -166,13 +205,14 @@ class NpResidual {
     const R x[2] = {sigma_a, std::fabs(theta_d)};
     R v = table_(x);
     if (has_energy_) v *= energy_(x);
-    return detail::nonnegative(v);
+    return detail::nonnegative(v) * factor_(sigma_a, theta_d) * (has_energy_ ? energy_factor_(sigma_a, theta_d) : R(1));
   }
 
  private:
   FixedView<T, 2, R> table_;
   FixedView<T, 2, R> energy_;
   bool has_energy_ = false;
+  GrazingFactor factor_, energy_factor_;
 };
 
 /// The d'Eon 2011 tables of one set: N_p and M_p per explicit lobe, and the residual.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/sampler/sampler_fibre.hpp"
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/util/hash.hpp"
 
@@ -40,8 +41,13 @@ struct Table {
   }
   /// The stored values interpolated at x (one coordinate per axis) with the shipped sampler and
   /// each axis's interpolation; never negative for a non-negative quantity (every quantity but
-  /// "shift" and "transmittance"). For the quantity the table stands for (with its factor table), use sample_value.
+  /// "shift" and "transmittance"); times g(σa, θd) where the table stores its quantity divided by it
+  /// (grazing_factor). For the quantity the table stands for (with its factor table), use sample_value.
   double sample(const std::vector<double>& x) const;
+  /// g where the values are the quantity divided by g(σa, θd) (attributes "cos_theta_d_power" and
+  /// "grazing_absorption", format 2.1: energy and residual tables whose θd axis reaches 90°, where
+  /// the energies vanish); none() otherwise.
+  sampler::GrazingFactor grazing_factor() const;
   /// The table whose value multiplies this one's (attribute "factor", e.g. "np/energy_TT" for N_p
   /// stored as the shape N_p / E_p), or "" when the values are the quantity itself.
   std::string factor() const { return attributes.value("factor", std::string()); }
