@@ -110,6 +110,19 @@ void interruptible_run(Work&& work) {
   done.get();  // the work's own exception, translated as any other
 }
 
+// A numeric argument that pybind11 would convert itself (a numpy complex scalar becomes its real
+// part with only a ComplexWarning): refused when complex or not numeric, in one line naming it.
+template <class T>
+T real(const py::object& v, const char* name) {
+  if (py::module_::import("numpy").attr("iscomplexobj")(v).cast<bool>())
+    throw py::type_error(std::string(name) + ": complex values are refused (the imaginary part would be dropped)");
+  try {
+    return v.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + ": real numbers expected, got " + py::repr(v).cast<std::string>());
+  }
+}
+
 py::array_t<double> to_array(const std::vector<double>& v) {
   py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
   std::copy(v.begin(), v.end(), out.mutable_data());
@@ -378,14 +391,18 @@ PYBIND11_MODULE(_core, m) {
 
   // The renderer runtime over baked tables (hairlut.TableSet.scattering wraps it).
   py::class_<hairlut::sampler::Fibre>(m, "Fibre")
-      .def(py::init([](const std::vector<double>& sigma_a, double beta_m, double beta_n, double tilt) {
+      .def(py::init([](const py::object& sigma_a_given, const py::object& beta_m_given, const py::object& beta_n_given,
+                       const py::object& tilt_given) {
+             const auto sigma_a = real<std::vector<double>>(sigma_a_given, "sigma_a");
+             const double beta_m = real<double>(beta_m_given, "beta_m"), beta_n = real<double>(beta_n_given, "beta_n"),
+                          tilt = real<double>(tilt_given, "tilt");
              if (sigma_a.size() != 3) throw py::value_error("sigma_a must have 3 values (RGB)");
              hairlut::sampler::Fibre f;
              std::copy(sigma_a.begin(), sigma_a.end(), f.sigma_a);
              f.beta_m = beta_m, f.beta_n = beta_n, f.tilt = tilt;
              return f;
            }),
-           py::arg("sigma_a"), py::arg("beta_m"), py::arg("beta_n"), py::arg("tilt") = 0.0)
+           py::arg("sigma_a"), py::arg("beta_m"), py::arg("beta_n"), py::arg("tilt") = py::float_(0.0))
       .def_property_readonly("sigma_a", [](const hairlut::sampler::Fibre& f) { return std::vector<double>(f.sigma_a, f.sigma_a + 3); })
       .def_readonly("beta_m", &hairlut::sampler::Fibre::beta_m)
       .def_readonly("beta_n", &hairlut::sampler::Fibre::beta_n)
@@ -437,6 +454,7 @@ PYBIND11_MODULE(_core, m) {
   // (with its factor table), and the runtime over its generic tables or one material's.
   py::class_<hairlut::TableSet, std::shared_ptr<hairlut::TableSet>>(m, "Tables")
       .def(py::init([](const std::string& file) {
+        path_arg(file, "file");
         auto set = std::make_shared<hairlut::TableSet>();
         {
           py::gil_scoped_release release;

@@ -78,6 +78,9 @@ public = [
     ("density_factor", lambda: hairlut.dual_scattering(0.3, beta=0.2, density_factor=zs)),
     ("eumelanin", lambda: hairlut.fibre_from_melanin(zs, 0.2, 0.2, 0.2)),
     ("beta_n", lambda: hairlut.fibre_from_melanin(0.8, 0.2, 0.2, zs)),
+    ("sigma_a", lambda: hairlut.Fibre(sigma_a=[zs, 0.2, 0.1], beta_m=0.2, beta_n=0.2)),
+    ("beta_m", lambda: hairlut.Fibre(sigma_a=[0.3, 0.2, 0.1], beta_m=zs, beta_n=0.2)),
+    ("tilt", lambda: hairlut.Fibre(sigma_a=[0.3, 0.2, 0.1], beta_m=0.2, beta_n=0.2, tilt=np.complex64(0.1 + 1j))),
 ]
 tables = hairlut.load_tables(TABLE)
 hair = tables.scattering()
@@ -104,6 +107,7 @@ copy = os.path.join(WORK, "t.h5")
 shutil.copyfile(TABLE, copy)
 expect("load_tables with a NUL in the path", ValueError, lambda: _core.load_tables(copy + "\0.txt"))
 expect("load_config_file with a NUL in the path", ValueError, lambda: _core.load_config_file(copy + "\0.json"))
+expect("Tables with a NUL in the path", ValueError, lambda: _core.Tables(copy + "\0.txt"))
 
 # Ctrl-C: SIGINT from another thread after 0.5 s; the call (2e5 points, minutes) must stop soon.
 n = 200000
