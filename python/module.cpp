@@ -6,8 +6,12 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <filesystem>
+#include <future>
 #include <optional>
 #include <hairlut/physics/azimuthal_np.hpp>
 #include <hairlut/bake/bake.hpp>
@@ -53,6 +57,70 @@ std::vector<double> values(const Array& given, const char* name, py::ssize_t n =
 const std::string& path_arg(const std::string& s, const char* name) {
   if (s.find('\0') != std::string::npos) throw py::value_error(std::string(name) + " contains a NUL character");
   return s;
+}
+
+// How long a long call runs with the GIL released before it checks for a signal (Ctrl-C): Python
+// runs its signal handlers only on the main thread with the GIL held, so a call that never comes
+// back to check would run to its end, however long.
+constexpr auto kSignalCheck = std::chrono::milliseconds(50);
+
+// Runs body(i) for i = 0 … n − 1 on this thread with the GIL released, returning about every
+// kSignalCheck to check for signals with the GIL held; a KeyboardInterrupt (or any exception a
+// handler raises) ends the loop.
+template <class Body>
+void interruptible_for(std::size_t n, Body&& body) {
+  std::size_t i = 0;
+  while (i < n) {
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    py::gil_scoped_release release;
+    const auto until = std::chrono::steady_clock::now() + kSignalCheck;
+    do body(i++);
+    while (i < n && std::chrono::steady_clock::now() < until);
+  }
+}
+
+// Runs work(cancel) on a thread of its own while this thread, the GIL released between checks,
+// checks for signals every kSignalCheck. On a signal whose handler raises, it raises `cancel`, waits
+// for the work to stop (the work polls the flag) and raises the handler's exception.
+template <class Work>
+void interruptible_run(Work&& work) {
+  std::atomic<bool> cancel{false};
+  auto done = std::async(std::launch::async, [&] { work(&cancel); });
+  for (;;) {
+    {
+      py::gil_scoped_release release;
+      if (done.wait_for(kSignalCheck) == std::future_status::ready) break;
+    }
+    if (PyErr_CheckSignals() != 0) {
+      py::error_already_set interrupted;  // takes the handler's exception out of the interpreter
+      cancel = true;
+      {
+        py::gil_scoped_release release;
+        done.wait();
+      }
+      // The work's own end (BakeCancelled, or an error it met first) gives way to the interrupt,
+      // which is what the caller asked for.
+      try {
+        done.get();
+      } catch (...) {
+      }
+      throw interrupted;
+    }
+  }
+  done.get();  // the work's own exception, translated as any other
+}
+
+// A numeric argument that pybind11 would convert itself (a numpy complex scalar becomes its real
+// part with only a ComplexWarning): refused when complex or not numeric, in one line naming it.
+template <class T>
+T real(const py::object& v, const char* name) {
+  if (py::module_::import("numpy").attr("iscomplexobj")(v).cast<bool>())
+    throw py::type_error(std::string(name) + ": complex values are refused (the imaginary part would be dropped)");
+  try {
+    return v.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + ": real numbers expected, got " + py::repr(v).cast<std::string>());
+  }
 }
 
 py::array_t<double> to_array(const std::vector<double>& v) {
@@ -191,28 +259,21 @@ PYBIND11_MODULE(_core, m) {
           std::optional<hairlut::GaussLegendreRule> rule;
           const auto var = hairlut::parse_integration_variable(variable, "variable");
           if (method == "gauss-legendre") rule.emplace(order);
-          // In chunks, checking for a signal (Ctrl-C) between them with the GIL held: a large call
-          // stops within a chunk's time instead of running to its end.
-          constexpr std::size_t kChunk = 64;
-          for (std::size_t first = 0; first < out.size(); first += kChunk) {
-            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-            py::gil_scoped_release release;
-            for (std::size_t i = first; i < std::min(out.size(), first + kChunk); ++i) {
-              if (method == "baker") {
-                out[i] = hairlut::baker_np(eta, ap, td[i], sa[i], p, b[i], f[i], tolerance).value;
+          interruptible_for(out.size(), [&](std::size_t i) {
+            if (method == "baker") {
+              out[i] = hairlut::baker_np(eta, ap, td[i], sa[i], p, b[i], f[i], tolerance).value;
+            } else {
+              const hairlut::AttenuationSlice slice(eta, td[i], sa[i], ap);
+              hairlut::require_positive("beta", b[i]);
+              if (method == "adaptive") {
+                const auto r = hairlut::azimuthal_np_reference(slice, p, b[i], f[i], tolerance);
+                out[i] = r.value[0];
+                err[i] = r.error[0];
               } else {
-                const hairlut::AttenuationSlice slice(eta, td[i], sa[i], ap);
-                hairlut::require_positive("beta", b[i]);
-                if (method == "adaptive") {
-                  const auto r = hairlut::azimuthal_np_reference(slice, p, b[i], f[i], tolerance);
-                  out[i] = r.value[0];
-                  err[i] = r.error[0];
-                } else {
-                  out[i] = hairlut::azimuthal_np(slice, p, b[i], f[i], *rule, var);
-                }
+                out[i] = hairlut::azimuthal_np(slice, p, b[i], f[i], *rule, var);
               }
             }
-          }
+          });
           return py::make_tuple(to_array(out), to_array(err));
         });
 
@@ -224,11 +285,10 @@ PYBIND11_MODULE(_core, m) {
     const auto cols = static_cast<py::ssize_t>(set.size());
     py::array_t<double> out({static_cast<py::ssize_t>(td.size()), cols});
     double* o = out.mutable_data();
-    py::gil_scoped_release release;
-    for (std::size_t i = 0; i < td.size(); ++i) {
+    interruptible_for(td.size(), [&](std::size_t i) {
       const auto r = hairlut::lobe_energies_reference(hairlut::AttenuationSlice(eta, td[i], sa[i], ap), set);
       for (py::ssize_t c = 0; c < cols; ++c) o[static_cast<py::ssize_t>(i) * cols + c] = r.value[static_cast<std::size_t>(c)];
-    }
+    });
     return out;
   });
 
@@ -239,15 +299,12 @@ PYBIND11_MODULE(_core, m) {
     const std::size_t L = model.lobes.size() + (model.residual ? 1 : 0);
     std::vector<double> total(ti.size()), per(ti.size() * L);
     std::vector<bool> converged(ti.size());
-    {
-      py::gil_scoped_release release;
-      for (std::size_t i = 0; i < ti.size(); ++i) {
-        const auto r = hairlut::directional_albedo(model, ti[i]);
-        total[i] = r.total;
-        for (std::size_t p = 0; p < L; ++p) per[i * L + p] = r.per_lobe[p];
-        converged[i] = r.converged;
-      }
-    }
+    interruptible_for(ti.size(), [&](std::size_t i) {
+      const auto r = hairlut::directional_albedo(model, ti[i]);
+      total[i] = r.total;
+      for (std::size_t p = 0; p < L; ++p) per[i * L + p] = r.per_lobe[p];
+      converged[i] = r.converged;
+    });
     py::array_t<double> per_lobe({static_cast<py::ssize_t>(ti.size()), static_cast<py::ssize_t>(L)});
     std::copy(per.begin(), per.end(), per_lobe.mutable_data());
     py::dict out;
@@ -264,10 +321,7 @@ PYBIND11_MODULE(_core, m) {
     hairlut::DualScatteringOptions o;
     o.density_factor = density_factor;
     std::vector<hairlut::DualScatteringPoint> points(ti.size());
-    {
-      py::gil_scoped_release release;
-      for (std::size_t i = 0; i < ti.size(); ++i) points[i] = hairlut::dual_scattering(model, ti[i], o);
-    }
+    interruptible_for(ti.size(), [&](std::size_t i) { points[i] = hairlut::dual_scattering(model, ti[i], o); });
     auto column = [&](auto get) {
       std::vector<double> v;
       for (const auto& p : points) v.push_back(get(p));
@@ -301,15 +355,17 @@ PYBIND11_MODULE(_core, m) {
         if (!output_dir.empty()) config.output.directory = output_dir;
         hairlut::TableSet set;
         std::vector<std::string> files;
-        {
-          py::gil_scoped_release release;
+        // On a thread of its own, so that this one can check for Ctrl-C while it runs: the bake
+        // and the writer poll the cancel flag (the writer removes its temporaries).
+        interruptible_run([&](const std::atomic<bool>* cancel) {
           hairlut::BakeOptions options;
           options.threads = threads;
+          options.cancel = cancel;
           hairlut::BakeReport report;
           set = hairlut::bake(config, options, &report);
           if (write)
-            for (const auto& f : hairlut::write_outputs(set, config, report)) files.push_back(f.string());
-        }
+            for (const auto& f : hairlut::write_outputs(set, config, report, cancel)) files.push_back(f.string());
+        });
         py::dict out = to_python(set);
         out["files"] = files;
         out["config_hash"] = config.hash;
@@ -335,14 +391,18 @@ PYBIND11_MODULE(_core, m) {
 
   // The renderer runtime over baked tables (hairlut.TableSet.scattering wraps it).
   py::class_<hairlut::sampler::Fibre>(m, "Fibre")
-      .def(py::init([](const std::vector<double>& sigma_a, double beta_m, double beta_n, double tilt) {
+      .def(py::init([](const py::object& sigma_a_given, const py::object& beta_m_given, const py::object& beta_n_given,
+                       const py::object& tilt_given) {
+             const auto sigma_a = real<std::vector<double>>(sigma_a_given, "sigma_a");
+             const double beta_m = real<double>(beta_m_given, "beta_m"), beta_n = real<double>(beta_n_given, "beta_n"),
+                          tilt = real<double>(tilt_given, "tilt");
              if (sigma_a.size() != 3) throw py::value_error("sigma_a must have 3 values (RGB)");
              hairlut::sampler::Fibre f;
              std::copy(sigma_a.begin(), sigma_a.end(), f.sigma_a);
              f.beta_m = beta_m, f.beta_n = beta_n, f.tilt = tilt;
              return f;
            }),
-           py::arg("sigma_a"), py::arg("beta_m"), py::arg("beta_n"), py::arg("tilt") = 0.0)
+           py::arg("sigma_a"), py::arg("beta_m"), py::arg("beta_n"), py::arg("tilt") = py::float_(0.0))
       .def_property_readonly("sigma_a", [](const hairlut::sampler::Fibre& f) { return std::vector<double>(f.sigma_a, f.sigma_a + 3); })
       .def_readonly("beta_m", &hairlut::sampler::Fibre::beta_m)
       .def_readonly("beta_n", &hairlut::sampler::Fibre::beta_n)
@@ -394,6 +454,7 @@ PYBIND11_MODULE(_core, m) {
   // (with its factor table), and the runtime over its generic tables or one material's.
   py::class_<hairlut::TableSet, std::shared_ptr<hairlut::TableSet>>(m, "Tables")
       .def(py::init([](const std::string& file) {
+        path_arg(file, "file");
         auto set = std::make_shared<hairlut::TableSet>();
         {
           py::gil_scoped_release release;

@@ -28,19 +28,35 @@ __all__ = ["longitudinal_mp", "azimuthal_np", "lobe_energies", "furnace", "dual_
            "fibre_from_melanin", "Fibre", "Scattering", "Table", "TableSet", "ConfigError", "DomainError", "IoError", "__version__"]
 
 
-def _real(a):
-    """a as float64, refusing complex input (numpy's conversion would drop the imaginary part)."""
+def _real(a, name):
+    """a as float64, refusing complex input (numpy's conversion would drop the imaginary part with
+    only a ComplexWarning) in one line that names the argument."""
     if numpy.iscomplexobj(a):
-        raise TypeError("complex input: hairlut's functions take real angles and coefficients")
+        raise TypeError(f"{name}: complex values are refused (hairlut takes real angles and coefficients; the imaginary part would be dropped)")
     return numpy.asarray(a, dtype=numpy.float64)
 
 
+def _scalar(v, name):
+    """One real number (float() of a numpy complex drops the imaginary part too)."""
+    a = _real(v, name)
+    if a.ndim != 0 and a.size != 1:
+        raise TypeError(f"{name} must be one number, got shape {a.shape}")
+    return float(a.reshape(()))
+
+
+def _integer(v, name):
+    if numpy.iscomplexobj(v):
+        raise TypeError(f"{name}: complex values are refused (an integer is expected)")
+    return int(v)
+
+
 def _lobe(p):
-    return _core.parse_lobe(p) if isinstance(p, str) else int(p)
+    return _core.parse_lobe(p) if isinstance(p, str) else _integer(p, "lobe")
 
 
-def _broadcast(*args):
-    arrays = numpy.broadcast_arrays(*[_real(a) for a in args])
+def _broadcast(**args):
+    """The arguments (by name, in order) as float64, broadcast and flattened."""
+    arrays = numpy.broadcast_arrays(*[_real(a, name) for name, a in args.items()])
     shape = arrays[0].shape
     return shape, [numpy.ascontiguousarray(a).reshape(-1) for a in arrays]
 
@@ -53,13 +69,13 @@ def _nan_rows(flat):
     return nan
 
 
-def _finite_scalars(*values):
-    return not any(numpy.isnan(_real(v)).any() for v in values)
+def _finite_scalars(**values):
+    return not any(numpy.isnan(_real(v, name)).any() for name, v in values.items())
 
 
 def longitudinal_mp(beta, theta_i, theta_r, alpha=0.0):
     """d'Eon 2011's M_p (eq. 7, v = beta^2) with cuticle tilt alpha shifting the cone in theta_r."""
-    shape, flat = _broadcast(beta, alpha, theta_i, theta_r)
+    shape, flat = _broadcast(beta=beta, alpha=alpha, theta_i=theta_i, theta_r=theta_r)
     nan = _nan_rows(flat)
     out = numpy.full(nan.shape, numpy.nan)
     if not nan.all():
@@ -79,11 +95,12 @@ def azimuthal_np(lobe, phi, theta_d, sigma_a, beta, eta=1.55, path="chord", meth
     Each point is evaluated on its own: the baker's method costs about as much per point as per
     table row, more the narrower beta is; bake() is the fast way to fill a grid.
     """
-    shape, flat = _broadcast(phi, theta_d, sigma_a, beta)
-    nan = _nan_rows(flat) | numpy.isnan(float(eta))
+    shape, flat = _broadcast(phi=phi, theta_d=theta_d, sigma_a=sigma_a, beta=beta)
+    eta, tolerance, order = _scalar(eta, "eta"), _scalar(tolerance, "tolerance"), _integer(order, "order")
+    nan = _nan_rows(flat) | numpy.isnan(eta)
     value, error = numpy.full(nan.shape, numpy.nan), numpy.full(nan.shape, numpy.nan)
     if not nan.all():
-        v, e = _core.azimuthal_np(_lobe(lobe), *[a[~nan] for a in flat], float(eta), path, method, float(tolerance), int(order), variable)
+        v, e = _core.azimuthal_np(_lobe(lobe), *[a[~nan] for a in flat], eta, path, method, tolerance, order, variable)
         value[~nan], error[~nan] = v, e
     if return_error:
         return value.reshape(shape), error.reshape(shape)
@@ -92,16 +109,17 @@ def azimuthal_np(lobe, phi, theta_d, sigma_a, beta, eta=1.55, path="chord", meth
 
 def lobe_energies(theta_d, sigma_a, eta=1.55, lobes=4, residual=False, path="chord"):
     """Per-lobe energies 1/2 int A(p, h) dh (adaptive reference): shape broadcast + (lobes [+ 1],)."""
-    shape, flat = _broadcast(theta_d, sigma_a)
-    nan = _nan_rows(flat) | numpy.isnan(float(eta))
-    out = numpy.full(nan.shape + (int(lobes) + (1 if residual else 0),), numpy.nan)
+    shape, flat = _broadcast(theta_d=theta_d, sigma_a=sigma_a)
+    eta, lobes = _scalar(eta, "eta"), _integer(lobes, "lobes")
+    nan = _nan_rows(flat) | numpy.isnan(eta)
+    out = numpy.full(nan.shape + (lobes + (1 if residual else 0),), numpy.nan)
     if not nan.all():
-        out[~nan] = _core.lobe_energies(*[a[~nan] for a in flat], float(eta), path, int(lobes), bool(residual))
+        out[~nan] = _core.lobe_energies(*[a[~nan] for a in flat], eta, path, lobes, bool(residual))
     return out.reshape(shape + (out.shape[1],))
 
 
-def _per_lobe(values):
-    return [float(v) for v in numpy.atleast_1d(values)]
+def _per_lobe(values, name):
+    return [float(v) for v in numpy.atleast_1d(_real(values, name))]
 
 
 def furnace(theta_i, beta, alpha=0.0, lobes=3, residual=True, eta=1.55, sigma_a=0.0, path="chord"):
@@ -110,13 +128,14 @@ def furnace(theta_i, beta, alpha=0.0, lobes=3, residual=True, eta=1.55, sigma_a=
     beta and alpha: one value for every lobe, or one per lobe (and the residual), radians, with
     beta_m = beta_n. Returns {"E": shape of theta_i, "per_lobe": shape + (lobes,), "converged"}.
     """
-    ti = _real(theta_i)
+    ti = _real(theta_i, "theta_i")
     flat = ti.reshape(-1)
-    nan = numpy.isnan(flat) | (not _finite_scalars(eta, sigma_a, beta, alpha))
-    E, per_lobe = numpy.full(flat.shape, numpy.nan), numpy.full(flat.shape + (int(lobes) + (1 if residual else 0),), numpy.nan)
+    eta, sigma_a, lobes = _scalar(eta, "eta"), _scalar(sigma_a, "sigma_a"), _integer(lobes, "lobes")
+    nan = numpy.isnan(flat) | (not _finite_scalars(eta=eta, sigma_a=sigma_a, beta=beta, alpha=alpha))
+    E, per_lobe = numpy.full(flat.shape, numpy.nan), numpy.full(flat.shape + (lobes + (1 if residual else 0),), numpy.nan)
     converged = numpy.zeros(flat.shape, dtype=bool)
     if not nan.all():
-        r = _core.furnace(flat[~nan], float(eta), float(sigma_a), path, _per_lobe(beta), _per_lobe(alpha), int(lobes), bool(residual))
+        r = _core.furnace(flat[~nan], eta, sigma_a, path, _per_lobe(beta, "beta"), _per_lobe(alpha, "alpha"), lobes, bool(residual))
         E[~nan], per_lobe[~nan], converged[~nan] = r["E"], r["per_lobe"], numpy.array(r["converged"])
     return {"E": E.reshape(ti.shape), "per_lobe": per_lobe.reshape(ti.shape + (per_lobe.shape[1],)), "converged": converged.reshape(ti.shape)}
 
@@ -127,13 +146,15 @@ _DUAL_KEYS = ("E", "a_f", "a_b", "alpha_f", "alpha_b", "beta_f2", "beta_b2", "A_
 def dual_scattering(theta_i, beta, alpha=0.0, lobes=3, residual=True, eta=1.55, sigma_a=0.0, path="chord", density_factor=0.7):
     """Mean energy and Zinke 2008's dual-scattering quantities at each theta_i (arrays of its shape):
     E, a_f, a_b, alpha_f, alpha_b (rad), beta_f2, beta_b2 (rad^2), A_b, delta_b, sigma_b, converged."""
-    ti = _real(theta_i)
+    ti = _real(theta_i, "theta_i")
     flat = ti.reshape(-1)
-    nan = numpy.isnan(flat) | (not _finite_scalars(eta, sigma_a, beta, alpha, density_factor))
+    eta, sigma_a, density_factor = _scalar(eta, "eta"), _scalar(sigma_a, "sigma_a"), _scalar(density_factor, "density_factor")
+    lobes = _integer(lobes, "lobes")
+    nan = numpy.isnan(flat) | (not _finite_scalars(eta=eta, sigma_a=sigma_a, beta=beta, alpha=alpha, density_factor=density_factor))
     r = {}
     if not nan.all():
-        r = _core.dual_scattering(flat[~nan], float(eta), float(sigma_a), path, _per_lobe(beta), _per_lobe(alpha), int(lobes), bool(residual),
-                                  float(density_factor))
+        r = _core.dual_scattering(flat[~nan], eta, sigma_a, path, _per_lobe(beta, "beta"), _per_lobe(alpha, "alpha"), lobes, bool(residual),
+                                  density_factor)
     else:
         r = {k: numpy.zeros(0) for k in _DUAL_KEYS}
         r["converged"] = numpy.zeros(0, dtype=bool)
@@ -174,11 +195,12 @@ class Table:
 
 def fibre_from_melanin(eumelanin, pheomelanin, beta_m, beta_n):
     """A Fibre for the runtime: RGB sigma_a from d'Eon 2011's melanin model, roughness beta_m, beta_n [rad]."""
-    return _core.fibre_from_melanin(float(eumelanin), float(pheomelanin), float(beta_m), float(beta_n))
+    return _core.fibre_from_melanin(_scalar(eumelanin, "eumelanin"), _scalar(pheomelanin, "pheomelanin"), _scalar(beta_m, "beta_m"),
+                                    _scalar(beta_n, "beta_n"))
 
 
 def _directions(w, name):
-    a = numpy.ascontiguousarray(_real(w))
+    a = numpy.ascontiguousarray(_real(w, name))
     if a.shape[-1:] != (3,):
         raise DomainError(f"{name} must end in an axis of 3 (a unit vector in the fibre frame), got shape {a.shape}")
     return a.shape[:-1], a.reshape(-1, 3)
@@ -200,7 +222,7 @@ class Scattering:
         sa, _ = _directions(a, na)
         sb, _ = _directions(b, nb)
         shape = numpy.broadcast_shapes(sa, sb)
-        full = [numpy.ascontiguousarray(numpy.broadcast_to(_real(w), shape + (3,))).reshape(-1, 3) for w in (a, b)]
+        full = [numpy.ascontiguousarray(numpy.broadcast_to(_real(w, n), shape + (3,))).reshape(-1, 3) for w, n in ((a, na), (b, nb))]
         return shape, full[0], full[1]
 
     def eval(self, fibre, wo, wi):
@@ -276,7 +298,7 @@ class TableSet(dict):
         if missing or extra:
             raise DomainError(f"{path} has axes {', '.join(dims)}" + (f"; missing {', '.join(missing)}" if missing else "") +
                               (f"; unknown {', '.join(extra)}" if extra else ""))
-        shape, flat = _broadcast(*[coords[d] for d in dims])
+        shape, flat = _broadcast(**{d: coords[d] for d in dims})
         points = numpy.ascontiguousarray(numpy.stack(flat, axis=1)) if flat[0].size else numpy.zeros((0, len(dims)))
         return self._tables().sample(path, points).reshape(shape)
 
@@ -296,4 +318,4 @@ def bake(config, threads=0, write=False, output_dir=None):
         text, source, base = json.dumps(config), "<dict>", os.getcwd()
     else:
         text, source, base = "", os.fspath(config), ""
-    return TableSet(_core.bake(text, source, base, int(threads), bool(write), os.fspath(output_dir) if output_dir else ""))
+    return TableSet(_core.bake(text, source, base, _integer(threads, "threads"), bool(write), os.fspath(output_dir) if output_dir else ""))

@@ -5,7 +5,8 @@ Usage: estimate.py BAKE WORKDIR
 
 For small configs whose tables dominate the baker's own memory (generic N_p and M_p tables of
 about 200 MiB with their sampling data, deflated HDF5; the same uncompressed with a float
-OpenEXR beside it; per-material tables), the peak memory --check plans is within 20% of the
+OpenEXR beside it; per-material tables; a dual-scattering grid whose curves over theta_d outweigh
+its tables), the peak memory --check plans is within 20% of the
 bake's peak resident memory (getrusage of the child); the files written are no larger than its
 bound before compression, and, uncompressed, within 20% of its disk figure (deflate's ratio depends
 on the values). And --check exits as the bake does where the bake refuses a plan: sampling data
@@ -59,6 +60,19 @@ def per_material(directory):
     }
 
 
+def dual_scattering(directory):
+    """A dual-scattering grid whose curves over theta_d (about 25 MiB: 16 absorptions, 64 widths
+    per lobe) outweigh its tables (under 1 MiB), as in the unreal-hair-strands preset."""
+    return {
+        "name": "estimate-dual-scattering",
+        "lobes": {"explicit": ["R", "TT", "TRT"], "residual": True},
+        "tables": {"dual_scattering": {"axes": {"theta_i": {"count": 4, "range_deg": [0, 80]},
+                                                "beta": {"count": 64, "range_deg": [2, 40], "spacing": "log"},
+                                                "sigma_a": {"count": 16, "range": [0, 8], "spacing": "sqrt"}}}},
+        "output": {"directory": directory, "basename": "d", "formats": ["hdf5"]},
+    }
+
+
 def run(args):
     """(rc, stdout, stderr, peak RSS MiB of the child alone)."""
     return child_peak.peak_mib_of(args, WORK)
@@ -74,7 +88,8 @@ def main():
     cfg = os.path.join(WORK, "c.json")
     cases = (("generic N_p and M_p, deflated HDF5", generic(os.path.join(WORK, "a"))),
              ("the same uncompressed, with float OpenEXR", generic(os.path.join(WORK, "b"), ("hdf5", "exr"), 0)),
-             ("per-material tables of eight materials", per_material(os.path.join(WORK, "c"))))
+             ("per-material tables of eight materials", per_material(os.path.join(WORK, "c"))),
+             ("a dual-scattering grid", dual_scattering(os.path.join(WORK, "e"))))
     for label, doc in cases:
         with open(cfg, "w") as f:
             json.dump(doc, f)

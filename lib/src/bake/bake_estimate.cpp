@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/bake/dual_scattering_grid.hpp"
 #include "hairlut/bake/engine_presets.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/sampler/axis_sampling.hpp"
@@ -46,22 +47,35 @@ bool sampled(const std::vector<const GridAxis*>& axes) {
   return views.size() >= 2 && sampler::AxisSampler<float>::supports(views.data(), static_cast<int>(views.size()));
 }
 
+// Whether any of the axes interpolates cubically: only then can an interpolant of non-negative
+// values dip below 0, so that the sampler's clamp acts and its bounds are not all 0.
+bool cubic(const std::vector<const GridAxis*>& axes) {
+  return std::any_of(axes.begin(), axes.end(), [](const GridAxis* a) { return a && a->interpolation == Interpolation::cubic; });
+}
+
 // The tally of tables, one call per table (or per `copies` identical tables).
 struct Tally {
   std::uint64_t values = 0, table_bytes = 0, sampling_bytes = 0, sampling_values = 0, largest = 0, tables = 0;
   std::uint64_t value_bytes = 4;
   bool sampling = true;
+  double deflated = 0.0;  // the bytes of tables and sampling data expected after deflate
   // `n` values per table; `last`: the count of the sampled axis when the sampler's data are
-  // written beside it (0: none).
-  void table(std::uint64_t n, std::uint64_t copies = 1, std::uint64_t last = 0) {
+  // written beside it (0: none); `fraction`: what deflate leaves of the table's bytes;
+  // `overshoots`: the table has a cubic axis (its clamp bounds are not all 0).
+  void table(std::uint64_t n, std::uint64_t copies = 1, std::uint64_t last = 0, double fraction = kDeflatedFraction,
+             bool overshoots = true) {
     values = add(values, mul(n, copies));
     table_bytes = add(table_bytes, mul(mul(n, value_bytes), copies));
+    deflated += fraction * static_cast<double>(n) * static_cast<double>(value_bytes) * static_cast<double>(copies);
     largest = std::max(largest, mul(n, value_bytes));
     tables = add(tables, copies);
     if (sampling && last > 0) {
       const std::uint64_t slices = n / last;
       sampling_bytes = add(sampling_bytes, mul(add(mul(n, 12), mul(slices, 8)), copies));
       sampling_values = add(sampling_values, mul(add(mul(n, 2), slices), copies));
+      deflated += (kDeflatedPrefixFraction * 8.0 * (static_cast<double>(n) + static_cast<double>(slices)) +
+                   (overshoots ? kDeflatedClampFraction : 0.0) * 4.0 * static_cast<double>(n)) *
+                  static_cast<double>(copies);
       largest = std::max(largest, mul(n, 8));
       tables = add(tables, mul(3, copies));
     }
@@ -72,6 +86,21 @@ struct Tally {
 // the ten shared dual-scattering quantities and a_f, a_b per lobe; E per lobe and the total.
 std::uint64_t dual_scattering_tables(std::uint64_t lobes) { return 10 + 2 * lobes; }
 std::uint64_t mean_energy_tables(std::uint64_t lobes) { return lobes + 1; }
+
+// Bytes of the curves over θd that the dual-scattering grid holds while its group bakes
+// (dual_scattering_grid.cpp): per absorption node, the energy of each of the L lobe entries and,
+// per explicit lobe, b and f for each distinct azimuthal width (at most one per roughness node),
+// as doubles at the grid's J + 1 nodes. Freed before the next group and before the files are
+// written.
+std::uint64_t dual_scattering_curve_bytes(const std::vector<GridAxis>& axes, const std::string& absorption, const std::string& roughness,
+                                          std::uint64_t explicit_lobes, std::uint64_t lobes) {
+  const GridAxis* k = named(axes, absorption);
+  const GridAxis* r = named(axes, roughness);
+  if (!k || !r) return 0;
+  const auto nodes = static_cast<std::uint64_t>(DualScatteringGridRequest{}.theta_d_intervals) + 1;
+  const std::uint64_t widths = mul(static_cast<std::uint64_t>(std::max(r->count, 0)), explicit_lobes);
+  return mul(mul(8, nodes), mul(static_cast<std::uint64_t>(std::max(k->count, 0)), add(lobes, mul(2, widths))));
+}
 
 }  // namespace
 
@@ -86,8 +115,9 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
   std::uint64_t slabbable = 0, row = 0;
   if (c.np_axes && generic) {  // N_p over (β, σa, θd, φ) per explicit lobe; energies and the residual over (σa, θd)
     const std::vector<GridAxis>& ax = *c.np_axes;
-    const bool s = sampled({named(ax, "beta"), named(ax, "sigma_a"), named(ax, "theta_d"), named(ax, "phi")});
-    t.table(grid(ax), explicit_lobes, s ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0);
+    const std::vector<const GridAxis*> order = {named(ax, "beta"), named(ax, "sigma_a"), named(ax, "theta_d"), named(ax, "phi")};
+    t.table(grid(ax), explicit_lobes, sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0, kDeflatedFraction,
+            cubic(order));
     slabbable = add(slabbable, mul(grid(ax), explicit_lobes));
     row = std::max(row, grid(ax, {"beta"}));
     t.table(c.np_energy_axes ? grid(*c.np_energy_axes) : grid(ax, {"beta", "phi"}), explicit_lobes + (c.residual ? 2 : 0));
@@ -95,11 +125,11 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
   if (c.np_axes && per_material) {  // per material: RGB N_p over (θd, φ) per explicit lobe, the residual's and the energies over θd
     const std::vector<GridAxis>& ax = *c.np_axes;
     const GridAxis rgb = channel_axis({"R", "G", "B"}, "channel");
-    const bool s = sampled({&rgb, named(ax, "theta_d"), named(ax, "phi")});
+    const std::vector<const GridAxis*> order = {&rgb, named(ax, "theta_d"), named(ax, "phi")};
     const auto materials = static_cast<std::uint64_t>(c.scene->materials.size());
     const std::uint64_t slice = grid(ax, {"beta", "sigma_a", "phi"});  // θd (the generic axes are not baked)
     t.table(mul(mul(3, slice), grid(ax, {"beta", "sigma_a", "theta_d"})), mul(explicit_lobes, materials),
-            s ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0);
+            sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0, kDeflatedFraction, cubic(order));
     t.table(mul(3, slice), mul(lobes + (c.residual ? 1 : 0), materials));
   }
   if (c.np_axes && c.marschner) {  // N_p over (σa, θd, φ) per lobe, TRT of an eccentric fibre over φh too; energies without φ
@@ -111,7 +141,7 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
       if (with_h) order.push_back(h);
       order.push_back(named(ax, "phi"));
       const std::uint64_t n = with_h ? grid(ax) : grid(ax, {"phi_h"});
-      t.table(n, 1, sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0);
+      t.table(n, 1, sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0, kDeflatedFraction, cubic(order));
       t.table(n / static_cast<std::uint64_t>(std::max(named(ax, "phi") ? named(ax, "phi")->count : 1, 1)));
     }
   }
@@ -125,12 +155,13 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
     const std::vector<GridAxis>& ax = *c.mp_axes;
     const std::uint64_t mp_lobes = c.marschner ? explicit_lobes : lobes;
     if (per_material) {
-      const bool s = sampled({named(ax, "theta_i"), named(ax, "theta_r")});
+      const std::vector<const GridAxis*> order = {named(ax, "theta_i"), named(ax, "theta_r")};
       t.table(grid(ax, {"beta"}), mul(mp_lobes, static_cast<std::uint64_t>(c.scene->materials.size())),
-            s ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0);
+              sampled(order) ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0, kDeflatedMpFraction, cubic(order));
     } else {
-      const bool s = sampled({named(ax, "beta"), named(ax, "theta_i"), named(ax, "theta_r")});
-      t.table(grid(ax), mp_lobes, s ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0);
+      const std::vector<const GridAxis*> order = {named(ax, "beta"), named(ax, "theta_i"), named(ax, "theta_r")};
+      t.table(grid(ax), mp_lobes, sampled(order) ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0, kDeflatedMpFraction,
+              cubic(order));
       if (generic) {
         slabbable = add(slabbable, mul(grid(ax), mp_lobes));
         row = std::max(row, grid(ax, {"beta"}));
@@ -138,7 +169,11 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
     }
   }
   if (c.melanin_axes) t.table(mul(grid(*c.melanin_axes), 3), 2);  // RGB σa (d'Eon) and the spectral transmittance
-  if (c.dual_scattering) t.table(grid(c.dual_scattering->axes), dual_scattering_tables(lobes) + mean_energy_tables(lobes));
+  std::uint64_t curves = 0;  // the largest dual-scattering grid's curves (one group bakes at a time)
+  if (c.dual_scattering) {
+    t.table(grid(c.dual_scattering->axes), dual_scattering_tables(lobes) + mean_energy_tables(lobes));
+    curves = dual_scattering_curve_bytes(c.dual_scattering->axes, "sigma_a", "beta", explicit_lobes, lobes);
+  }
   std::uint64_t texture_bytes = 0;
   if (c.engine) {
     try {
@@ -149,6 +184,11 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
                                     : spec.kind == "hdrp_attenuation" ? 2
                                                                       : explicit_lobes;
         t.table(n, count);
+        if (spec.kind == "dual_scattering") {  // its grid serves the preset's mean energy too
+          const auto p = static_cast<std::uint64_t>(std::max(spec.roughness.lobes, 0));
+          curves = std::max(curves, dual_scattering_curve_bytes(spec.axes, spec.absorption_axis, spec.roughness_axis, p,
+                                                                p + (spec.roughness.residual ? 1 : 0)));
+        }
         // Its textures: RGBA half per texel of the group's grid.
         for (const EngineTexture& tex : engine_preset_textures(*c.engine))
           if (tex.group == spec.group) texture_bytes = add(texture_bytes, mul(n, 2 * static_cast<std::uint64_t>(tex.channel_count)));
@@ -171,7 +211,11 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
   const std::uint64_t thread_count = static_cast<std::uint64_t>(std::max(threads, 1));
   std::uint64_t writing = 0;  // beyond the tables while the largest file is written
   std::uint64_t disk = sidecar, expected = sidecar;
-  auto compressed = [](std::uint64_t bytes) { return static_cast<std::uint64_t>(static_cast<double>(bytes) * kDeflatedFraction); };
+  // Deflate's share of this config's arrays in HDF5, kind by kind (tables, M_p tables, float64
+  // prefix integrals, clamp bounds). OpenEXR stores the prefix integrals as float32 and its zip
+  // differs: its float files keep the one fraction measured for them.
+  const double fraction = held > 0 ? std::clamp(t.deflated / static_cast<double>(held), 0.0, 1.0) : kDeflatedFraction;
+  auto compressed = [fraction](std::uint64_t bytes) { return static_cast<std::uint64_t>(static_cast<double>(bytes) * fraction); };
   if (c.output.hdf5) {
     const std::uint64_t file = add(held, sidecar);
     disk = add(disk, file);
@@ -192,12 +236,16 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
     disk = add(disk, file);
     expected = add(expected, c.output.exr_compression == "none" ? file
                              : c.output.exr_half                ? static_cast<std::uint64_t>(static_cast<double>(file) * kHalfZipFraction)
-                                                                : compressed(file));
+                                                                : static_cast<std::uint64_t>(static_cast<double>(file) * kDeflatedFraction));
     writing = std::max(writing, std::min(file, std::uint64_t{16} << 20));
   }
   disk = add(disk, texture_bytes);
   expected = add(expected, static_cast<std::uint64_t>(static_cast<double>(texture_bytes) * kHalfZipFraction));
-  e.memory_bytes = add(add(held, writing), mul(thread_count, kBakeThreadBytes));
+  // The peak is while the files are written, or while a dual-scattering grid holds its curves
+  // beside the tables (the sampling data come after it), before the writer has any state: the
+  // program then takes kBakeProgramBytes, not kBakeBaseBytes.
+  const std::uint64_t grid_phase = add(t.table_bytes, curves), no_writer = kBakeBaseBytes - kBakeProgramBytes;
+  e.memory_bytes = add(std::max(add(held, writing), grid_phase > no_writer ? grid_phase - no_writer : 0), mul(thread_count, kBakeThreadBytes));
   e.disk_bytes = disk;
   e.disk_expected_bytes = expected;
   return e;

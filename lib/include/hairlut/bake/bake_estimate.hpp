@@ -36,24 +36,38 @@ struct BakeEstimate {
   std::uint64_t largest_table_bytes = 0;
   /// Bytes of memory at the peak when everything is held whole, without the program itself
   /// (kBakeBaseBytes): the tables and sampling data, then, while the HDF5 file is written, its
-  /// in-memory image (kDeflatedFraction of the values when deflated, plus the one growth step
+  /// in-memory image (the expected deflated size of the values when deflated, plus the one growth step
   /// the writer's core driver holds beyond the file: an eighth of the values) and the deflate
-  /// threads' scratch; or, while OpenEXR is written, its frame buffers.
+  /// threads' scratch; or, while OpenEXR is written, its frame buffers. Or, when larger, the
+  /// tables and the curves over θd that a dual-scattering grid (tables.dual_scattering, an engine
+  /// preset's) holds while it runs.
   std::uint64_t memory_bytes = 0;
   /// Bytes on disk before compression: every requested file at its precision, the sidecar and
   /// the engine textures (a bound: compression never makes the files larger by more than a few
   /// percent). What the baker checks the free space against.
   std::uint64_t disk_bytes = 0;
-  /// Bytes on disk expected after compression: deflated HDF5 and float OpenEXR at
-  /// kDeflatedFraction, half-float OpenEXR and engine textures at kHalfZipFraction, uncompressed
-  /// ones at their size. An estimate, not a bound.
+  /// Bytes on disk expected after compression: deflated HDF5 at the config's mean of the deflated
+  /// fractions below (each kind of array at its own), float OpenEXR at kDeflatedFraction, half-float
+  /// OpenEXR and engine textures at kHalfZipFraction, uncompressed ones at their size. An
+  /// estimate, not a bound.
   std::uint64_t disk_expected_bytes = 0;
 };
 
 /// The fraction of its bytes that deflate (with the shuffle filter, any level from 1) leaves of
-/// hairlut's tables and sampling data: measured 0.33 for tables/configs/generic.json, 0.45 to 0.53
-/// for the other shipped configs (file size over the values' bytes); OpenEXR's zip is alike.
+/// hairlut's tables (float32) in HDF5, kind by kind, measured dataset by dataset (h5ls -v) in the
+/// shipped configs' files. N_p, energy, Fourier and preset tables: 0.34 to 0.62. Also what
+/// OpenEXR's zip leaves of a float file as a whole (0.50 and 0.57 measured for show-example.json
+/// and marschner.json).
 inline constexpr double kDeflatedFraction = 0.45;
+/// M_p tables: 0.54 to 0.67 (one table of show-example.json 0.31).
+inline constexpr double kDeflatedMpFraction = 0.6;
+/// The sampler's float64 prefix integrals and masses: 0.46 to 0.58 (their low mantissa bytes are
+/// noise to deflate).
+inline constexpr double kDeflatedPrefixFraction = 0.55;
+/// The sampler's float32 clamp bounds of a table with a cubic axis: 0.18 (default.json). Without
+/// one, an interpolant of non-negative values never dips below 0, every bound is 0 and deflate
+/// leaves nothing (under 0.001 measured).
+inline constexpr double kDeflatedClampFraction = 0.2;
 /// The fraction that OpenEXR's zip leaves of half-float tables and engine textures: measured
 /// 0.14 to 0.21 for the shipped configs' EXR files and textures.
 inline constexpr double kHalfZipFraction = 0.2;
@@ -62,6 +76,10 @@ inline constexpr double kHalfZipFraction = 0.2;
 /// schema (measured: 22 MiB at the peak of a bake whose tables hold 0.5 MiB), and per OpenMP
 /// thread its stack and scratch (0.2 MiB measured from 1 to 8 threads).
 inline constexpr std::uint64_t kBakeBaseBytes = std::uint64_t{22} << 20;
+/// Of that, the program before any table is made or written: its libraries, config and schema
+/// (measured: the peak of --check, 14.4 to 15.0 MiB for three shipped configs; a bake's peak while
+/// a dual-scattering grid runs, less its tables and curves, 14.8 MiB). The rest is the writer's.
+inline constexpr std::uint64_t kBakeProgramBytes = std::uint64_t{15} << 20;
 inline constexpr std::uint64_t kBakeThreadBytes = std::uint64_t{1} << 18;
 
 /// The estimate for a validated config (never throws); `threads`: the bake's OpenMP threads
