@@ -112,7 +112,13 @@ def node_value(t, ib, ks, it, jp):
         return v, 1
     i = int(np.flatnonzero(np.isclose(energy.coords["sigma_a"], t.coords["sigma_a"][ks], rtol=1e-12, atol=0))[0])
     j = int(np.flatnonzero(np.isclose(energy.coords["theta_d"], t.coords["theta_d"][it], rtol=1e-12, atol=1e-15))[0])
-    return v * float(energy.values[i, j]), 3  # two float32 roundings and the product
+    # Format 2.1: an energy table reaching theta_d = 90 deg stores E_p / cos^n(theta_d) (docs/table-format.md);
+    # TRT's factor has no grazing_absorption bracket.
+    attrs = energy.description.get("attributes", {})
+    if "grazing_absorption" in attrs:
+        failures.append("np/TRT's energy table carries grazing_absorption, which only the residual's should")
+    g = math.cos(float(t.coords["theta_d"][it])) ** attrs.get("cos_theta_d_power", 0)
+    return v * float(energy.values[i, j]) * g, 3  # two float32 roundings and the product
 
 
 # An upper bound of the lobe's peak over the table (the baker's tolerance is relative to it).
