@@ -191,9 +191,10 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingConsistency, importance 
       uniform_sphere(rng(), rng(), wo);
       auto li = [](const double* w) { return w[1] * w[1]; };  // pbrt's Li = w.z², its z our y
       double importance = 0.0, uniform = 0.0;
+      const Runtime::ShadingPoint sp = rt.at(f, wo);  // wo is held: rt.sample(f, wo, u) is sp.sample(u)
       for (int i = 0; i < count; ++i) {
         const double u[3] = {rng(), rng(), rng()};
-        const sampler::ScatteringSample s = rt.sample(f, wo, u);
+        const sampler::ScatteringSample s = sp.sample(u);
         if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
         double wi[3], rgb[3];
         uniform_sphere(u[1], u[2], wi);
