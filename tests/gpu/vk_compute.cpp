@@ -116,6 +116,16 @@ std::uint32_t Vk::memory_type(std::uint32_t bits, VkMemoryPropertyFlags want) co
   throw std::runtime_error("no Vulkan memory type for a resource");
 }
 
+VkDeviceMemory Vk::allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags want, const char* what) {
+  VkMemoryAllocateInfo mai{};
+  mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  mai.allocationSize = req.size, mai.memoryTypeIndex = memory_type(req.memoryTypeBits, want);
+  VkDeviceMemory mem;
+  check(vkAllocateMemory(device_, &mai, nullptr, &mem), what);
+  memory_.push_back(mem);  // freed with the device
+  return mem;
+}
+
 Vk::Buffer Vk::buffer(std::size_t bytes, VkBufferUsageFlags usage) {
   Buffer b;
   b.size = bytes;
@@ -126,13 +136,7 @@ Vk::Buffer Vk::buffer(std::size_t bytes, VkBufferUsageFlags usage) {
   buffers_.push_back(b.buffer);
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, b.buffer, &req);
-  const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  VkMemoryAllocateInfo mai{};
-  mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-  mai.allocationSize = req.size, mai.memoryTypeIndex = memory_type(req.memoryTypeBits, host);
-  VkDeviceMemory mem;
-  check(vkAllocateMemory(device_, &mai, nullptr, &mem), "vkAllocateMemory (buffer)");
-  memory_.push_back(mem);
+  const VkDeviceMemory mem = allocate(req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "vkAllocateMemory (buffer)");
   check(vkBindBufferMemory(device_, b.buffer, mem, 0), "vkBindBufferMemory");
   check(vkMapMemory(device_, mem, 0, VK_WHOLE_SIZE, 0, &b.map), "vkMapMemory");
   return b;
@@ -174,12 +178,7 @@ Vk::Image Vk::texture(VkFormat format, int width, int height, int layers, const 
   images_.push_back(img.image);
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(device_, img.image, &req);
-  VkMemoryAllocateInfo mai{};
-  mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-  mai.allocationSize = req.size, mai.memoryTypeIndex = memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VkDeviceMemory mem;
-  check(vkAllocateMemory(device_, &mai, nullptr, &mem), "vkAllocateMemory (image)");
-  memory_.push_back(mem);
+  const VkDeviceMemory mem = allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "vkAllocateMemory (image)");
   check(vkBindImageMemory(device_, img.image, mem, 0), "vkBindImageMemory");
 
   const Buffer staging = buffer(bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT);

@@ -58,6 +58,8 @@ class Vk {
 
  private:
   std::uint32_t memory_type(std::uint32_t bits, VkMemoryPropertyFlags want) const;
+  // Memory of a type with `want` for `req`, kept until the device goes; `what` names a failure.
+  VkDeviceMemory allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags want, const char* what);
   VkCommandBuffer begin();
   void submit(VkCommandBuffer cmd);
 
