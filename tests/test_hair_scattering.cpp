@@ -29,6 +29,7 @@
 #include <array>
 #include <boost/math/special_functions/gamma.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 #include <string>
@@ -52,9 +53,11 @@ const TableSet& tilted_tables() {
   static const TableSet set = load_tables(std::string(HAIRLUT_SOURCE_DIR) + "/tables/default/hairlut-default.h5");
   return set;
 }
-// The shipped default config with every tilt 0, baked in memory.
+// The shipped default config with every tilt 0: under ctest the file its fixture baked
+// (HAIRLUT_TEST_UNTILTED), else baked here in memory.
 const TableSet& untilted_tables() {
   static const TableSet set = [] {
+    if (const char* file = std::getenv("HAIRLUT_TEST_UNTILTED")) return load_tables(file);
     std::ifstream in(std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/default.json");
     nlohmann::json j = nlohmann::json::parse(in);
     j["lobes"].erase("tilt_deg");
@@ -67,8 +70,12 @@ const TableSet& untilted_tables() {
   return set;
 }
 const Runtime& runtime(bool tilted) {
-  static const Runtime t = hair_scattering<float>(tilted_tables()), u = hair_scattering<float>(untilted_tables());
-  return tilted ? t : u;
+  if (tilted) {
+    static const Runtime t = hair_scattering<float>(tilted_tables());
+    return t;
+  }
+  static const Runtime u = hair_scattering<float>(untilted_tables());
+  return u;
 }
 
 // A fibre of σa (grey) with pbrt-style roughness, clamped to the tables' β ranges.
