@@ -69,10 +69,15 @@ class AxisSampler {
   /// the sampler points into them; without, it computes them (one pass over the table).
   AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, const AxisData& stored = AxisData())
       : AxisSampler(data, axes, dims, measure, stored, SerialBlocks()) {}
+  /// Without the mixture path's data (none computed, mix() always declines): for a caller that
+  /// only blends rows, whose sampling data would cost a pass over the table and its size again.
+  struct BlendOnly {};
+  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, BlendOnly)
+      : AxisSampler(data, axes, dims, measure, AxisData(), SerialBlocks(), false) {}
   /// The same, computing the data (when none are stored) with the clamp bounds' blocks run by
   /// run_blocks (build_data).
   template <class RunBlocks>
-  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, const AxisData& stored, RunBlocks&& run_blocks)
+  AxisSampler(const T* data, const Axis* axes, int dims, Measure measure, const AxisData& stored, RunBlocks&& run_blocks, bool mixture = true)
       : data_(data), dims_(dims), measure_(measure) {
     if (!data || dims < 1 || dims > 8) return;
     std::size_t s = 1;
@@ -105,6 +110,7 @@ class AxisSampler {
         }
     }
     slices_ = stride_[0] * static_cast<std::size_t>(axes[0].count) / static_cast<std::size_t>(n_);
+    if (!mixture) return;
     if (stored.cdf && stored.mass && stored.clamp_bound) {
       stored_ = stored;
     } else {
@@ -206,7 +212,7 @@ class AxisSampler {
     int count = 0, fixes = 0;
     double node[max_nodes];          // blended node values, where `blended` says so (mix()'s scratch)
     unsigned char blended[max_nodes];
-    std::size_t slice[max_corners];
+    std::size_t row[max_corners];  // each slice's first entry in the table (and in the prefix masses): slice × n
     double w[max_corners];
     int fix_cell[max_fixes];
     double fix_add[max_fixes];
@@ -233,7 +239,7 @@ class AxisSampler {
       if (w == 0.0) return true;
       if (m.count == Mix::max_corners) return false;
       const std::size_t s = offset / static_cast<std::size_t>(n_);
-      m.slice[m.count] = s;
+      m.row[m.count] = offset;
       m.w[m.count] = w;
       ++m.count;
       m.total += w * mass[s];
@@ -276,13 +282,9 @@ class AxisSampler {
     const Axis& a = axes_[dims_ - 1].axis;
     if (!even_ && (x < a.lo || x > a.hi)) return 0.0;
     const Lerp l = axes_[dims_ - 1].locate(x);
-    double sum = 0.0;
-    for (int j = 0; j < m.count; ++j) {
-      double c[4];
-      cell_coef(data_ + m.slice[j] * static_cast<std::size_t>(n_), l.i0, c);
-      sum += m.w[j] * detail::poly(c, l.w);
-    }
-    return std::max(0.0, sum);
+    double c[4];
+    blended_cell(m, l.i0, c);
+    return std::max(0.0, detail::poly(c, l.w));
   }
   /// Draws x from the mixture with one u ∈ [0, 1): the cell whose cumulative Σ w_c F_c (plus the
   /// clamp additions of the fixed cells before it) brackets u, by binary search over the prefix
@@ -297,10 +299,8 @@ class AxisSampler {
     }
     u = std::min(std::max(u, 0.0), 1.0);
     const double* cdf = cdfs();
-    const std::size_t n = static_cast<std::size_t>(n_);
     auto F = [&](int k) {
-      double s = 0.0;
-      for (int j = 0; j < m.count; ++j) s += m.w[j] * cdf[m.slice[j] * n + static_cast<std::size_t>(k)];
+      double s = gather(m, cdf + k);
       for (int j = 0; j < m.fixes && m.fix_cell[j] < k; ++j) s += m.fix_add[j];
       return s;
     };
@@ -452,20 +452,37 @@ class AxisSampler {
     }
     for (int j : need) {
       if (j < 0 || j >= n_ || m.blended[j]) continue;
-      double v = 0.0;
-      for (int c = 0; c < m.count; ++c) v += m.w[c] * static_cast<double>(data_[m.slice[c] * static_cast<std::size_t>(n_) + static_cast<std::size_t>(j)]);
-      m.node[j] = v;
+      m.node[j] = gather(m, data_ + j);
       m.blended[j] = 1;
     }
   }
-  // The blended polynomial Σ w_c p_c of sampled cell k over the mixture's slices.
-  void blended_cell(const Mix& m, int k, double* c) const {
-    c[0] = c[1] = c[2] = c[3] = 0.0;
-    for (int j = 0; j < m.count; ++j) {
-      double cj[4];
-      cell_coef(data_ + m.slice[j] * static_cast<std::size_t>(n_), k, cj);
-      for (int i = 0; i < 4; ++i) c[i] += m.w[j] * cj[i];
+  // Σ_c w_c base[row_c] over the mixture's slices, in four partial sums: the additions of one
+  // chain would each wait for the last (the mixture path's inner loop, up to 64 slices).
+  template <class V>
+  static double gather(const Mix& m, const V* base) {
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    int c = 0;
+    for (; c + 4 <= m.count; c += 4) {
+      s0 += m.w[c] * static_cast<double>(base[m.row[c]]);
+      s1 += m.w[c + 1] * static_cast<double>(base[m.row[c + 1]]);
+      s2 += m.w[c + 2] * static_cast<double>(base[m.row[c + 2]]);
+      s3 += m.w[c + 3] * static_cast<double>(base[m.row[c + 3]]);
     }
+    for (; c < m.count; ++c) s0 += m.w[c] * static_cast<double>(base[m.row[c]]);
+    return (s0 + s1) + (s2 + s3);
+  }
+  // The blended polynomial Σ w_c p_c of sampled cell k over the mixture's slices: the polynomial
+  // of the blended nodes (cell_coef is linear in them).
+  void blended_cell(const Mix& m, int k, double* c) const {
+    const double p1 = gather(m, data_ + k), p2 = gather(m, data_ + k + 1);
+    if (!cubic_) {
+      c[0] = p1, c[1] = p2 - p1, c[2] = 0.0, c[3] = 0.0;
+      return;
+    }
+    const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
+    const double p0 = i0 >= 0 ? gather(m, data_ + i0) : 3.0 * p1 - 3.0 * p2 + gather(m, data_ + k + 2);
+    const double p3 = i3 >= 0 ? gather(m, data_ + i3) : 3.0 * p2 - 3.0 * p1 + gather(m, data_ + k - 1);
+    catmull_rom(p0, p1, p2, p3, c);
   }
   // Per cell of the other axes, its sampled cells with a clamp bound > 0, largest bound first,
   // each with the sum of its own and the later bounds (what is left to account for).
@@ -527,6 +544,9 @@ class AxisSampler {
     const int i0 = outer_[static_cast<std::size_t>(2 * k)], i3 = outer_[static_cast<std::size_t>(2 * k + 1)];
     const double p0 = i0 >= 0 ? static_cast<double>(v[i0]) : 3.0 * p1 - 3.0 * p2 + static_cast<double>(v[k + 2]);
     const double p3 = i3 >= 0 ? static_cast<double>(v[i3]) : 3.0 * p2 - 3.0 * p1 + static_cast<double>(v[k - 1]);
+    catmull_rom(p0, p1, p2, p3, c);
+  }
+  static void catmull_rom(double p0, double p1, double p2, double p3, double* c) {
     c[0] = p1;
     c[1] = 0.5 * (p2 - p0);
     c[2] = 0.5 * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3);

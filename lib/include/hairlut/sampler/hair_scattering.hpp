@@ -227,15 +227,27 @@ class HairScattering {
     if (!valid_) return;
     const double theta_d = 0.5 * (theta_o - theta_i);
     const NpLobe<T, double>* np = t_.np_at(f.beta_n);
+    // The M_p tables' β and θi taps, located once for all lobes where their axes agree (a baked set).
+    const bool shared = mp_shared_ && std::fabs(f.beta_m) < HUGE_VAL;
+    FixedTaps<double> tb, ti;
+    if (shared) tb = mp_view(0).axis(0).taps(f.beta_m), ti = mp_view(0).axis(1).taps(theta_i);
     for (int p = 0; p < lobes_; ++p) {
-      const double m = mp(p, f.beta_m, theta_i, held(f, p, theta_o));
-      if (!(m > 0.0)) continue;
-      for (int c = 0; c < 3; ++c) {
-        double n;
-        if (fourier_) n = (p < explicit_ ? fs_.np[p] : fs_.residual)(f.beta_n, f.sigma_a[c], theta_d, phi);
-        else n = p < explicit_ ? np[p](f.beta_n, f.sigma_a[c], theta_d, phi) : t_.np_residual(f.sigma_a[c], theta_d);
-        rgb[c] += m * n;
+      double m;
+      if (shared) {
+        FixedTaps<double> tp[3] = {tb, ti, mp_view(p).axis(2).taps(held(f, p, theta_o))};
+        m = detail::nonnegative(mp_view(p).combine(tp));
+      } else {
+        m = mp(p, f.beta_m, theta_i, held(f, p, theta_o));
       }
+      if (!(m > 0.0)) continue;
+      double n[3];
+      if (!fourier_ && p < explicit_) {
+        np[p].rgb(f.beta_n, f.sigma_a, theta_d, phi, n);
+      } else {
+        for (int c = 0; c < 3; ++c)
+          n[c] = fourier_ ? (p < explicit_ ? fs_.np[p] : fs_.residual)(f.beta_n, f.sigma_a[c], theta_d, phi) : t_.np_residual(f.sigma_a[c], theta_d);
+      }
+      for (int c = 0; c < 3; ++c) rgb[c] += m * n[c];
     }
   }
 
@@ -416,6 +428,7 @@ class HairScattering {
     const double t = theta_o - shift;
     return t > half_pi ? 2.0 * half_pi - t : t < -half_pi ? -2.0 * half_pi - t : t;
   }
+  const FixedView<T, 3, double>& mp_view(int p) const { return (p < explicit_ ? t_.mp[p] : t_.mp_residual).table(); }
   double mp(int p, double beta_m, double theta_i, double theta_o) const {
     return p < explicit_ ? t_.mp[p](beta_m, theta_i, theta_o) : t_.mp_residual(beta_m, theta_i, theta_o);
   }
@@ -504,9 +517,14 @@ class HairScattering {
         for (std::size_t i = 0; i < ni; ++i)
           for (std::size_t r = 0; r < nr; ++r) out[(b * nr + r) * ni + i] = v.data()[(b * ni + i) * nr + r];
       mt_axes_[p][0] = a[0], mt_axes_[p][1] = a[2], mt_axes_[p][2] = a[1];
-      m_axis_[p] = AxisSampler<T>(out.data(), mt_axes_[p], 3, Measure::cosine);
+      // Rows blended per shading point only (at_theta_o): no mixture data, which would take a
+      // pass over the table and more memory than the table itself.
+      m_axis_[p] = AxisSampler<T>(out.data(), mt_axes_[p], 3, Measure::cosine, typename AxisSampler<T>::BlendOnly());
       ok = ok && m_axis_[p].supported();
       mom_[p] = CosineMoments(a[1].lo, (a[1].hi - a[1].lo) / (a[1].count - 1), a[1].count - 1);
+      if (p == 0) mp_shared_ = true;
+      else
+        for (int d = 0; d < 3; ++d) mp_shared_ = mp_shared_ && same_axis(a[d], mt_axes_[0][d == 1 ? 2 : d == 2 ? 1 : 0]);
       prepare_shaping(p);
     }
     return ok;
@@ -613,6 +631,7 @@ class HairScattering {
   HairTables<T, double> t_;
   int explicit_ = 0, lobes_ = 0;
   bool valid_ = false, material_ = false, fourier_ = false;
+  bool mp_shared_ = false;  // every lobe's M_p table on the same axes (eval locates β and θi once)
   MaterialScattering<T> mat_;
   FourierSet<T> fs_;
   std::vector<T> mt_[kMaxLobes];

@@ -75,15 +75,22 @@ class ProductRow {
     // 0): the far tails of a narrow blended lobe, where the interpolant only rings about 0.
     kind_.assign(static_cast<std::size_t>(n), 0);
     pieces_.clear();
-    double top = 0.0;
+    // The largest |b0|, |b1|, |b2| in three running maxima (one would make each comparison wait
+    // on the last), and ⅓ multiplied rather than divided: this loop runs over every cell of every
+    // lobe at each new θo.
+    constexpr double third = 1.0 / 3.0;
+    double top0 = 0.0, top1 = 0.0, top2 = 0.0;
     for (int k = 0; k < n; ++k) {
       const double* c = &coef_[static_cast<std::size_t>(k) * 4];
-      top = std::max({top, std::fabs(c[0]), std::fabs(c[0] + c[1] / 3.0), std::fabs(c[0] + (2.0 * c[1] + c[2]) / 3.0)});
+      const double a0 = std::fabs(c[0]), a1 = std::fabs(c[0] + c[1] * third), a2 = std::fabs(c[0] + (2.0 * c[1] + c[2]) * third);
+      top0 = a0 > top0 ? a0 : top0;
+      top1 = a1 > top1 ? a1 : top1;
+      top2 = a2 > top2 ? a2 : top2;
     }
-    const double cut = kCut * top;
+    const double cut = kCut * std::max({top0, top1, top2});
     for (int k = 0; k < n; ++k) {
       const double* c = &coef_[static_cast<std::size_t>(k) * 4];
-      const double b0 = c[0], b1 = c[0] + c[1] / 3.0, b2 = c[0] + (2.0 * c[1] + c[2]) / 3.0, b3 = c[0] + c[1] + c[2] + c[3];
+      const double b0 = c[0], b1 = c[0] + c[1] * third, b2 = c[0] + (2.0 * c[1] + c[2]) * third, b3 = c[0] + c[1] + c[2] + c[3];
       if (std::max({b0, b1, b2, b3}) <= cut) continue;
       for (int j = k; j <= k + 1; ++j) {
         double& e = e_[static_cast<std::size_t>(j)];

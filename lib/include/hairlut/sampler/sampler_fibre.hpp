@@ -151,6 +151,57 @@ class NpLobe {
     if (has_energy_) v *= energy(sigma_a, theta_d);
     return detail::nonnegative(v);
   }
+  /// N_p at three σa (one per channel) and one β, θd, φ: what the channels share (the taps of
+  /// β, θd and φ, and of θd on the energy table) located once. Equal to three calls of
+  /// operator() up to the order of the sums (the same taps and weights).
+  void rgb(R beta, const R* sigma_a, R theta_d, R phi, R* out) const {
+    const R td = std::fabs(theta_d), ph = detail::fold_phi(phi, phi_axis_);
+    if (!(beta + td + ph + sigma_a[0] + sigma_a[1] + sigma_a[2] == beta + td + ph + sigma_a[0] + sigma_a[1] + sigma_a[2])) {
+      for (int c = 0; c < 3; ++c) out[c] = (*this)(beta, sigma_a[c], theta_d, phi);  // NaN or infinities: the general rules
+      return;
+    }
+    FixedTaps<R> tp[4];
+    tp[0] = table_.axis(0).taps(beta), tp[2] = table_.axis(2).taps(td), tp[3] = table_.axis(3).taps(ph);
+    FixedTaps<R> et[2];
+    if (has_energy_) et[1] = energy_.axis(1).taps(td);
+    // β, θd and φ cubic (the baked sets): the sum over them once per σa node that a channel's taps
+    // touch (the channels' σa are near each other: about 6 nodes for 12 taps), then each channel's
+    // σa taps over those partial sums; half the loads of three whole lookups.
+    R value[3];
+    const bool shared = table_.axis(0).cubic() && table_.axis(2).cubic() && table_.axis(3).cubic() && !table_.axis(1).geometric();
+    if (shared) {
+      const FixedTaps<R> rest[3] = {tp[0], tp[2], tp[3]};
+      const int ns = table_.axis(1).cubic() ? 4 : 2;
+      std::size_t node[12];
+      R partial[12];
+      int nodes = 0;
+      for (int c = 0; c < 3; ++c) {
+        const FixedTaps<R> ts = table_.axis(1).taps(sigma_a[c]);
+        R v = R(0);
+        for (int k = 0; k < ns; ++k) {
+          int j = 0;
+          while (j < nodes && node[j] != ts.off[k]) ++j;
+          if (j == nodes) node[nodes] = ts.off[k], partial[nodes] = detail::fixed_product<T, R, 4, 4, 4>(table_.data() + ts.off[k], rest), ++nodes;
+          v += ts.w[k] * partial[j];
+        }
+        value[c] = v;
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      R v;
+      if (shared) {
+        v = value[c];
+      } else {
+        FixedTaps<R> t[4] = {tp[0], table_.axis(1).taps(sigma_a[c]), tp[2], tp[3]};  // combine() may change a geometric axis's taps
+        v = table_.combine(t);
+      }
+      if (has_energy_) {
+        FixedTaps<R> e[2] = {energy_.axis(0).taps(sigma_a[c]), et[1]};
+        v *= detail::nonnegative(energy_.combine(e)) * factor_(sigma_a[c], theta_d);
+      }
+      out[c] = detail::nonnegative(v);
+    }
+  }
   /// E_p = ∫N_p dφ at σa, θd (1 when the table stores N_p itself).
   R energy(R sigma_a, R theta_d) const {
     if (!has_energy_) return R(1);
