@@ -1,6 +1,6 @@
 // What the ports of pbrt-v4's and Mitsuba 3's hair tests share (test_hair_scattering.cpp,
-// test_material_scattering.cpp): the peers' roughness mappings, their direction sampling and
-// Mitsuba's χ² test on the sphere.
+// test_fourier_scattering.cpp, test_material_scattering.cpp): the peers' roughness mappings, their
+// direction sampling, pbrt's HOnTheEdge, Mitsuba's per-lane weights and its χ² test on the sphere.
 //   pbrt-v4 src/pbrt/bsdfs_test.cpp at commit 00aad0a68d6672d0e52f3d9c730406eee720f2b5;
 //   Mitsuba 3 src/bsdfs/tests/test_hair.py and src/python/python/chi2.py at commit
 //   0fec507e35a820a2fc0f3079686a3ee34b5697ad.
@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstddef>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace peer {
@@ -39,6 +40,66 @@ inline void uniform_sphere(double u0, double u1, double* w) {
   w[0] = r * std::cos(a), w[1] = r * std::sin(a), w[2] = z;
 }
 inline double average(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3.0; }
+
+// pbrt-v4's Hair.HOnTheEdge, widened to the frame's edges: between pbrt's two vectors and the
+// directions along, against and normal to the fibre, eval, sample (u = 0, ½ and 1 in every
+// coordinate) and pdf are finite and ≥ 0, and every sample has a density. The number of failed
+// checks, the first of them described in `first`.
+struct EdgeChecks {
+  int failures = 0;
+  std::string first;
+  void fail(const std::string& what) {
+    if (failures++ == 0) first = what;
+  }
+};
+template <class T>
+EdgeChecks h_on_the_edge(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f) {
+  EdgeChecks r;
+  // pbrt's vectors (its z is the fibre's normal, x along the fibre as here).
+  const double wo[3] = {0.54986966, 0.03359017, 0.83457476}, wi[3] = {-0.37383357, -0.91920084, 0.12376696};
+  const double along[3] = {1.0, 0.0, 0.0}, against[3] = {-1.0, 0.0, 0.0}, normal[3] = {0.0, 1.0, 0.0};
+  const double* dirs[5] = {wo, wi, along, against, normal};
+  const char* names[5] = {"pbrt's wo", "pbrt's wi", "along", "against", "normal"};
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const std::string pair = std::string(names[i]) + " -> " + names[j];
+      double rgb[3];
+      rt.eval(f, dirs[i], dirs[j], rgb);
+      for (double v : rgb)
+        if (!(std::isfinite(v) && v >= 0.0)) r.fail("eval " + pair + " = " + std::to_string(v));
+      for (const double u0 : {0.0, 0.5, 1.0}) {
+        const double u[3] = {u0, u0, u0};
+        const hairlut::sampler::ScatteringSample s = rt.sample(f, dirs[i], u);
+        if (!(s.pdf > 0.0)) r.fail("sample at " + std::string(names[i]) + ", u = " + std::to_string(u0) + ": pdf " + std::to_string(s.pdf));
+        for (double w : s.weight)
+          if (!(std::isfinite(w) && w >= 0.0)) r.fail("sample at " + std::string(names[i]) + ": weight " + std::to_string(w));
+      }
+      const double p = rt.pdf(f, dirs[i], dirs[j]);
+      if (!(std::isfinite(p) && p >= 0.0)) r.fail("pdf " + pair + " = " + std::to_string(p));
+    }
+  return r;
+}
+
+// Mitsuba 3's test04_sample_numeric for one fibre: `lanes` lanes, each wo uniform on the sphere
+// and one sample; its weight is the Rec. 709 luminance of S cos / pdf (1 for a zero sample, as
+// Mitsuba counts it), bad when |w − 1| > 1e-3. Adds to `acc` (Mitsuba runs 10⁵ lanes per fibre).
+struct LaneWeights {
+  long lanes = 0, bad = 0;
+  double worst = 0.0;
+};
+template <class T>
+void sample_numeric(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f, Rng& rng, long lanes, LaneWeights& acc) {
+  for (long i = 0; i < lanes; ++i) {
+    double wo[3];
+    uniform_sphere(rng(), rng(), wo);
+    const double u[3] = {rng(), rng(), rng()};
+    const hairlut::sampler::ScatteringSample s = rt.sample(f, wo, u);
+    const double lum = s.pdf > 0.0 ? 0.212671 * s.weight[0] + 0.715160 * s.weight[1] + 0.072169 * s.weight[2] : 1.0;
+    acc.worst = std::max(acc.worst, std::fabs(lum - 1.0));
+    if (!(std::fabs(lum - 1.0) <= 1e-3)) ++acc.bad;
+    ++acc.lanes;
+  }
+}
 
 struct Chi2 {
   bool valid = false;

@@ -207,48 +207,19 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingConsistency, importance 
 }
 
 TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.HOnTheEdge and the frame's edges give finite values", "[scattering][fourier]") {
-  const Runtime& rt = runtime();
-  const sampler::Fibre f = fibre(0.1, 0.1, 0.0);
-  const double wo[3] = {0.54986966, 0.03359017, 0.83457476}, wi[3] = {-0.37383357, -0.91920084, 0.12376696};
-  const double along[3] = {1.0, 0.0, 0.0}, against[3] = {-1.0, 0.0, 0.0}, normal[3] = {0.0, 1.0, 0.0};
-  const double* dirs[5] = {wo, wi, along, against, normal};
-  for (const double* a : dirs)
-    for (const double* b : dirs) {
-      double rgb[3];
-      rt.eval(f, a, b, rgb);
-      for (double v : rgb) CHECK((std::isfinite(v) && v >= 0.0));
-      for (const double u0 : {0.0, 0.5, 1.0}) {
-        const double u[3] = {u0, u0, u0};
-        const sampler::ScatteringSample s = rt.sample(f, a, u);
-        CHECK(s.pdf > 0.0);
-        for (double w : s.weight) CHECK((std::isfinite(w) && w >= 0.0));
-      }
-      const double p = rt.pdf(f, a, b);
-      CHECK((std::isfinite(p) && p >= 0.0));
-    }
+  const peer::EdgeChecks r = peer::h_on_the_edge(runtime(), fibre(0.1, 0.1, 0.0));
+  INFO(r.failures << " failed, the first: " << r.first);
+  CHECK(r.failures == 0);
 }
 
 TEST_CASE("Fourier HairScattering: Mitsuba 3 test04_sample_numeric, every lane's luminance weight within 1e-3", "[scattering][fourier]") {
   const Runtime& rt = runtime();
   Rng rng(0);
-  double worst = 0.0;
-  int lanes = 0, bad = 0;
+  peer::LaneWeights w;
   for (int a = 0; a < 5; ++a)
-    for (int b = 0; b < 5; ++b) {
-      const sampler::Fibre f = fibre(0.1 + 0.89 * a / 4.0, 0.1 + 0.89 * b / 4.0, 0.0);
-      for (int i = 0; i < 100000; ++i) {
-        double wo[3];
-        uniform_sphere(rng(), rng(), wo);
-        const double u[3] = {rng(), rng(), rng()};
-        const sampler::ScatteringSample s = rt.sample(f, wo, u);
-        const double lum = s.pdf > 0.0 ? 0.212671 * s.weight[0] + 0.715160 * s.weight[1] + 0.072169 * s.weight[2] : 1.0;
-        worst = std::max(worst, std::fabs(lum - 1.0));
-        if (!(std::fabs(lum - 1.0) <= 1e-3)) ++bad;
-        ++lanes;
-      }
-    }
-  INFO(lanes << " lanes, worst |w - 1| " << worst);
-  CHECK(bad == 0);
+    for (int b = 0; b < 5; ++b) peer::sample_numeric(rt, fibre(0.1 + 0.89 * a / 4.0, 0.1 + 0.89 * b / 4.0, 0.0), rng, 100000, w);
+  INFO(w.lanes << " lanes, worst |w - 1| " << w.worst);
+  CHECK(w.bad == 0);
 }
 
 TEST_CASE("Fourier HairScattering: pdf() is sample()'s density and integrates to one", "[scattering][fourier]") {
