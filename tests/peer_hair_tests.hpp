@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace peer {
@@ -99,6 +100,51 @@ void sample_numeric(const hairlut::sampler::HairScattering<T>& rt, const hairlut
     if (!(std::fabs(lum - 1.0) <= 1e-3)) ++acc.bad;
     ++acc.lanes;
   }
+}
+
+// pbrt-v4's Hair.SamplingWeights for one fibre: `count` samples, each at its own wo uniform on
+// the sphere; a sample's weight (the channels' mean of S cos / pdf, divided by the albedo at wo
+// where over_albedo) must lie in (0.99, 1.01). Adds to `acc` (pbrt draws 10⁴ per fibre).
+struct WeightSpread {
+  long total = 0, outside = 0;
+  double lo = 1.0, hi = 1.0;
+};
+template <class T>
+void sampling_weights(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f, Rng& rng, long count, bool over_albedo,
+                      WeightSpread& acc) {
+  for (long i = 0; i < count; ++i) {
+    double wo[3];
+    uniform_sphere(rng(), rng(), wo);
+    const double u[3] = {rng(), rng(), rng()};
+    const auto sp = rt.at(f, wo);  // sp.sample(u) is rt.sample(f, wo, u); the albedo comes with it
+    const hairlut::sampler::ScatteringSample s = sp.sample(u);
+    if (!(s.pdf > 0.0)) continue;
+    const double w = average(s.weight) / (over_albedo ? sp.albedo() : 1.0);
+    ++acc.total;
+    acc.lo = std::min(acc.lo, w), acc.hi = std::max(acc.hi, w);
+    if (!(w > 0.99 && w < 1.01)) ++acc.outside;
+  }
+}
+
+// pbrt-v4's Hair.SamplingConsistency at one shading point (f, wo): `count` draws, each giving an
+// importance-sampled term S cos Li / pdf and a uniform one S cos Li 4π at a direction uniform on
+// the sphere, with pbrt's Li(w) = w_z² (its z is our y). Returns the two estimates (pbrt: within 5%).
+template <class T>
+std::pair<double, double> sampling_consistency(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f, const double* wo,
+                                               Rng& rng, int count) {
+  auto li = [](const double* w) { return w[1] * w[1]; };
+  double importance = 0.0, uniform = 0.0;
+  const auto sp = rt.at(f, wo);  // wo is held: rt.sample(f, wo, u) is sp.sample(u)
+  for (int i = 0; i < count; ++i) {
+    const double u[3] = {rng(), rng(), rng()};
+    const hairlut::sampler::ScatteringSample s = sp.sample(u);
+    if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
+    double wi[3], rgb[3];
+    uniform_sphere(u[1], u[2], wi);
+    rt.eval(f, wo, wi, rgb);
+    uniform += average(rgb) * li(wi) * 4.0 * kPi / count;
+  }
+  return {importance, uniform};
 }
 
 struct Chi2 {

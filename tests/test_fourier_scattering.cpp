@@ -159,25 +159,12 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurna
 TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre", "[scattering][fourier]") {
   const Runtime& rt = runtime();
   Rng rng(13);
-  int total = 0, outside = 0;
-  double lo = 1.0, hi = 1.0;
+  peer::WeightSpread r;
   for (double bm = 0.1; bm < 1.0; bm += 0.2)
-    for (double bn = 0.4; bn < 1.0; bn += 0.2) {
-      const sampler::Fibre f = fibre(bm, bn, 0.0);
-      for (int i = 0; i < 10000; ++i) {
-        double wo[3];
-        uniform_sphere(rng(), rng(), wo);
-        const double u[3] = {rng(), rng(), rng()};
-        const sampler::ScatteringSample s = rt.sample(f, wo, u);
-        if (!(s.pdf > 0.0)) continue;
-        const double w = average(s.weight);
-        ++total, lo = std::min(lo, w), hi = std::max(hi, w);
-        if (!(w > 0.99 && w < 1.01)) ++outside;
-      }
-    }
-  INFO(total << " samples, weights in [" << lo << ", " << hi << "]");
-  CHECK(total == 150000);
-  CHECK(outside == 0);
+    for (double bn = 0.4; bn < 1.0; bn += 0.2) peer::sampling_weights(rt, fibre(bm, bn, 0.0), rng, 10000, false, r);
+  INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
+  CHECK(r.total == 150000);
+  CHECK(r.outside == 0);
 }
 
 TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingConsistency, importance and uniform estimates agree", "[scattering][fourier]") {
@@ -186,21 +173,9 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingConsistency, importance 
   for (double bm = 0.2; bm < 1.0; bm += 0.2)
     for (double bn = 0.4; bn < 1.0; bn += 0.2) {
       const sampler::Fibre f = fibre(bm, bn, 0.25);
-      const int count = 64 * 1024;
       double wo[3];
       uniform_sphere(rng(), rng(), wo);
-      auto li = [](const double* w) { return w[1] * w[1]; };  // pbrt's Li = w.z², its z our y
-      double importance = 0.0, uniform = 0.0;
-      const Runtime::ShadingPoint sp = rt.at(f, wo);  // wo is held: rt.sample(f, wo, u) is sp.sample(u)
-      for (int i = 0; i < count; ++i) {
-        const double u[3] = {rng(), rng(), rng()};
-        const sampler::ScatteringSample s = sp.sample(u);
-        if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
-        double wi[3], rgb[3];
-        uniform_sphere(u[1], u[2], wi);
-        rt.eval(f, wo, wi, rgb);
-        uniform += average(rgb) * li(wi) * 4.0 * kPiF / count;
-      }
+      const auto [importance, uniform] = peer::sampling_consistency(rt, f, wo, rng, 64 * 1024);
       INFO("beta_m " << f.beta_m << " beta_n " << f.beta_n << ": importance " << importance << " uniform " << uniform);
       CHECK(std::fabs(importance - uniform) / uniform < 0.05);
     }

@@ -171,33 +171,17 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnaceSampled, importance-sampled 
 // pbrt-v4's SamplingWeights loop (β_m 0.1 … 0.9, β_n 0.4 … 0.8, 10,000 samples each, wo uniform on
 // the sphere, σa 0): the samples whose weight, divided by the albedo at wo when asked, lies outside
 // (0.99, 1.01), and the range of those values.
-struct WeightSpread {
-  int outside = 0, total = 0;
-  double lo = 1.0, hi = 1.0;
-};
-WeightSpread pbrt_sampling_weights(const Runtime& rt, unsigned long long seed, bool over_albedo) {
-  WeightSpread r;
+// pbrt's SamplingWeights grid (β_m 0.1 … 0.9 step 0.2, β_n 0.4 … 0.8), 10⁴ samples per fibre.
+peer::WeightSpread pbrt_sampling_weights(const Runtime& rt, unsigned long long seed, bool over_albedo) {
+  peer::WeightSpread r;
   Rng rng(seed);
   for (double bm = 0.1; bm < 1.0; bm += 0.2)
-    for (double bn = 0.4; bn < 1.0; bn += 0.2) {
-      const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
-      for (int i = 0; i < 10000; ++i) {
-        double wo[3];
-        uniform_sphere(rng(), rng(), wo);
-        const double u[3] = {rng(), rng(), rng()};
-        const sampler::ScatteringSample s = rt.sample(f, wo, u);
-        if (!(s.pdf > 0.0)) continue;
-        const double w = average(s.weight) / (over_albedo ? rt.albedo(f, wo) : 1.0);
-        ++r.total;
-        r.lo = std::min(r.lo, w), r.hi = std::max(r.hi, w);
-        if (!(w > 0.99 && w < 1.01)) ++r.outside;
-      }
-    }
+    for (double bn = 0.4; bn < 1.0; bn += 0.2) peer::sampling_weights(rt, fibre(rt, bm, bn, 0.0), rng, 10000, over_albedo, r);
   return r;
 }
 
 TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre (untilted tables)", "[scattering]") {
-  const WeightSpread r = pbrt_sampling_weights(runtime(false), 13, false);
+  const peer::WeightSpread r = pbrt_sampling_weights(runtime(false), 13, false);
   INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
   CHECK(r.total == 150000);
   CHECK(r.outside == 0);
@@ -206,7 +190,7 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight o
 TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights on tilted tables, every weight is the albedo at wo to 1%", "[scattering]") {
   // Tilted d'Eon lobes do not conserve energy (their albedo at wo is the mean weight there, and it
   // is not 1 near grazing), so the weights' spread about it is what measures the sampling.
-  const WeightSpread r = pbrt_sampling_weights(runtime(true), 19, true);
+  const peer::WeightSpread r = pbrt_sampling_weights(runtime(true), 19, true);
   INFO(r.total << " samples, weight / albedo in [" << r.lo << ", " << r.hi << "]");
   CHECK(r.total == 150000);
   CHECK(r.outside == 0);
@@ -250,23 +234,10 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingConsistency, importance and unif
     Rng rng(17);
     for (double bm = 0.2; bm < 1.0; bm += 0.2)
       for (double bn = 0.4; bn < 1.0; bn += 0.2) {
-        const int count = 64 * 1024;
         const sampler::Fibre f = fibre(rt, bm, bn, 0.25);
         double wo[3];
         uniform_sphere(rng(), rng(), wo);
-        // pbrt's Li(w) = w.z², z a normal direction (its frame's z is our y).
-        auto li = [](const double* w) { return w[1] * w[1]; };
-        double importance = 0.0, uniform = 0.0;
-        const Runtime::ShadingPoint sp = rt.at(f, wo);  // wo is held (as in WhiteFurnaceSampled)
-        for (int i = 0; i < count; ++i) {
-          const double u[3] = {rng(), rng(), rng()};
-          const sampler::ScatteringSample s = sp.sample(u);
-          if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
-          double wi[3], rgb[3];
-          uniform_sphere(u[1], u[2], wi);
-          rt.eval(f, wo, wi, rgb);
-          uniform += average(rgb) * li(wi) * 4.0 * kPi / count;
-        }
+        const auto [importance, uniform] = peer::sampling_consistency(rt, f, wo, rng, 64 * 1024);
         INFO("tilted " << tilted << " beta_m " << f.beta_m << " beta_n " << f.beta_n << ": importance " << importance << " uniform " << uniform);
         CHECK(std::fabs(importance - uniform) / uniform < 0.05);
       }

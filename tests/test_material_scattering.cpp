@@ -214,45 +214,21 @@ TEST_CASE("MaterialScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurnaceSa
 
 TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre", "[scattering][material]") {
   const MaterialSet m(grid({0.1, 0.3, 0.5, 0.7, 0.9}, {0.4, 0.6, 0.8}), 0.0, false);
-  const sampler::Fibre f;
   Rng rng(13);
-  int total = 0, outside = 0;
-  double lo = 1.0, hi = 1.0;
-  for (const auto& [key, rt] : m.rt)
-    for (int i = 0; i < 10000; ++i) {
-      double wo[3];
-      uniform_sphere(rng(), rng(), wo);
-      const double u[3] = {rng(), rng(), rng()};
-      const sampler::ScatteringSample s = rt.sample(f, wo, u);
-      if (!(s.pdf > 0.0)) continue;
-      const double w = average(s.weight);
-      ++total, lo = std::min(lo, w), hi = std::max(hi, w);
-      if (!(w > 0.99 && w < 1.01)) ++outside;
-    }
-  INFO(total << " samples, weights in [" << lo << ", " << hi << "]");
-  CHECK(total == 150000);
-  CHECK(outside == 0);
+  peer::WeightSpread r;
+  for (const auto& [key, rt] : m.rt) peer::sampling_weights(rt, sampler::Fibre(), rng, 10000, false, r);
+  INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
+  CHECK(r.total == 150000);
+  CHECK(r.outside == 0);
 }
 
 TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingConsistency, importance and uniform estimates agree", "[scattering][material]") {
   const MaterialSet m(grid({0.2, 0.4, 0.6, 0.8}, {0.4, 0.6, 0.8}), 0.25, false);
-  const sampler::Fibre f;
   Rng rng(17);
   for (const auto& [key, rt] : m.rt) {
-    const int count = 64 * 1024;
     double wo[3];
     uniform_sphere(rng(), rng(), wo);
-    auto li = [](const double* w) { return w[1] * w[1]; };  // pbrt's Li = w.z², its z our y
-    double importance = 0.0, uniform = 0.0;
-    for (int i = 0; i < count; ++i) {
-      const double u[3] = {rng(), rng(), rng()};
-      const sampler::ScatteringSample s = rt.sample(f, wo, u);
-      if (s.pdf > 0.0) importance += average(s.weight) * li(s.wi) / count;
-      double wi[3], rgb[3];
-      uniform_sphere(u[1], u[2], wi);
-      rt.eval(f, wo, wi, rgb);
-      uniform += average(rgb) * li(wi) * 4.0 * kPiM / count;
-    }
+    const auto [importance, uniform] = peer::sampling_consistency(rt, sampler::Fibre(), wo, rng, 64 * 1024);
     INFO("pbrt beta_m " << key.first << " beta_n " << key.second << ": importance " << importance << " uniform " << uniform);
     CHECK(std::fabs(importance - uniform) / uniform < 0.05);
   }
