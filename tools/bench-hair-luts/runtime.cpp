@@ -297,7 +297,7 @@ json bench_runtime(const Settings& st) {
   row("eval", peer.eval, gen.eval, four.eval, mat.eval, "<= 0.5");
   row("shading point: BSDF for (fibre, wo), sample, pdf and eval of a light direction", peer.point, gen.point, four.point, mat.point, "");
   md << "| per-fibre setup | none | none | | none | | none | | <= 20 us |\n\n"
-     << "Runtimes prepared from the loaded tables in " << fmt(prepare_generic_ms) << " ms (generic: M_p copied with theta_i last, its sampling data computed), "
+     << "Runtimes prepared from the loaded tables in " << fmt(prepare_generic_ms) << " ms (generic: M_p copied with theta_i last; N_p sampling data read from the file and checked), "
      << fmt(prepare_fourier_ms) << " ms (Fourier: the same for M_p, the energies on the coefficients' nodes) and "
      << fmt(prepare_material_ms) << " ms (material: tables interleaved per node, the theta_i rows and phi rows of the sampler tabulated).\n"
      << "Fibre: " << result["fibre"].get<std::string>() << "; generic and Fourier tables read at it per call (Fourier: "
