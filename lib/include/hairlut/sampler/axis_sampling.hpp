@@ -425,13 +425,22 @@ class AxisSampler {
   // F(t) = ∫_0^t density by cell_mass, Newton on [lo, hi], bisection when a step leaves the
   // bracket; to rounding.
   double invert_clamped(int k, const double* c, double m, double mass) const {
-    double lo = 0.0, hi = 1.0, t = mass > 0.0 ? m / mass : 0.5;
-    for (int it = 0; it < 100; ++it) {
-      const double f = cell_mass(k, c, t) - m;
+    return newton_in_bracket([&](double t) { return cell_mass(k, c, t); },
+                             [&](double t) { return h_ * std::max(0.0, detail::poly(c, t)) * (measure_ == Measure::cosine ? std::cos(x_of(k, t)) : 1.0); },
+                             m, mass > 0.0 ? m / mass : 0.5, 100);
+  }
+  // The t ∈ [0, 1] where the increasing F (derivative D ≥ 0) reaches m: Newton's method from t0,
+  // a bisection step whenever Newton would leave the bracket [lo, hi] that the signs of F − m
+  // keep; stops at rounding (the bracket or the step below 1e-15) or after `iterations`.
+  template <class Fn, class Dn>
+  static double newton_in_bracket(Fn&& F, Dn&& D, double m, double t0, int iterations) {
+    double lo = 0.0, hi = 1.0, t = t0;
+    for (int it = 0; it < iterations; ++it) {
+      const double f = F(t) - m;
       if (f > 0.0) hi = t;
       else lo = t;
       if (f == 0.0 || hi - lo <= 1e-15) break;
-      const double dens = h_ * std::max(0.0, detail::poly(c, t)) * (measure_ == Measure::cosine ? std::cos(x_of(k, t)) : 1.0);
+      const double dens = D(t);
       double next = dens > 0.0 ? t - f / dens : 0.5 * (lo + hi);
       if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
       if (std::fabs(next - t) <= 1e-16) {
@@ -632,22 +641,7 @@ class AxisSampler {
       for (int j = deg - 1; j >= 0; --j) r = r * t + q[j];
       return r;
     };
-    double lo = 0.0, hi = 1.0, t = m / mass;
-    for (int it = 0; it < 60; ++it) {
-      const double f = F(t) - m;
-      if (f > 0.0) hi = t;
-      else lo = t;
-      if (f == 0.0 || hi - lo <= 1e-15) break;
-      const double dens = D(t);
-      double next = dens > 0.0 ? t - f / dens : 0.5 * (lo + hi);
-      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-      if (std::fabs(next - t) <= 1e-16) {
-        t = next;
-        break;
-      }
-      t = next;
-    }
-    return t;
+    return newton_in_bracket(F, D, m, m / mass, 60);
   }
 
   const T* data_ = nullptr;
