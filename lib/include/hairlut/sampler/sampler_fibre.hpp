@@ -186,15 +186,14 @@ class NpLobe {
         }
         value[c] = v;
       }
+    } else {
+      for (int c = 0; c < 3; ++c) {
+        FixedTaps<R> t[4] = {tp[0], table_.axis(1).taps(sigma_a[c]), tp[2], tp[3]};  // combine() may change a geometric axis's taps
+        value[c] = table_.combine(t);
+      }
     }
     for (int c = 0; c < 3; ++c) {
-      R v;
-      if (shared) {
-        v = value[c];
-      } else {
-        FixedTaps<R> t[4] = {tp[0], table_.axis(1).taps(sigma_a[c]), tp[2], tp[3]};  // combine() may change a geometric axis's taps
-        v = table_.combine(t);
-      }
+      R v = value[c];
       if (has_energy_) {
         FixedTaps<R> e[2] = {energy_.axis(0).taps(sigma_a[c]), et[1]};
         v *= detail::nonnegative(energy_.combine(e)) * factor_(sigma_a[c], theta_d);
