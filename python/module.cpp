@@ -152,12 +152,21 @@ hairlut::HairModel model_of(double eta, double sigma_a, const std::string& path,
 }
 
 // A table set as plain Python objects: metadata as JSON text, tables with values and node
-// coordinates as numpy arrays (hairlut/__init__.py wraps them).
-py::dict to_python(const hairlut::TableSet& set) {
+// coordinates as numpy arrays (hairlut/__init__.py wraps them). Each table's values move into
+// its array (a capsule owns the vector): no copy, so a set is held once, not twice, while it is
+// handed over.
+template <class V>
+py::array values_array(std::vector<V>&& values, const std::vector<py::ssize_t>& shape) {
+  auto* owned = new std::vector<V>(std::move(values));
+  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<V>*>(p); });
+  return py::array_t<V>(shape, owned->data(), owner);
+}
+
+py::dict to_python(hairlut::TableSet set) {
   py::dict out;
   out["metadata"] = set.metadata.dump();
   py::list tables;
-  for (const hairlut::Table& t : set.tables) {
+  for (hairlut::Table& t : set.tables) {
     py::dict d;
     d["path"] = t.path();
     d["group"] = t.group;
@@ -175,15 +184,7 @@ py::dict to_python(const hairlut::TableSet& set) {
     }
     d["dims"] = dims;
     d["coords"] = coords;
-    if (t.precision == hairlut::Precision::float32) {
-      py::array_t<float> v(shape);
-      std::copy(t.f32.begin(), t.f32.end(), v.mutable_data());
-      d["values"] = v;
-    } else {
-      py::array_t<double> v(shape);
-      std::copy(t.f64.begin(), t.f64.end(), v.mutable_data());
-      d["values"] = v;
-    }
+    d["values"] = t.precision == hairlut::Precision::float32 ? values_array(std::move(t.f32), shape) : values_array(std::move(t.f64), shape);
     tables.append(d);
   }
   out["tables"] = tables;
@@ -366,7 +367,7 @@ PYBIND11_MODULE(_core, m) {
           if (write)
             for (const auto& f : hairlut::write_outputs(set, config, report, cancel)) files.push_back(f.string());
         });
-        py::dict out = to_python(set);
+        py::dict out = to_python(std::move(set));
         out["files"] = files;
         out["config_hash"] = config.hash;
         return out;
@@ -386,7 +387,7 @@ PYBIND11_MODULE(_core, m) {
       py::gil_scoped_release release;
       set = hairlut::load_tables(file);
     }
-    return to_python(set);
+    return to_python(std::move(set));
   });
 
   // The renderer runtime over baked tables (hairlut.TableSet.scattering wraps it).

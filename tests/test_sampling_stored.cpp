@@ -231,12 +231,17 @@ TEST_CASE("Sampling data: an altered stored value is reported", "[sampling]") {
   REQUIRE(bound);
   cdf->f64[cdf->f64.size() / 2 + 1] *= 1.0 + 1e-9;
   bound->f32[0] = bound->f32[0] + 1.0f;
+  // The last slice starts no cell (every other axis at its last node): its bounds are 0, and a
+  // stored value there, finite or NaN, is a mismatch too.
+  const std::size_t n = static_cast<std::size_t>(bound->axes.back().count), total = bound->f32.size();
+  bound->f32[total - 2] = 0.5f;
+  bound->f32[total - n] = std::nanf("");
   std::size_t mismatched = 0;
   double worst = 0.0;
   for (const SamplingDataCheck& c : check_sampling_data(set)) {
     mismatched += c.bound_mismatches;
     worst = std::max(worst, c.max_cdf_difference);
   }
-  CHECK(mismatched == 1u);
+  CHECK(mismatched == 3u);
   CHECK(worst > 1e-12);
 }

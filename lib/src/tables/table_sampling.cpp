@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <mutex>
@@ -198,6 +199,55 @@ sampler::AxisData stored_sampling_data(const TableSet& set, const Table& t) {
   return ok ? d : sampler::AxisData();
 }
 
+namespace {
+// t's stored data (d) against the sampler's own, slice by slice and one row of clamp bounds at a
+// time, so that a check holds a few rows beside the set, whatever the table's size.
+template <class T>
+void compare_stored(const Table& t, const T* data, sampler::Measure m, const sampler::AxisData& d, int threads, SamplingDataCheck& r) {
+  std::vector<sampler::Axis> views;
+  for (const GridAxis& g : t.axes) views.push_back(g.view());
+  const sampler::AxisSampler<T> s(data, views.data(), static_cast<int>(views.size()), m, typename sampler::AxisSampler<T>::BlendOnly());
+  const std::size_t n = static_cast<std::size_t>(t.axes.back().count);
+  // A NaN difference counts as infinite (std::max would drop it).
+  auto worse = [](double& worst, double diff) { worst = diff == diff ? std::max(worst, diff) : HUGE_VAL; };
+  std::vector<double> cdf(n);
+  for (std::size_t slice = 0; slice < s.slices(); ++slice) {
+    const double mass = s.slice_prefix(slice, cdf.data());
+    // Differences relative to the slice's own scale: the largest |prefix| along it.
+    double scale = 0.0;
+    for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::fabs(cdf[k]));
+    const double norm = scale > 0.0 ? scale : 1.0;
+    for (std::size_t k = 0; k < n; ++k) worse(r.max_cdf_difference, std::fabs(cdf[k] - d.cdf[slice * n + k]) / norm);
+    worse(r.max_mass_difference, std::fabs(mass - d.mass[slice]) / norm);
+  }
+  // Clamp bounds: the rows the sampler computes against the stored ones; every other stored entry
+  // (slices that start no cell, entry n − 1) must be 0 as the sampler's are. Counted as the stored
+  // entries that are not 0 (NaN included) less those the compared rows account for.
+  std::atomic<std::size_t> mismatches{0}, nonzero_in_rows{0}, clamped_rows{0};
+  s.for_each_clamp_bound_row(
+      [&](std::size_t first, const float* b) {
+        std::size_t bad = 0, nonzero = 0;
+        bool clean = true;
+        for (std::size_t k = 0; k + 1 < n; ++k) {
+          const float stored = d.clamp_bound[first * n + k];
+          if (!(b[k] == stored) && !(b[k] != b[k] && stored != stored)) ++bad;
+          if (!(stored == 0.0f)) ++nonzero;
+          clean = clean && b[k] == 0.0f;
+        }
+        mismatches += bad, nonzero_in_rows += nonzero;
+        if (!clean) ++clamped_rows;
+      },
+      OmpBlocks{threads});
+  std::size_t nonzero_stored = 0;
+  for (std::size_t slice = 0; slice < s.slices(); ++slice)
+    for (std::size_t k = 0; k + 1 < n; ++k) nonzero_stored += d.clamp_bound[slice * n + k] == 0.0f ? 0 : 1;
+  r.bound_mismatches = mismatches + (nonzero_stored - nonzero_in_rows);
+  r.cells = 1;
+  for (std::size_t a = 0; a + 1 < t.axes.size(); ++a) r.cells *= static_cast<std::size_t>(sampler::axis_cells(t.axes[a].view()));
+  r.unclamped = r.cells - std::min<std::size_t>(r.cells, clamped_rows);
+}
+}  // namespace
+
 std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set, int threads) {
   std::vector<SamplingDataCheck> out;
   for (const Table& t : set.tables) {
@@ -213,29 +263,8 @@ std::vector<SamplingDataCheck> check_sampling_data(const TableSet& set, int thre
       continue;
     }
     r.present = true;
-    std::vector<double> cdf, mass;
-    std::vector<float> bound;
-    build(t, *m, cdf, mass, bound, threads);
-    const std::size_t n = static_cast<std::size_t>(t.axes.back().count);
-    for (std::size_t s = 0; s < mass.size(); ++s) {
-      // Differences relative to the slice's own scale: the largest |prefix| along it.
-      double scale = 0.0;
-      for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::fabs(cdf[s * n + k]));
-      const double norm = scale > 0.0 ? scale : 1.0;
-      // A NaN difference counts as infinite (std::max would drop it).
-      auto worse = [](double& worst, double diff) { worst = diff == diff ? std::max(worst, diff) : HUGE_VAL; };
-      for (std::size_t k = 0; k < n; ++k) worse(r.max_cdf_difference, std::fabs(cdf[s * n + k] - d.cdf[s * n + k]) / norm);
-      worse(r.max_mass_difference, std::fabs(mass[s] - d.mass[s]) / norm);
-      bool clean = true;
-      for (std::size_t k = 0; k + 1 < n; ++k) {
-        const float a = bound[s * n + k], b = d.clamp_bound[s * n + k];
-        if (!(a == b) && !(a != a && b != b)) ++r.bound_mismatches;
-        clean = clean && a == 0.0f;
-      }
-      if (clean) ++r.unclamped;
-    }
-    r.cells = 1;
-    for (std::size_t a = 0; a + 1 < t.axes.size(); ++a) r.cells *= static_cast<std::size_t>(sampler::axis_cells(t.axes[a].view()));
+    if (t.precision == Precision::float32) compare_stored(t, t.f32.data(), *m, d, threads, r);
+    else compare_stored(t, t.f64.data(), *m, d, threads, r);
     out.push_back(r);
   }
   return out;

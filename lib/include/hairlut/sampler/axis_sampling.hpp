@@ -351,10 +351,42 @@ class AxisSampler {
     mass.assign(slices_, 0.0);
     bound.assign(slices_ * static_cast<std::size_t>(n_), 0.0f);
     if (!supported_) return;
-    const std::size_t cells = static_cast<std::size_t>(n_) - 1;
-    std::vector<double> bern(slices_ * cells * 4);  // each slice's cells in Bernstein form
-    prefix_masses(cdf.data(), mass.data(), bern.data());
-    clamp_bounds(bern.data(), axes_, stride_, dims_, n_, h_, bound, std::forward<RunBlocks>(run_blocks));
+    for (std::size_t s = 0; s < slices_; ++s) mass[s] = slice_prefix(s, &cdf[s * static_cast<std::size_t>(n_)]);
+    const std::size_t n = static_cast<std::size_t>(n_);
+    for_each_clamp_bound_row([&](std::size_t first, const float* b) { std::copy(b, b + (n - 1), bound.begin() + static_cast<std::ptrdiff_t>(first * n)); },
+                             std::forward<RunBlocks>(run_blocks));
+  }
+  /// Slice s's prefix masses at the n nodes into cum (build_data's cdf row) and its mass (the
+  /// returned value); s < slices(), the table supported.
+  double slice_prefix(std::size_t s, double* cum) const {
+    const T* v = data_ + s * static_cast<std::size_t>(n_);
+    cum[0] = 0.0;
+    for (int k = 0; k + 1 < n_; ++k) {
+      double c[4];
+      cell_coef(v, k, c);
+      const double cell = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
+      cum[k + 1] = cum[k] + cell;
+    }
+    return cum[n_ - 1] * (even_ ? 2.0 : 1.0);
+  }
+  /// build_data's clamp bounds, handed row by row to sink(first, bounds) (cell_bernstein.hpp,
+  /// clamp_bounds): the n − 1 bounds of the slice `first` that starts a cell of the other axes;
+  /// the entries of other slices, and entry n − 1 of every slice, are 0. Memory: a few rows per
+  /// block, whatever the table's size.
+  template <class Sink, class RunBlocks = SerialBlocks>
+  void for_each_clamp_bound_row(Sink&& sink, RunBlocks&& run_blocks = RunBlocks()) const {
+    if (!supported_) return;
+    const std::size_t n = static_cast<std::size_t>(n_);
+    clamp_bounds(
+        [&](std::size_t s, double* out) {
+          const T* v = data_ + s * n;
+          for (int k = 0; k + 1 < n_; ++k) {
+            double c[4];
+            cell_coef(v, k, c);
+            bernstein_of_cubic(c, out + static_cast<std::size_t>(k) * 4);
+          }
+        },
+        axes_, stride_, dims_, n_, h_, std::forward<Sink>(sink), std::forward<RunBlocks>(run_blocks));
   }
   /// Whether stored sampling data (slices() × n prefix masses, slices() masses, slices() × n clamp
   /// bounds) are those of this table: the prefix masses and masses recomputed as build_data does and
@@ -365,15 +397,15 @@ class AxisSampler {
   bool matches(const AxisData& stored) const {
     if (!supported_ || !stored.cdf || !stored.mass || !stored.clamp_bound) return false;
     const std::size_t n = static_cast<std::size_t>(n_);
-    std::vector<double> cdf(slices_ * n, 0.0), mass(slices_, 0.0);
-    prefix_masses(cdf.data(), mass.data(), nullptr);
+    std::vector<double> cdf(n);  // one slice at a time: a loader holds the table once, not twice
     for (std::size_t s = 0; s < slices_; ++s) {
+      const double mass = slice_prefix(s, cdf.data());
       double scale = 0.0;
-      for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::fabs(cdf[s * n + k]));
+      for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::fabs(cdf[k]));
       const double tol = 1e-12 * scale;
       for (std::size_t k = 0; k < n; ++k)
-        if (!(std::fabs(cdf[s * n + k] - stored.cdf[s * n + k]) <= tol)) return false;
-      if (!(std::fabs(mass[s] - stored.mass[s]) <= 2.0 * tol)) return false;
+        if (!(std::fabs(cdf[k] - stored.cdf[s * n + k]) <= tol)) return false;
+      if (!(std::fabs(mass - stored.mass[s]) <= 2.0 * tol)) return false;
     }
     for (std::size_t i = 0; i < slices_ * n; ++i)
       if (!(stored.clamp_bound[i] >= 0.0f) || !(stored.clamp_bound[i] < HUGE_VALF)) return false;
@@ -403,24 +435,6 @@ class AxisSampler {
   }
 
  private:
-  // Per slice the prefix masses of its unclamped interpolant at the n nodes and its mass (build_data's
-  // first part), and, when bern is not null, each cell in Bernstein form.
-  void prefix_masses(double* cdf, double* mass, double* bern) const {
-    const std::size_t n = static_cast<std::size_t>(n_), cells = n - 1;
-    for (std::size_t s = 0; s < slices_; ++s) {
-      const T* v = data_ + s * n;
-      double* cum = &cdf[s * n];
-      cum[0] = 0.0;
-      for (int k = 0; k + 1 < n_; ++k) {
-        double c[4];
-        cell_coef(v, k, c);
-        if (bern) bernstein_of_cubic(c, &bern[(s * cells + static_cast<std::size_t>(k)) * 4]);
-        const double cell = measure_ == Measure::plain ? (c[0] + c[1] / 2.0 + c[2] / 3.0 + c[3] / 4.0) * h_ : unclamped_cosine_mass(k, c);
-        cum[k + 1] = cum[k] + cell;
-      }
-      mass[s] = cum[n - 1] * (even_ ? 2.0 : 1.0);
-    }
-  }
   // The t ∈ [0, 1] of cell k (polynomial c, clamped at 0) where the mass from 0 reaches m:
   // F(t) = ∫_0^t density by cell_mass, Newton on [lo, hi], bisection when a step leaves the
   // bracket; to rounding.

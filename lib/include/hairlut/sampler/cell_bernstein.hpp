@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <unordered_map>
 #include <vector>
 
 #include "hairlut/sampler/sampler.hpp"
@@ -147,16 +148,19 @@ struct SerialBlocks {
 };
 
 /// The clamp bounds (AxisData::clamp_bound) of a table of `dims` axes, the last sampled with n
-/// nodes of spacing h: bern holds each node slice's sampled cells in Bernstein form (slice-major,
-/// n − 1 cells of 4). For every cell of the other axes (written at its first node's slice) and
-/// every sampled cell k, max(0, −least tensor Bernstein coefficient) · h rounded up to float: the
-/// interpolant is ≥ that least coefficient over the two cells, so max(0, ·) adds at most this
-/// to the sampled cell's integral anywhere in the cell of the other axes (cos x ≤ 1 included).
-/// The cells of the other axes go in blocks through run_blocks(count, body) (SerialBlocks: in
-/// order on this thread); bound must already hold every entry.
-template <class RunBlocks = SerialBlocks>
-inline void clamp_bounds(const double* bern, const PreparedAxis* axes, const std::size_t* stride, int dims, int n_nodes, double h,
-                         std::vector<float>& bound, RunBlocks&& run_blocks = RunBlocks()) {
+/// nodes of spacing h: row_of(s, out) writes node slice s's sampled cells in Bernstein form (n − 1
+/// cells of 4). For every cell of the other axes (at its first node's slice `first`) and every
+/// sampled cell k, max(0, −least tensor Bernstein coefficient) · h rounded up to float, the n − 1
+/// of them handed together to sink(first, bounds): the interpolant is ≥ that least coefficient
+/// over the two cells, so max(0, ·) adds at most this to the sampled cell's integral anywhere in
+/// the cell of the other axes (cos x ≤ 1 included). The slices that start no cell (an axis's last
+/// node) get none. The cells of the other axes go in blocks through run_blocks(count, body)
+/// (SerialBlocks: in order on this thread); each slice reaches the sink once, from one block.
+/// Rows are made by the block whose cells gather them, not held for the whole table: a table's
+/// Bernstein rows would take eight times its float values.
+template <class RowOf, class Sink, class RunBlocks = SerialBlocks>
+inline void clamp_bounds(RowOf&& row_of, const PreparedAxis* axes, const std::size_t* stride, int dims, int n_nodes, double h, Sink&& sink,
+                         RunBlocks&& run_blocks = RunBlocks()) {
   const std::size_t n = static_cast<std::size_t>(n_nodes), cells = n - 1, row = cells * 4;
   const int od = dims - 1;
   std::vector<std::vector<CellBasis>> basis(static_cast<std::size_t>(od));
@@ -166,10 +170,18 @@ inline void clamp_bounds(const double* bern, const PreparedAxis* axes, const std
     total *= basis[static_cast<std::size_t>(d)].size();
   }
   if (total == 0) return;
-  constexpr std::size_t kBlock = 16;  // cells of the other axes per block
-  run_blocks((total + kBlock - 1) / kBlock, [&](std::size_t block) {
+  // At most 64 blocks of consecutive cells, so that each block's scratch serves many cells; its
+  // cache holds the rows its cells gather (neighbouring cells gather mostly the same slices: of a
+  // cubic 3-axis box's 64 rows, the next cell along the last axis shares 48), emptied when full.
+  const std::size_t blocks = std::min<std::size_t>(total, 64);
+  constexpr std::size_t kCachedRows = 256;
+  run_blocks(blocks, [&](std::size_t block) {
     std::vector<double> a, b;
-    for (std::size_t cell = block * kBlock; cell < std::min(total, (block + 1) * kBlock); ++cell) {
+    std::vector<float> out(cells);
+    std::unordered_map<std::size_t, std::size_t> made;  // slice → offset in rows
+    std::vector<double> rows;
+    rows.reserve(kCachedRows * row);
+    for (std::size_t cell = total * block / blocks; cell < total * (block + 1) / blocks; ++cell) {
       // The cell's multi-index over the other axes (row-major, the last fastest).
       int idx[8] = {0, 0, 0, 0, 0, 0, 0, 0};
       for (std::size_t rest = cell, d = static_cast<std::size_t>(od); d-- > 0;) {
@@ -191,12 +203,19 @@ inline void clamp_bounds(const double* bern, const PreparedAxis* axes, const std
       // as one sampled cell at a time would give.
       shape[od] = static_cast<int>(row);
       a.resize(gathered * row);
+      if (made.size() + gathered > kCachedRows) made.clear(), rows.clear();
       int j[8] = {0, 0, 0, 0, 0, 0, 0, 0};
       for (std::size_t g = 0; g < gathered; ++g) {
         std::size_t s = 0;
         for (int d = 0; d < od; ++d)
           s += static_cast<std::size_t>(basis[static_cast<std::size_t>(d)][static_cast<std::size_t>(idx[d])].node[j[d]]) * (stride[d] / n);
-        std::copy(bern + s * row, bern + (s + 1) * row, a.begin() + static_cast<std::ptrdiff_t>(g * row));
+        auto [it, fresh] = made.emplace(s, rows.size());
+        if (fresh) {
+          rows.resize(rows.size() + row);
+          row_of(s, rows.data() + it->second);
+        }
+        std::copy(rows.begin() + static_cast<std::ptrdiff_t>(it->second), rows.begin() + static_cast<std::ptrdiff_t>(it->second + row),
+                  a.begin() + static_cast<std::ptrdiff_t>(g * row));
         for (int d = od - 1; d >= 0; --d) {
           if (++j[d] < shape[d]) break;
           j[d] = 0;
@@ -228,8 +247,9 @@ inline void clamp_bounds(const double* bern, const PreparedAxis* axes, const std
         const double most = -least * h;
         float f = static_cast<float>(most);
         if (static_cast<double>(f) < most) f = std::nextafter(f, HUGE_VALF);
-        bound[first * n + k] = f;
+        out[k] = f;
       }
+      sink(first, static_cast<const float*>(out.data()));
     }
   });
 }
