@@ -175,6 +175,7 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
     curves = dual_scattering_curve_bytes(c.dual_scattering->axes, "sigma_a", "beta", explicit_lobes, lobes);
   }
   std::uint64_t texture_bytes = 0;
+  double texture_zipped = 0.0;  // what zip is expected to leave of them
   if (c.engine) {
     try {
       for (const EngineTableSpec& spec : engine_preset_tables(*c.engine, c.residual)) {
@@ -183,7 +184,14 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
                                     : spec.kind == "mean_energy"   ? mean_energy_tables(lobes)
                                     : spec.kind == "hdrp_attenuation" ? 2
                                                                       : explicit_lobes;
-        t.table(n, count);
+        // d'Eon's M_p is normalised (∫ M_p cos θi dθi = 1 at every β), so the exact variant's
+        // attenuation does not vary along smoothness: deflate and zip keep one smoothness row and
+        // code the others as repeats (measured: 2.3% of the bytes in HDF5 and 2.4% of the
+        // texture, against 43% and 11% for HDRP's own).
+        const GridAxis* rough = named(spec.axes, spec.roughness_axis);
+        const bool flat = spec.kind == "hdrp_attenuation" && c.engine->preset == "unity-hdrp-hair-deon" && rough && rough->count > 0;
+        auto repeated = [&](double fraction) { return flat ? fraction / rough->count + kDeflatedRepeatFraction : fraction; };
+        t.table(n, count, 0, repeated(kDeflatedFraction));
         if (spec.kind == "dual_scattering") {  // its grid serves the preset's mean energy too
           const auto p = static_cast<std::uint64_t>(std::max(spec.roughness.lobes, 0));
           curves = std::max(curves, dual_scattering_curve_bytes(spec.axes, spec.absorption_axis, spec.roughness_axis, p,
@@ -191,7 +199,11 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
         }
         // Its textures: RGBA half per texel of the group's grid.
         for (const EngineTexture& tex : engine_preset_textures(*c.engine))
-          if (tex.group == spec.group) texture_bytes = add(texture_bytes, mul(n, 2 * static_cast<std::uint64_t>(tex.channel_count)));
+          if (tex.group == spec.group) {
+            const std::uint64_t bytes = mul(n, 2 * static_cast<std::uint64_t>(tex.channel_count));
+            texture_bytes = add(texture_bytes, bytes);
+            texture_zipped += repeated(kHalfZipFraction) * static_cast<double>(bytes);
+          }
       }
     } catch (const std::exception&) {
       // An unknown preset or texture: the config's validation refuses it.
@@ -240,7 +252,7 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
     writing = std::max(writing, std::min(file, std::uint64_t{16} << 20));
   }
   disk = add(disk, texture_bytes);
-  expected = add(expected, static_cast<std::uint64_t>(static_cast<double>(texture_bytes) * kHalfZipFraction));
+  expected = add(expected, static_cast<std::uint64_t>(texture_zipped));
   // The peak is while the files are written, or while a dual-scattering grid holds its curves
   // beside the tables (the sampling data come after it), before the writer has any state: the
   // program then takes kBakeProgramBytes, not kBakeBaseBytes.
