@@ -4,6 +4,7 @@
 // tests/robustness/hostile.py.
 #include <hdf5.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <hairlut/bake/bake.hpp>
@@ -143,6 +144,45 @@ TEST_CASE("Written files carry the format version and loaders check it", "[robus
     H5Fclose(f);
   }
   CHECK(load_error(dir / "newer.h5").find("newer than this hairlut reads") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+// The root attribute hairlut_format_version of an HDF5 file.
+std::string h5_format_version(const fs::path& p) {
+  const hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t attr = H5Aopen(f, "hairlut_format_version", H5P_DEFAULT);
+  const hid_t type = H5Aget_type(attr);
+  std::string v(H5Tget_size(type), '\0');
+  H5Aread(attr, type, v.data());
+  H5Tclose(type), H5Aclose(attr), H5Fclose(f);
+  return v.c_str();
+}
+
+TEST_CASE("A file records format 3.0 when a table stores energies over a grazing factor, 2.0 otherwise", "[robustness][io]") {
+  // Format 3.0's energy tables (θd up to 90°) store E / g, which a 2.x reader would read as E: the
+  // major version makes it refuse them. A set without such tables holds 2.0's content and says so.
+  const fs::path dir = temp_dir("version3");
+  for (const double end : {60.0, 90.0}) {
+    json cfg = tiny_config(end == 90.0 ? "grazing" : "short");
+    cfg["tables"]["np"]["normalize"] = "energy";
+    cfg["tables"]["np"]["axes"]["theta_d"]["range_deg"] = {0.0, end};
+    cfg["output"]["basename"] = end == 90.0 ? "g" : "s";
+    const BakeConfig c = parse_config(cfg, "t.json", dir);
+    BakeReport report;
+    const TableSet set = bake(c, {}, &report);
+    const bool over_grazing = std::any_of(set.tables.begin(), set.tables.end(), [](const Table& t) { return t.attributes.contains("cos_theta_d_power"); });
+    INFO("theta_d up to " << end << " deg");
+    CHECK(over_grazing == (end == 90.0));
+    write_outputs(set, c, report);
+    const std::string want = end == 90.0 ? "3.0" : "2.0";
+    CHECK(format_version_text(set) == want);
+    CHECK(h5_format_version(output_paths(c).hdf5) == want);
+    std::ifstream sidecar(output_paths(c).sidecar);
+    CHECK(json::parse(sidecar)["format_version"] == (end == 90.0 ? 3 : 2));
+    const TableSet back = load_tables(output_paths(c).hdf5);
+    CHECK(load_tables(output_paths(c).exr).tables.size() == back.tables.size());
+    for (const Table& t : set.tables) CHECK(back.find(t.path())->attributes == t.attributes);
+  }
   fs::remove_all(dir);
 }
 

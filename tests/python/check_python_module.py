@@ -112,7 +112,7 @@ def node_value(t, ib, ks, it, jp):
         return v, 1
     i = int(np.flatnonzero(np.isclose(energy.coords["sigma_a"], t.coords["sigma_a"][ks], rtol=1e-12, atol=0))[0])
     j = int(np.flatnonzero(np.isclose(energy.coords["theta_d"], t.coords["theta_d"][it], rtol=1e-12, atol=1e-15))[0])
-    # Format 2.1: an energy table reaching theta_d = 90 deg stores E_p / cos^n(theta_d) (docs/table-format.md);
+    # Format 3.0 (2.1 before): an energy table reaching theta_d = 90 deg stores E_p / cos^n(theta_d) (docs/table-format.md);
     # TRT's factor has no grazing_absorption bracket.
     attrs = energy.description.get("attributes", {})
     if "grazing_absorption" in attrs:

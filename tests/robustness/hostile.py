@@ -217,7 +217,7 @@ def probe_metadata():
         ("np/TT DIMENSION_LIST deleted", lambda f: f["np/TT"].attrs.__delitem__("DIMENSION_LIST"), "DIMENSION_LIST"),
         ("np/phi units changed", lambda f: f["np/phi"].attrs.__setitem__("units", "degree"), "units"),
         ("np/phi range changed", lambda f: f["np/phi"].attrs.__setitem__("range", np.array([0.0, 1.0])), "range"),
-        ("hairlut_format_version = 3.0", lambda f: set_fixed(f, "hairlut_format_version", b"3.0"), "newer"),
+        ("hairlut_format_version = 4.0", lambda f: set_fixed(f, "hairlut_format_version", b"4.0"), "newer"),
         ("hairlut_format_version deleted", lambda f: f.attrs.__delitem__("hairlut_format_version"), "hairlut_format_version"),
     ]
     # The unaltered copy passes the same loader (so that a refusal below is the mutation's doing).
@@ -265,8 +265,8 @@ def set_fixed(f, key, value):
 
 def probe_format_version():
     import h5py
-    for version, ok in (("1.0", True), ("1.7", True), ("2.0", True), ("2.7", True), ("3.0", False), ("0.9", False), ("10.3", False),
-                        ("1", False), ("x.y", False)):
+    for version, ok in (("1.0", True), ("1.7", True), ("2.0", True), ("2.7", True), ("3.0", True), ("3.7", True), ("4.0", False), ("0.9", False),
+                        ("10.3", False), ("1", False), ("x.y", False)):
         path = h5_copy()
         with h5py.File(path, "r+") as f:
             set_fixed(f, "hairlut_format_version", version.encode())

@@ -99,7 +99,7 @@ void write_engine_texture(const TableSet& set, const EngineTexture& t, const std
                                                       axis_text(first->axes[0], 'Z')));
   h.insert("hairlut.engine.format", Imf::StringAttribute(t.engine_format));
   h.insert("hairlut.version", Imf::StringAttribute(kVersion));
-  h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text()));
+  h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text(TableSet())));  // a texture stores no E / g
   try {
     Imf::OutputFile out(name.c_str(), h);
     Imf::FrameBuffer fb;

@@ -314,7 +314,7 @@ void write_exr(const TableSet& set, const std::filesystem::path& file, const Exr
       h.insert("hairlut.axis." + a.name + ".nodes", Imf::FloatVectorAttribute(nodes));
     }
     if (p == 0) {
-      h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text()));
+      h.insert("hairlut.format_version", Imf::StringAttribute(format_version_text(set)));
       h.insert("hairlut.metadata", Imf::StringAttribute(set.metadata.dump()));
       h.insert("hairlut.version", Imf::StringAttribute(set.metadata.value("hairlut_version", std::string("?"))));
       h.insert("hairlut.checksum_algorithm", Imf::StringAttribute(hash_algorithm_name(kFileHash)));

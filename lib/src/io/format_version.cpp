@@ -9,6 +9,15 @@ namespace hairlut {
 
 std::string format_version_text() { return std::to_string(kFormatVersionMajor) + "." + std::to_string(kFormatVersionMinor); }
 
+int format_major_of(const TableSet& set) {
+  const bool over_grazing = std::any_of(set.tables.begin(), set.tables.end(), [](const Table& t) {
+    return t.attributes.contains("cos_theta_d_power") || t.attributes.contains("grazing_absorption");
+  });
+  return over_grazing ? 3 : 2;
+}
+
+std::string format_version_text(const TableSet& set) { return std::to_string(format_major_of(set)) + ".0"; }
+
 int check_format_version(const std::string& text, const std::string& name) {
   const auto dot = text.find('.');
   auto digits = [](const std::string& d) {

@@ -78,7 +78,7 @@ void write_filtered_chunks(const File& f, hid_t ds, const void* data, const std:
 // and stored last; without one it is computed first from the tables in memory.
 void write_contents(const File& f, hid_t file, const TableSet& set, const Hdf5WriteOptions& options, SlabFeed* feed) {
   Handle root(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose);
-  write_fixed_string_attr(f, root.get(), "hairlut_format_version", format_version_text());
+  write_fixed_string_attr(f, root.get(), "hairlut_format_version", format_version_text(set));
   // Provenance on the root, both as individual attributes and as one JSON text.
   write_json_attrs(f, root.get(), set.metadata);
   write_fixed_string_attr(f, root.get(), "hairlut_metadata", set.metadata.dump());

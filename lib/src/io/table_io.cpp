@@ -309,7 +309,7 @@ json sidecar_document(const TableSet& set, const SetFiles& out, const SidecarSou
                       detail::TableText* text = nullptr) {
   json s;
   s["format"] = "hairlut-tables";
-  s["format_version"] = kFormatVersionMajor;
+  s["format_version"] = format_major_of(set);
   s["hairlut_version"] = kVersion;
   s["name"] = source.name;
   s["model"] = source.model;

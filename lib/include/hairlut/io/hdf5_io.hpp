@@ -33,17 +33,23 @@ class IoError : public std::runtime_error {
 /// file; a major change may alter or remove what a reader relies on, and readers refuse a newer
 /// major version (docs/table-format.md, "Format version and compatibility").
 /// Format 2.0 changed the checksums (content checksum and the sidecar's file digests) from FNV-1a
-/// 64 to XXH3-64 and names the algorithm in each file; this hairlut writes 2.0 and still reads
-/// every 1.x file (1.1, and 1.2 with N_p in the Fourier representation), verifying FNV-1a there.
-/// Every file this hairlut writes, with Fourier tables or without, records 2.1, which holds all of
-/// 1.2's additions (a 1.x file recorded the lowest minor version whose additions it held). Format
-/// 2.1 adds the attributes cos_theta_d_power and grazing_absorption on energy and residual tables
-/// whose θd axis reaches 90°.
-inline constexpr int kFormatVersionMajor = 2;
+/// 64 to XXH3-64 and names the algorithm in each file, and reads every 1.x file (1.1, and 1.2
+/// with N_p in the Fourier representation), verifying FNV-1a there. Format 3.0 lets energy and
+/// residual tables whose θd axis reaches 90° store E / g with the attributes cos_theta_d_power and
+/// grazing_absorption (Table::grazing_factor), which a 2.x reader would read wrong: a file holding
+/// such a table records 3.0, so that a 2.x reader refuses it; any other file records 2.0, whose
+/// content it is (a file records the lowest version whose content it holds, as 1.x files did).
+/// Files that recorded 2.1 (the same attributes, an earlier hairlut) are read as 3.0's.
+inline constexpr int kFormatVersionMajor = 3;
 inline constexpr int kFormatVersionMajorOldest = 1;  ///< the oldest major version this hairlut reads
-inline constexpr int kFormatVersionMinor = 1;        ///< the minor version this hairlut writes (it reads any)
-/// "MAJOR.MINOR" of this hairlut, as every file it writes records it.
+inline constexpr int kFormatVersionMinor = 0;        ///< the newest minor version of kFormatVersionMajor this hairlut writes (it reads any)
+/// "MAJOR.MINOR": the newest format this hairlut writes.
 std::string format_version_text();
+/// The format version a file of `set` records: "3.0" when a table stores its values over a grazing
+/// factor, "2.0" otherwise (see kFormatVersionMajor).
+std::string format_version_text(const TableSet& set);
+/// The major version of format_version_text(set).
+int format_major_of(const TableSet& set);
 
 /// Returns MAJOR when `text` is "MAJOR.MINOR" (decimal) with kFormatVersionMajorOldest ≤ MAJOR ≤
 /// kFormatVersionMajor; otherwise throws IoError("<name>: ..."), saying whether the file is newer

@@ -30,7 +30,7 @@ namespace sampler {
 
 /// The factor g(σa, θd) by which an energy or residual table whose θd axis reaches 90° divides its
 /// values, so that they stay finite and smooth where the energies vanish (docs/table-format.md,
-/// "Energies at grazing", format 2.1), with u = cos θd (clamped at 0):
+/// "Energies at grazing", format 3.0), with u = cos θd (clamped at 0):
 ///   g = u^n · u (u + b x) / (u² + c x u + d x²),  x = x_scale · expm1(τ σa),
 /// the second factor present only where x_scale ≠ 0 (the residual, whose energy goes as u for σa = 0
 /// and as u² for σa > 0, the change over σa of the order of u). From the table's attributes

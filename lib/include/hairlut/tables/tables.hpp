@@ -45,7 +45,7 @@ struct Table {
   /// (grazing_factor). For the quantity the table stands for (with its factor table), use sample_value.
   double sample(const std::vector<double>& x) const;
   /// g where the values are the quantity divided by g(σa, θd) (attributes "cos_theta_d_power" and
-  /// "grazing_absorption", format 2.1: energy and residual tables whose θd axis reaches 90°, where
+  /// "grazing_absorption", format 3.0: energy and residual tables whose θd axis reaches 90°, where
   /// the energies vanish); none() otherwise.
   sampler::GrazingFactor grazing_factor() const;
   /// The table whose value multiplies this one's (attribute "factor", e.g. "np/energy_TT" for N_p
