@@ -391,51 +391,51 @@ PYBIND11_MODULE(_core, m) {
   });
 
   // The renderer runtime over baked tables (hairlut.TableSet.scattering wraps it).
-  py::class_<hairlut::sampler::Fibre>(m, "Fibre")
+  py::class_<hairlut::sampler::Fiber>(m, "Fiber")
       .def(py::init([](const py::object& sigma_a_given, const py::object& beta_m_given, const py::object& beta_n_given,
                        const py::object& tilt_given) {
              const auto sigma_a = real<std::vector<double>>(sigma_a_given, "sigma_a");
              const double beta_m = real<double>(beta_m_given, "beta_m"), beta_n = real<double>(beta_n_given, "beta_n"),
                           tilt = real<double>(tilt_given, "tilt");
              if (sigma_a.size() != 3) throw py::value_error("sigma_a must have 3 values (RGB)");
-             hairlut::sampler::Fibre f;
+             hairlut::sampler::Fiber f;
              std::copy(sigma_a.begin(), sigma_a.end(), f.sigma_a);
              f.beta_m = beta_m, f.beta_n = beta_n, f.tilt = tilt;
              return f;
            }),
            py::arg("sigma_a"), py::arg("beta_m"), py::arg("beta_n"), py::arg("tilt") = py::float_(0.0))
-      .def_property_readonly("sigma_a", [](const hairlut::sampler::Fibre& f) { return std::vector<double>(f.sigma_a, f.sigma_a + 3); })
-      .def_readonly("beta_m", &hairlut::sampler::Fibre::beta_m)
-      .def_readonly("beta_n", &hairlut::sampler::Fibre::beta_n)
-      .def_readonly("tilt", &hairlut::sampler::Fibre::tilt)
-      .def("__repr__", [](const hairlut::sampler::Fibre& f) {
-        return "Fibre(sigma_a=[" + std::to_string(f.sigma_a[0]) + ", " + std::to_string(f.sigma_a[1]) + ", " + std::to_string(f.sigma_a[2]) +
+      .def_property_readonly("sigma_a", [](const hairlut::sampler::Fiber& f) { return std::vector<double>(f.sigma_a, f.sigma_a + 3); })
+      .def_readonly("beta_m", &hairlut::sampler::Fiber::beta_m)
+      .def_readonly("beta_n", &hairlut::sampler::Fiber::beta_n)
+      .def_readonly("tilt", &hairlut::sampler::Fiber::tilt)
+      .def("__repr__", [](const hairlut::sampler::Fiber& f) {
+        return "Fiber(sigma_a=[" + std::to_string(f.sigma_a[0]) + ", " + std::to_string(f.sigma_a[1]) + ", " + std::to_string(f.sigma_a[2]) +
                "], beta_m=" + std::to_string(f.beta_m) + ", beta_n=" + std::to_string(f.beta_n) + ")";
       });
-  m.def("fibre_from_melanin", &hairlut::fibre_from_melanin, py::arg("eumelanin"), py::arg("pheomelanin"), py::arg("beta_m"), py::arg("beta_n"));
+  m.def("fiber_from_melanin", &hairlut::fiber_from_melanin, py::arg("eumelanin"), py::arg("pheomelanin"), py::arg("beta_m"), py::arg("beta_n"));
 
   py::class_<Scattering>(m, "Scattering")
       .def("eval",
-           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo, const Rows& wi) {
+           [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo, const Rows& wi) {
              const py::ssize_t n = rows(wo, wi);
              py::array_t<double> out({n, py::ssize_t{3}});
              for (py::ssize_t i = 0; i < n; ++i) s.hair.eval(f, row3(wo, i, "wo"), row3(wi, i, "wi"), out.mutable_data(i, 0));
              return out;
            })
       .def("pdf",
-           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo, const Rows& wi) {
+           [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo, const Rows& wi) {
              const py::ssize_t n = rows(wo, wi);
              py::array_t<double> out(n);
              for (py::ssize_t i = 0; i < n; ++i) out.mutable_data()[i] = s.hair.pdf(f, row3(wo, i, "wo"), row3(wi, i, "wi"));
              return out;
            })
       .def("albedo",
-           [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo) {
+           [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo) {
              py::array_t<double> out(wo.ndim() == 2 ? wo.shape(0) : 0);
              for (py::ssize_t i = 0; i < out.shape(0); ++i) out.mutable_data()[i] = s.hair.albedo(f, row3(wo, i, "wo"));
              return out;
            })
-      .def("sample", [](const Scattering& s, const hairlut::sampler::Fibre& f, const Rows& wo, const Rows& u) {
+      .def("sample", [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo, const Rows& u) {
         const py::ssize_t n = rows(wo, u);
         py::array_t<double> wi({n, py::ssize_t{3}}), weight({n, py::ssize_t{3}}), pdf(n);
         py::array_t<int> lobe(n);

@@ -43,7 +43,7 @@ inline void uniform_sphere(double u0, double u1, double* w) {
 inline double average(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3.0; }
 
 // pbrt-v4's Hair.HOnTheEdge, widened to the frame's edges: between pbrt's two vectors and the
-// directions along, against and normal to the fibre, eval, sample (u = 0, ½ and 1 in every
+// directions along, against and normal to the fiber, eval, sample (u = 0, ½ and 1 in every
 // coordinate) and pdf are finite and ≥ 0, and every sample has a density. The number of failed
 // checks, the first of them described in `first`.
 struct EdgeChecks {
@@ -54,9 +54,9 @@ struct EdgeChecks {
   }
 };
 template <class T>
-EdgeChecks h_on_the_edge(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f) {
+EdgeChecks h_on_the_edge(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f) {
   EdgeChecks r;
-  // pbrt's vectors (its z is the fibre's normal, x along the fibre as here).
+  // pbrt's vectors (its z is the fiber's normal, x along the fiber as here).
   const double wo[3] = {0.54986966, 0.03359017, 0.83457476}, wi[3] = {-0.37383357, -0.91920084, 0.12376696};
   const double along[3] = {1.0, 0.0, 0.0}, against[3] = {-1.0, 0.0, 0.0}, normal[3] = {0.0, 1.0, 0.0};
   const double* dirs[5] = {wo, wi, along, against, normal};
@@ -81,15 +81,15 @@ EdgeChecks h_on_the_edge(const hairlut::sampler::HairScattering<T>& rt, const ha
   return r;
 }
 
-// Mitsuba 3's test04_sample_numeric for one fibre: `lanes` lanes, each wo uniform on the sphere
+// Mitsuba 3's test04_sample_numeric for one fiber: `lanes` lanes, each wo uniform on the sphere
 // and one sample; its weight is the Rec. 709 luminance of S cos / pdf (1 for a zero sample, as
-// Mitsuba counts it), bad when |w − 1| > 1e-3. Adds to `acc` (Mitsuba runs 10⁵ lanes per fibre).
+// Mitsuba counts it), bad when |w − 1| > 1e-3. Adds to `acc` (Mitsuba runs 10⁵ lanes per fiber).
 struct LaneWeights {
   long lanes = 0, bad = 0;
   double worst = 0.0;
 };
 template <class T>
-void sample_numeric(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f, Rng& rng, long lanes, LaneWeights& acc) {
+void sample_numeric(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, Rng& rng, long lanes, LaneWeights& acc) {
   for (long i = 0; i < lanes; ++i) {
     double wo[3];
     uniform_sphere(rng(), rng(), wo);
@@ -102,15 +102,15 @@ void sample_numeric(const hairlut::sampler::HairScattering<T>& rt, const hairlut
   }
 }
 
-// pbrt-v4's Hair.SamplingWeights for one fibre: `count` samples, each at its own wo uniform on
+// pbrt-v4's Hair.SamplingWeights for one fiber: `count` samples, each at its own wo uniform on
 // the sphere; a sample's weight (the channels' mean of S cos / pdf, divided by the albedo at wo
-// where over_albedo) must lie in (0.99, 1.01). Adds to `acc` (pbrt draws 10⁴ per fibre).
+// where over_albedo) must lie in (0.99, 1.01). Adds to `acc` (pbrt draws 10⁴ per fiber).
 struct WeightSpread {
   long total = 0, outside = 0;
   double lo = 1.0, hi = 1.0;
 };
 template <class T>
-void sampling_weights(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f, Rng& rng, long count, bool over_albedo,
+void sampling_weights(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, Rng& rng, long count, bool over_albedo,
                       WeightSpread& acc) {
   for (long i = 0; i < count; ++i) {
     double wo[3];
@@ -130,7 +130,7 @@ void sampling_weights(const hairlut::sampler::HairScattering<T>& rt, const hairl
 // importance-sampled term S cos Li / pdf and a uniform one S cos Li 4π at a direction uniform on
 // the sphere, with pbrt's Li(w) = w_z² (its z is our y). Returns the two estimates (pbrt: within 5%).
 template <class T>
-std::pair<double, double> sampling_consistency(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fibre& f, const double* wo,
+std::pair<double, double> sampling_consistency(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, const double* wo,
                                                Rng& rng, int count) {
   auto li = [](const double* w) { return w[1] * w[1]; };
   double importance = 0.0, uniform = 0.0;
@@ -153,7 +153,7 @@ struct Chi2 {
   int dof = 0;
 };
 // Mitsuba's ChiSquareTest on its SphericalDomain for one shading point: bins uniform in (azimuth,
-// cos of the polar angle) — here the fibre frame's φi = atan2(z, y) and x = sin θi, the same
+// cos of the polar angle) — here the fiber frame's φi = atan2(z, y) and x = sin θi, the same
 // equal-area grid — na × nb bins, `count` samples, expected counts from pdf() integrated over each
 // bin (4 × 4 midpoints, Mitsuba's ires 4), bins expected below 5 pooled in increasing order of
 // expectation, then the χ² p-value.

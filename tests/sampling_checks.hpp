@@ -161,9 +161,9 @@ inline OneGroup group_runtime(const TableSet& set, const std::string& group, int
   return {std::make_unique<Runtime>(one, stored ? data.data() : nullptr), lobe};
 }
 
-// A fibre of one σa in every channel and one β for M_p and N_p.
-inline sampler::Fibre grey_fibre(double beta, double sigma_a) {
-  sampler::Fibre f;
+// A fiber of one σa in every channel and one β for M_p and N_p.
+inline sampler::Fiber grey_fiber(double beta, double sigma_a) {
+  sampler::Fiber f;
   f.beta_m = f.beta_n = beta;
   f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = sigma_a;
   return f;
@@ -197,7 +197,7 @@ inline std::vector<double> pieces(std::vector<double> v, double lo, double hi) {
     if (out.empty() || x - out.back() > 1e-9) out.push_back(x);
   return out;
 }
-inline Quadrature quadrature_energy(const TableSet& set, const std::string& group, const Runtime& rt, const sampler::Fibre& f, double theta_o) {
+inline Quadrature quadrature_energy(const TableSet& set, const std::string& group, const Runtime& rt, const sampler::Fiber& f, double theta_o) {
   std::vector<double> ti, ph;
   for (const Table& t : set.tables) {
     if (group.empty() ? t.group != "np" && t.group != "mp" : t.group != group) continue;
@@ -244,7 +244,7 @@ struct Estimate {
   double mean, error;  // mean and its standard error
 };
 // ∫ S dω at wo estimated from n samples' weights S / pdf (channels averaged).
-inline Estimate furnace(const Runtime& rt, const sampler::Fibre& f, double theta_o, int n, unsigned seed) {
+inline Estimate furnace(const Runtime& rt, const sampler::Fiber& f, double theta_o, int n, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Runtime::ShadingPoint sp = rt.at(f, Held(theta_o).wo);
@@ -262,7 +262,7 @@ inline Estimate furnace(const Runtime& rt, const sampler::Fibre& f, double theta
 
 // Chi-square test of n sampled directions against the pdf integrated over θi × φ bins.
 // Returns the p-value; bins expecting fewer than 5 samples are pooled (Mitsuba's rule).
-inline double chi_square(const Runtime& rt, const sampler::Fibre& f, double theta_o, int n, unsigned seed, double* pdf_integral) {
+inline double chi_square(const Runtime& rt, const sampler::Fiber& f, double theta_o, int n, unsigned seed, double* pdf_integral) {
   const int nt = 60, np = 64;
   std::vector<double> observed(static_cast<std::size_t>(nt * np), 0.0), expected(observed.size(), 0.0);
   std::mt19937_64 rng(seed);

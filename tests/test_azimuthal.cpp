@@ -29,7 +29,7 @@ TEST_CASE("N_p integrates over phi to the lobe energy within 1e-9", "[np]") {
     // Integrate the reference over φ adaptively, split at the azimuths where N_p can have features
     // as narrow as β (caustics, the edges h = ±1, h = 0) and at geometric distances β·4^k around them.
     std::vector<double> bp = {-kPi, 0.0, kPi};
-    const FibreGeometry& g = slice.geometry();
+    const FiberGeometry& g = slice.geometry();
     std::vector<double> special_gammas = {0.0, kHalfPi};
     if (caustic_gamma(c.p, g) > 0.0) special_gammas.push_back(caustic_gamma(c.p, g));
     for (double gamma : special_gammas) {

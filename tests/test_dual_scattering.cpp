@@ -59,7 +59,7 @@ TEST_CASE("Half-range integrals of N_p: the Fourier form and direct quadrature a
     for (double theta_d : {0.0, 0.6, 1.2, 1.55})
       for (int p = 0; p <= 4; ++p)
         for (double beta : {0.025, 0.2, 1.0, 3.0}) {
-          const FibreGeometry g = FibreGeometry::make(eta, theta_d);
+          const FiberGeometry g = FiberGeometry::make(eta, theta_d);
           const std::vector<double> sigmas = {0.0, 0.5, 5.0};
           const int N = fourier_terms(beta, 1e-13);
           std::vector<double> C;
@@ -218,7 +218,7 @@ TEST_CASE("HDRP's unit-attenuation azimuthal distribution against quadrature of 
     for (double theta_d : {0.2, 1.0}) {
       std::vector<double> out;
       unit_attenuation_np(1.55, p, theta_d, betas, phis, 1e-11, out, &rules);
-      const FibreGeometry g = FibreGeometry::make(1.55, theta_d);
+      const FiberGeometry g = FiberGeometry::make(1.55, theta_d);
       auto Phi = [&](double gamma) { return exit_azimuth(p, gamma, std::asin(std::sin(gamma) * g.inv_eta_prime)); };
       for (std::size_t b = 0; b < betas.size(); ++b)
         for (std::size_t j = 0; j < phis.size(); ++j) {

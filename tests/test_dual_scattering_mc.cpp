@@ -1,5 +1,5 @@
 // Convergence of the deterministic dual-scattering quantities against a Monte Carlo simulation of
-// the same model written here from scratch: h uniform over the fibre, the path traced by Russian
+// the same model written here from scratch: h uniform over the fiber, the path traced by Russian
 // roulette on the exact dielectric Fresnel factor and the segment transmittance, Gaussian detector
 // noise added to the exit azimuth, θr drawn from d'Eon's M_p by its von Mises–Fisher construction
 // (d'Eon et al. 2013), and the energy counted in the forward and backward halves. The library is
@@ -66,8 +66,8 @@ std::vector<double> tilted_preimages(double theta_star, double alpha) {
   return out;
 }
 
-// One ray into the fibre cross-section at offset h, at longitudinal difference θd: the number of
-// internal segments of the path that leaves the fibre (0: reflected), or −1 when absorbed; Φ its
+// One ray into the fiber cross-section at offset h, at longitudinal difference θd: the number of
+// internal segments of the path that leaves the fiber (0: reflected), or −1 when absorbed; Φ its
 // exit azimuth.
 int trace(double eta, double theta_d, double sigma_a, double h, Rng& rng, double& Phi) {
   const double cd = std::cos(theta_d), sd = std::sin(theta_d);

@@ -51,7 +51,7 @@ TEST_CASE("Fourier coefficients and spreading match the adaptive reference on th
       const int M = centres ? 64 : 33;
       std::vector<double> phis;
       for (int j = 0; j < M; ++j) phis.push_back(centres ? (j + 0.5) * kPi / M : j * kPi / (M - 1));
-      const FibreGeometry g = FibreGeometry::make(s.eta, s.theta_d);
+      const FiberGeometry g = FiberGeometry::make(s.eta, s.theta_d);
       const AttenuationSlice slice(s.eta, s.theta_d, s.sigma_a);
       std::vector<double> ref;
       double peak = 0.0;
@@ -65,7 +65,7 @@ TEST_CASE("Fourier coefficients and spreading match the adaptive reference on th
       fourier_coefficients(g, AbsorptionPath::chord, s.p, sigma, N, rf, C);
       std::vector<std::vector<double>> spread;
       const SpreadLobe lobe{s.p, s.beta};
-      spread_np(FibreNodes::make(g, AbsorptionPath::chord, rs), g, std::span<const SpreadLobe>(&lobe, 1), sigma, PeriodicGrid::of(phis), tol, spread);
+      spread_np(FiberNodes::make(g, AbsorptionPath::chord, rs), g, std::span<const SpreadLobe>(&lobe, 1), sigma, PeriodicGrid::of(phis), tol, spread);
       for (std::size_t j = 0; j < phis.size(); ++j) {
         worst_fourier = std::max(worst_fourier, std::abs(fourier_np(C, 1, s.beta, phis[j], tol) - ref[j]) / peak);
         worst_spread = std::max(worst_spread, std::abs(spread[0][j] - ref[j]) / peak);
@@ -80,12 +80,12 @@ TEST_CASE("Spreading is exact on grids far coarser than the detector", "[fourier
   std::vector<double> phis;
   for (int j = 0; j < 9; ++j) phis.push_back(j * kPi / 8);
   const double beta = radians(0.5), tol = 1e-12;
-  const FibreGeometry g = FibreGeometry::make(1.55, radians(30.0));
+  const FiberGeometry g = FiberGeometry::make(1.55, radians(30.0));
   const GaussLegendreRule rule(spread_nodes(beta, 2, g, tol));
   const std::vector<SpreadLobe> lobes = {{0, beta}, {2, beta}};
   const double sigma[1] = {0.7};
   std::vector<std::vector<double>> out;
-  spread_np(FibreNodes::make(g, AbsorptionPath::chord, rule), g, lobes, sigma, PeriodicGrid::of(phis), tol, out);
+  spread_np(FiberNodes::make(g, AbsorptionPath::chord, rule), g, lobes, sigma, PeriodicGrid::of(phis), tol, out);
   const AttenuationSlice slice(1.55, radians(30.0), 0.7);
   for (std::size_t l = 0; l < lobes.size(); ++l)
     for (std::size_t j = 0; j < phis.size(); ++j) {

@@ -147,7 +147,7 @@ TEST_CASE("Fourier: the evaluator's least absorption F is the physics' T(±1)^p"
             const double b = least_absorption(AttenuationSlice(eta, radians(td), sigma, path), p);
             worst = std::max(worst, std::abs(a - b) / b);
             // and the path's length at the edge is the segment length there
-            CHECK(edge_segment_length(FibreGeometry::make(eta, radians(td)), path) > 0.0);
+            CHECK(edge_segment_length(FiberGeometry::make(eta, radians(td)), path) > 0.0);
           }
   CHECK(worst < 1e-13);
 }

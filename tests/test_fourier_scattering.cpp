@@ -59,9 +59,9 @@ const Runtime& runtime() {
   static const Runtime r = hair_scattering<float>(fourier_tables());
   return r;
 }
-// A grey fibre with pbrt-style roughness, clamped to the set's β ranges.
-sampler::Fibre fibre(double pbrt_m, double pbrt_n, double sigma_a) {
-  sampler::Fibre f;
+// A grey fiber with pbrt-style roughness, clamped to the set's β ranges.
+sampler::Fiber fiber(double pbrt_m, double pbrt_n, double sigma_a) {
+  sampler::Fiber f;
   f.beta_m = std::clamp(peer::pbrt_beta_m(pbrt_m), kBetaLo, kBetaHi);
   f.beta_n = std::clamp(peer::pbrt_beta_n(pbrt_n), kBetaLo, kBetaHi);
   f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = sigma_a;
@@ -99,7 +99,7 @@ TEST_CASE("Fourier HairScattering: eval is M_p from its tables times the series,
   Rng rng(3);
   double worst_view = 0.0, worst_ref = 0.0;
   for (int i = 0; i < 3000; ++i) {
-    sampler::Fibre f = fibre(0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 0.0);
+    sampler::Fiber f = fiber(0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 0.0);
     for (double& s : f.sigma_a) s = 6.0 * rng() * rng();
     const double to = (2.0 * rng() - 1.0) * 0.5 * kPiF, ti = (2.0 * rng() - 1.0) * 0.5 * kPiF, phi = (2.0 * rng() - 1.0) * kPiF;
     const double td = 0.5 * (to - ti);
@@ -132,7 +132,7 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurna
   uniform_sphere(rng(), rng(), wo);
   for (double bm = 0.1; bm < 1.0; bm += 0.2)
     for (double bn = 0.1; bn < 1.0; bn += 0.2) {
-      const sampler::Fibre f = fibre(bm, bn, 0.0);
+      const sampler::Fiber f = fiber(bm, bn, 0.0);
       const int count = (bm < 0.5 || bn < 0.5) ? 100000 : 20000;
       double sum = 0.0;
       for (int i = 0; i < count; ++i) {
@@ -156,12 +156,12 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurna
     }
 }
 
-TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre", "[scattering][fourier]") {
+TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fiber", "[scattering][fourier]") {
   const Runtime& rt = runtime();
   Rng rng(13);
   peer::WeightSpread r;
   for (double bm = 0.1; bm < 1.0; bm += 0.2)
-    for (double bn = 0.4; bn < 1.0; bn += 0.2) peer::sampling_weights(rt, fibre(bm, bn, 0.0), rng, 10000, false, r);
+    for (double bn = 0.4; bn < 1.0; bn += 0.2) peer::sampling_weights(rt, fiber(bm, bn, 0.0), rng, 10000, false, r);
   INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
   CHECK(r.total == 150000);
   CHECK(r.outside == 0);
@@ -172,7 +172,7 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingConsistency, importance 
   Rng rng(17);
   for (double bm = 0.2; bm < 1.0; bm += 0.2)
     for (double bn = 0.4; bn < 1.0; bn += 0.2) {
-      const sampler::Fibre f = fibre(bm, bn, 0.25);
+      const sampler::Fiber f = fiber(bm, bn, 0.25);
       double wo[3];
       uniform_sphere(rng(), rng(), wo);
       const auto [importance, uniform] = peer::sampling_consistency(rt, f, wo, rng, 64 * 1024);
@@ -182,7 +182,7 @@ TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.SamplingConsistency, importance 
 }
 
 TEST_CASE("Fourier HairScattering: pbrt-v4 Hair.HOnTheEdge and the frame's edges give finite values", "[scattering][fourier]") {
-  const peer::EdgeChecks r = peer::h_on_the_edge(runtime(), fibre(0.1, 0.1, 0.0));
+  const peer::EdgeChecks r = peer::h_on_the_edge(runtime(), fiber(0.1, 0.1, 0.0));
   INFO(r.failures << " failed, the first: " << r.first);
   CHECK(r.failures == 0);
 }
@@ -192,7 +192,7 @@ TEST_CASE("Fourier HairScattering: Mitsuba 3 test04_sample_numeric, every lane's
   Rng rng(0);
   peer::LaneWeights w;
   for (int a = 0; a < 5; ++a)
-    for (int b = 0; b < 5; ++b) peer::sample_numeric(rt, fibre(0.1 + 0.89 * a / 4.0, 0.1 + 0.89 * b / 4.0, 0.0), rng, 100000, w);
+    for (int b = 0; b < 5; ++b) peer::sample_numeric(rt, fiber(0.1 + 0.89 * a / 4.0, 0.1 + 0.89 * b / 4.0, 0.0), rng, 100000, w);
   INFO(w.lanes << " lanes, worst |w - 1| " << w.worst);
   CHECK(w.bad == 0);
 }
@@ -201,7 +201,7 @@ TEST_CASE("Fourier HairScattering: pdf() is sample()'s density and integrates to
   const Runtime& rt = runtime();
   Rng rng(23);
   for (int i = 0; i < 2000; ++i) {
-    const sampler::Fibre f = fibre(0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 4.0 * rng());
+    const sampler::Fiber f = fiber(0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 4.0 * rng());
     double wo[3];
     uniform_sphere(rng(), rng(), wo);
     double u[3] = {rng(), rng(), rng()};
@@ -216,7 +216,7 @@ TEST_CASE("Fourier HairScattering: pdf() is sample()'s density and integrates to
   }
   // ∫ pdf dω by the midpoint rule in (θi, φi) on cells of 1/8° × 1/2°.
   for (const auto& [bm, to] : {std::pair{0.1, 1.5}, std::pair{0.5, -1.2}, std::pair{0.3, 0.2}}) {
-    const sampler::Fibre f = fibre(bm, 0.15, 0.5);
+    const sampler::Fiber f = fiber(bm, 0.15, 0.5);
     const double wo[3] = {std::sin(to), std::cos(to), 0.0};
     const Runtime::ShadingPoint sp = rt.at(f, wo);
     const int nt = 1440, np = 720;
@@ -246,7 +246,7 @@ TEST_CASE("Fourier HairScattering: Mitsuba 3 test06_chi2, samples distributed as
   auto run = [&](std::size_t ci) {
     const auto& c = configs[ci];
     const double wo[3] = {0.0, std::sin(c[2]), std::cos(c[2])};
-    results[ci] = peer::chi2_sphere<float>(rt.at(fibre(c[0], c[1], 0.8), wo), 60 + ci, 301, 150, 1000000);
+    results[ci] = peer::chi2_sphere<float>(rt.at(fiber(c[0], c[1], 0.8), wo), 60 + ci, 301, 150, 1000000);
   };
   std::thread second([&] {
     for (std::size_t ci = 1; ci < configs.size(); ci += 2) run(ci);

@@ -8,7 +8,7 @@
 using namespace hairlut;
 
 TEST_CASE("Exit azimuth: symmetry and derivative", "[geometry]") {
-  const FibreGeometry g = FibreGeometry::make(1.55, 0.4);
+  const FiberGeometry g = FiberGeometry::make(1.55, 0.4);
   for (int p : {0, 1, 2, 3, 7})
     for (double gamma : {-1.5, -0.7, 0.0, 0.3, 1.2}) {
       const double gt = std::asin(std::sin(gamma) * g.inv_eta_prime);
@@ -26,7 +26,7 @@ TEST_CASE("Exit azimuth: symmetry and derivative", "[geometry]") {
 TEST_CASE("Caustics: Descartes' formula and a zero of dPhi/dgamma", "[geometry]") {
   for (double eta : {1.2, 1.55, 1.9})
     for (double td : {0.0, 0.5}) {
-      const FibreGeometry g = FibreGeometry::make(eta, td);
+      const FiberGeometry g = FiberGeometry::make(eta, td);
       const double ep = 1.0 / g.inv_eta_prime;
       CHECK(caustic_gamma(1, g) < 0.0);  // TT has none
       const double gc = caustic_gamma(2, g);
@@ -42,7 +42,7 @@ TEST_CASE("Caustics: Descartes' formula and a zero of dPhi/dgamma", "[geometry]"
 }
 
 TEST_CASE("Azimuthal roots solve Phi = phi and switch count at the TRT caustic", "[geometry]") {
-  const FibreGeometry g = FibreGeometry::make(1.55, 0.2);
+  const FiberGeometry g = FiberGeometry::make(1.55, 0.2);
   for (int p : {0, 1, 2, 3, 5})
     for (double phi = -kPi; phi <= kPi; phi += 0.05) {
       const auto roots = azimuthal_roots(g, p, phi);

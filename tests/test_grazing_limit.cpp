@@ -113,7 +113,7 @@ TEST_CASE("grazing: S of the runtime at theta_d up to 90 deg matches the model",
     for (double sa : kSigma)
       for (double h_frac : {-0.5, 0.0, 0.5}) {
         const double td = radians(deg), th = h_frac * (0.5 * kPi - td), to = th + td, ti = th - td;
-        sampler::Fibre f;
+        sampler::Fiber f;
         f.beta_m = radians(10.0), f.beta_n = radians(10.0);
         f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = sa;
         // S = Σ_p M_p(θi, θo) N_p(φ) + M_res E_res / 2π, each from the physics.

@@ -78,11 +78,11 @@ const Runtime& runtime(bool tilted) {
   return u;
 }
 
-// A fibre of σa (grey) with pbrt-style roughness, clamped to the tables' β ranges.
-sampler::Fibre fibre(const Runtime& rt, double pbrt_m, double pbrt_n, double sigma_a) {
+// A fiber of σa (grey) with pbrt-style roughness, clamped to the tables' β ranges.
+sampler::Fiber fiber(const Runtime& rt, double pbrt_m, double pbrt_n, double sigma_a) {
   const auto& t = rt.tables();
   const sampler::Axis bm = t.mp[0].table().axis(0).axis(), bn = t.np[0].table().axis(0).axis();
-  sampler::Fibre f;
+  sampler::Fiber f;
   f.beta_m = std::clamp(pbrt_beta_m(pbrt_m), bm.lo, bm.hi);
   f.beta_n = std::clamp(pbrt_beta_n(pbrt_n), bn.lo, t.band_hi[t.beta_bands - 1] > 0.0 ? t.band_hi[t.beta_bands - 1] : bn.hi);
   f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = sigma_a;
@@ -90,7 +90,7 @@ sampler::Fibre fibre(const Runtime& rt, double pbrt_m, double pbrt_n, double sig
 }
 
 
-// The model's own albedo at θo for a white fibre (σa = 0): Σ_p ∫ M(v, θi, θo − α_p) e_p(θd) cos θi
+// The model's own albedo at θo for a white fiber (σa = 0): Σ_p ∫ M(v, θi, θo − α_p) e_p(θd) cos θi
 // dθi with the exact Bessel M_p and lobe energies (physics, not tables), the shipped tilts unless
 // others are given.
 double model_albedo(double beta_m, double theta_o, std::array<double, 5> alpha = {radians(-4), radians(2), radians(6), radians(10), radians(10)}) {
@@ -117,7 +117,7 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnace, eval integrated over the s
     uniform_sphere(rng(), rng(), wo);
     for (double bm = 0.1; bm < 1.0; bm += 0.2)
       for (double bn = 0.1; bn < 1.0; bn += 0.2) {
-        const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
+        const sampler::Fiber f = fiber(rt, bm, bn, 0.0);
         const int count = (bm < 0.5 || bn < 0.5) ? 100000 : 20000;
         double sum = 0.0;
         for (int i = 0; i < count; ++i) {
@@ -136,7 +136,7 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnace, eval integrated over the s
 
 TEST_CASE("HairScattering: pbrt-v4 Hair.HOnTheEdge and the frame's edges give finite values", "[scattering]") {
   const Runtime& rt = runtime(true);
-  const peer::EdgeChecks r = peer::h_on_the_edge(rt, fibre(rt, 0.1, 0.1, 0.0));
+  const peer::EdgeChecks r = peer::h_on_the_edge(rt, fiber(rt, 0.1, 0.1, 0.0));
   INFO(r.failures << " failed, the first: " << r.first);
   CHECK(r.failures == 0);
 }
@@ -149,7 +149,7 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnaceSampled, importance-sampled 
     uniform_sphere(rng(), rng(), wo);
     for (double bm = 0.1; bm < 1.0; bm += 0.2)
       for (double bn = 0.1; bn < 1.0; bn += 0.2) {
-        const sampler::Fibre f = fibre(rt, bm, bn, 0.0);
+        const sampler::Fiber f = fiber(rt, bm, bn, 0.0);
         // wo is held: its shading point is built once (rt.sample(f, wo, u) is rt.at(f, wo).sample(u),
         // the same numbers; the tests with a new wo per sample build one per sample).
         const Runtime::ShadingPoint sp = rt.at(f, wo);
@@ -171,16 +171,16 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.WhiteFurnaceSampled, importance-sampled 
 // pbrt-v4's SamplingWeights loop (β_m 0.1 … 0.9, β_n 0.4 … 0.8, 10,000 samples each, wo uniform on
 // the sphere, σa 0): the samples whose weight, divided by the albedo at wo when asked, lies outside
 // (0.99, 1.01), and the range of those values.
-// pbrt's SamplingWeights grid (β_m 0.1 … 0.9 step 0.2, β_n 0.4 … 0.8), 10⁴ samples per fibre.
+// pbrt's SamplingWeights grid (β_m 0.1 … 0.9 step 0.2, β_n 0.4 … 0.8), 10⁴ samples per fiber.
 peer::WeightSpread pbrt_sampling_weights(const Runtime& rt, unsigned long long seed, bool over_albedo) {
   peer::WeightSpread r;
   Rng rng(seed);
   for (double bm = 0.1; bm < 1.0; bm += 0.2)
-    for (double bn = 0.4; bn < 1.0; bn += 0.2) peer::sampling_weights(rt, fibre(rt, bm, bn, 0.0), rng, 10000, over_albedo, r);
+    for (double bn = 0.4; bn < 1.0; bn += 0.2) peer::sampling_weights(rt, fiber(rt, bm, bn, 0.0), rng, 10000, over_albedo, r);
   return r;
 }
 
-TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre (untilted tables)", "[scattering]") {
+TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fiber (untilted tables)", "[scattering]") {
   const peer::WeightSpread r = pbrt_sampling_weights(runtime(false), 13, false);
   INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
   CHECK(r.total == 150000);
@@ -200,7 +200,7 @@ TEST_CASE("HairScattering: the albedo of tilted tables is the model's, grazing i
   const Runtime& rt = runtime(true);
   for (double bm : {0.1, 0.3})
     for (double deg : {-88.0, -84.0, -60.0, 0.0, 45.0, 80.0, 88.0}) {
-      const sampler::Fibre f = fibre(rt, bm, 0.3, 0.0);
+      const sampler::Fiber f = fiber(rt, bm, 0.3, 0.0);
       const double to = radians(deg), wo[3] = {std::sin(to), std::cos(to), 0.0};
       const double got = rt.albedo(f, wo), want = model_albedo(f.beta_m, to);
       INFO("beta_m " << f.beta_m << " theta_o " << deg << " deg: tables " << got << ", model " << want);
@@ -208,12 +208,12 @@ TEST_CASE("HairScattering: the albedo of tilted tables is the model's, grazing i
     }
 }
 
-TEST_CASE("HairScattering: a fibre's own tilt moves the lobes as pbrt's scale angle does", "[scattering]") {
-  // Untilted tables with Fibre::tilt α against the model with R, TT, TRT tilted by 2α, −α, −4α.
+TEST_CASE("HairScattering: a fiber's own tilt moves the lobes as pbrt's scale angle does", "[scattering]") {
+  // Untilted tables with Fiber::tilt α against the model with R, TT, TRT tilted by 2α, −α, −4α.
   const Runtime& rt = runtime(false);
   for (double alpha_deg : {2.0, -3.0})
     for (double deg : {-80.0, -30.0, 20.0, 70.0}) {
-      sampler::Fibre f = fibre(rt, 0.2, 0.3, 0.0);
+      sampler::Fiber f = fiber(rt, 0.2, 0.3, 0.0);
       f.tilt = radians(alpha_deg);
       const double a = f.tilt, to = radians(deg), wo[3] = {std::sin(to), std::cos(to), 0.0};
       const double got = rt.albedo(f, wo), want = model_albedo(f.beta_m, to, {2.0 * a, -a, -4.0 * a, 0.0, 0.0});
@@ -234,7 +234,7 @@ TEST_CASE("HairScattering: pbrt-v4 Hair.SamplingConsistency, importance and unif
     Rng rng(17);
     for (double bm = 0.2; bm < 1.0; bm += 0.2)
       for (double bn = 0.4; bn < 1.0; bn += 0.2) {
-        const sampler::Fibre f = fibre(rt, bm, bn, 0.25);
+        const sampler::Fiber f = fiber(rt, bm, bn, 0.25);
         double wo[3];
         uniform_sphere(rng(), rng(), wo);
         const auto [importance, uniform] = peer::sampling_consistency(rt, f, wo, rng, 64 * 1024);
@@ -249,7 +249,7 @@ TEST_CASE("HairScattering: Mitsuba 3 test04_sample_numeric, every lane's luminan
   Rng rng(0);
   peer::LaneWeights w;
   for (int a = 0; a < 5; ++a)
-    for (int b = 0; b < 5; ++b) peer::sample_numeric(rt, fibre(rt, 0.1 + 0.89 * a / 4.0, 0.1 + 0.89 * b / 4.0, 0.0), rng, 100000, w);
+    for (int b = 0; b < 5; ++b) peer::sample_numeric(rt, fiber(rt, 0.1 + 0.89 * a / 4.0, 0.1 + 0.89 * b / 4.0, 0.0), rng, 100000, w);
   INFO(w.lanes << " lanes, worst |w - 1| " << w.worst);
   CHECK(w.bad == 0);
 }
@@ -258,7 +258,7 @@ TEST_CASE("HairScattering: pdf() is the density sample() reports, u = 0 and 1 in
   const Runtime& rt = runtime(true);
   Rng rng(23);
   for (int i = 0; i < 2000; ++i) {
-    const sampler::Fibre f = fibre(rt, 0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 4.0 * rng());
+    const sampler::Fiber f = fiber(rt, 0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 4.0 * rng());
     double wo[3];
     uniform_sphere(rng(), rng(), wo);
     double u[3] = {rng(), rng(), rng()};
@@ -278,7 +278,7 @@ TEST_CASE("HairScattering: pdf() is the density sample() reports, u = 0 and 1 in
     rt.eval(f, wo, s.wi, rgb);
     for (int c = 0; c < 3; ++c) CHECK(s.weight[c] == Approx(rgb[c] / s.pdf).epsilon(1e-6));
   }
-  const sampler::Fibre f = fibre(rt, 0.3, 0.3, 0.0);
+  const sampler::Fiber f = fiber(rt, 0.3, 0.3, 0.0);
   const double nan = std::nan(""), bad[3] = {nan, 0.0, 1.0}, wo[3] = {0.0, 1.0, 0.0}, u[3] = {0.5, 0.5, 0.5};
   CHECK(rt.sample(f, bad, u).pdf == 0.0);
   CHECK(rt.pdf(f, wo, bad) == 0.0);
@@ -293,7 +293,7 @@ TEST_CASE("HairScattering: sampled densities integrate to one over the sphere", 
     const Runtime& rt = runtime(tilted);
     for (const auto& [bm, to] : {std::pair{0.1, 1.5}, std::pair{0.5, -1.2}}) {
       if (!tilted && bm > 0.3) continue;
-      const sampler::Fibre f = fibre(rt, bm, 0.3, 0.5);
+      const sampler::Fiber f = fiber(rt, bm, 0.3, 0.5);
       const double wo[3] = {std::sin(to), std::cos(to), 0.0};
       const Runtime::ShadingPoint sp = rt.at(f, wo);  // sp.pdf(wi) is rt.pdf(f, wo, wi), built once
       const int nt = 1440, np = 120;
@@ -313,7 +313,7 @@ TEST_CASE("HairScattering: sampled densities integrate to one over the sphere", 
 
 TEST_CASE("HairScattering: Mitsuba 3 test06_chi2, samples distributed as pdf() says", "[scattering]") {
   // Mitsuba's ChiSquareTest on its SphericalDomain: bins uniform in (azimuth, cos of the polar angle)
-  // — here the fibre frame's φi = atan2(z, y) and x = sin θi, the same equal-area grid — res 301
+  // — here the fiber frame's φi = atan2(z, y) and x = sin θi, the same equal-area grid — res 301
   // giving 301 × 150 bins, 10⁶ samples, expected counts from pdf() integrated over each bin (4 × 4
   // midpoints, Mitsuba's ires 4), bins expected below 5 pooled, significance 0.01 with the Šidák
   // correction over the configurations run here (Mitsuba runs each at 0.01). Mitsuba's roughness
@@ -335,9 +335,9 @@ TEST_CASE("HairScattering: Mitsuba 3 test06_chi2, samples distributed as pdf() s
   // thread (Catch's assertions are not thread-safe).
   auto run = [&](std::size_t ci) {
     const auto& c = configs[ci];
-    const sampler::Fibre f = fibre(rt, c[0], c[1], 0.8);
+    const sampler::Fiber f = fiber(rt, c[0], c[1], 0.8);
     // Mitsuba's wi is (sin θ cos φ, sin θ sin φ, cos θ) with z the surface normal; the hair frame's x
-    // is along the fibre, so its first component is the fibre-frame x here.
+    // is along the fiber, so its first component is the fiber-frame x here.
     const double wo[3] = {std::sin(c[2]) * std::cos(c[3]), std::sin(c[2]) * std::sin(c[3]), std::cos(c[2])};
     results[ci] = peer::chi2_sphere<float>(rt.at(f, wo), 4 + ci, na, nb, count);
   };
@@ -379,7 +379,7 @@ TEST_CASE("HairScattering: a set baked in beta bands serves each band with the r
   REQUIRE(rt.lobes() == 4);
   Rng rng(29);
   for (double beta_n_deg : {6.0, 20.0}) {
-    sampler::Fibre f;
+    sampler::Fiber f;
     f.beta_m = radians(10.0), f.beta_n = radians(beta_n_deg);
     int residual = 0;
     for (int i = 0; i < 2000; ++i) {
@@ -397,9 +397,9 @@ TEST_CASE("HairScattering: a set baked in beta bands serves each band with the r
   }
 }
 
-TEST_CASE("HairScattering: finite, nonnegative values and a sample at every extreme of a fibre", "[scattering][stress]") {
+TEST_CASE("HairScattering: finite, nonnegative values and a sample at every extreme of a fiber", "[scattering][stress]") {
   // σa from 0 to 1e300, β from 1e-9 to 1e9 rad (clamped to the tables' ranges), tilts up to 1.5 rad,
-  // wo along the fibre, u at 0 and 1.
+  // wo along the fiber, u at 0 and 1.
   const Runtime& rt = runtime(true);
   Rng rng(31);
   const double sas[] = {0.0, 1e-12, 0.5, 16.0, 1e3, 1e300}, betas[] = {1e-9, 0.01, 0.3, 0.785, 2.0, 1e9}, tilts[] = {0.0, 0.05, -0.3, 1.5};
@@ -408,7 +408,7 @@ TEST_CASE("HairScattering: finite, nonnegative values and a sample at every extr
     for (double b : betas)
       for (double t : tilts)
         for (int i = 0; i < 30; ++i) {
-          sampler::Fibre f;
+          sampler::Fiber f;
           f.sigma_a[0] = sa, f.sigma_a[1] = 0.5 * sa, f.sigma_a[2] = 0.0;
           f.beta_m = b, f.beta_n = betas[i % 6], f.tilt = t;
           const double z = i % 10 == 0 ? 1.0 : i % 10 == 1 ? -1.0 : 1.0 - 2.0 * rng(), r = std::sqrt(std::max(0.0, 1.0 - z * z)), a = 2.0 * kPi * rng();
@@ -460,7 +460,7 @@ TEST_CASE("HairScattering: eval is the tables' S as TableView reads each table",
   Rng rng(37);
   double worst = 0.0;
   for (int i = 0; i < 3000; ++i) {
-    sampler::Fibre f = fibre(rt, 0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 0.0);
+    sampler::Fiber f = fiber(rt, 0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 0.0);
     for (double& s : f.sigma_a) s = 6.0 * rng() * rng();
     const double to = kPi * (rng() - 0.5), ti = kPi * (rng() - 0.5), phi = 2.0 * kPi * (rng() - 0.5), td = std::fabs(0.5 * (to - ti));
     double rgb[3];
@@ -509,7 +509,7 @@ TEST_CASE("HairScattering: stored sampling data that do not describe their table
     // The runtime of the doctored file samples as the clean one does.
     const Runtime a = hair_scattering<float>(doctored);
     const Runtime& b = runtime(true);
-    const sampler::Fibre f = fibre(b, 0.3, 0.3, 0.5);
+    const sampler::Fiber f = fiber(b, 0.3, 0.3, 0.5);
     const double wo[3] = {0.3, 0.9539392014169456, 0.0}, u[3] = {0.4, 0.5, 0.6};
     const sampler::ScatteringSample sa = a.sample(f, wo, u), sb = b.sample(f, wo, u);
     CHECK(sa.pdf == Approx(sb.pdf).epsilon(1e-9));

@@ -1,5 +1,5 @@
-// Typed views of the shipped default tables (hair_views.hpp, sampler_fibre.hpp): the same values
-// as TableSet::sample_value, folding of signed θd and φ, NaN, the float path, and S of a fibre from
+// Typed views of the shipped default tables (hair_views.hpp, sampler_fiber.hpp): the same values
+// as TableSet::sample_value, folding of signed θd and φ, NaN, the float path, and S of a fiber from
 // the renderer runtime (HairScattering, which reads the views) against direct evaluation of the
 // physics within the tables' own accuracy threshold (the one the file was baked and validated with).
 #include <cmath>
@@ -49,7 +49,7 @@ TEST_CASE("Typed views give TableSet::sample_value's values at physical argument
                    theta = draw(rng, 0.0, radians(89.0)), phi = draw(rng, 0.0, kPi);
       const double ref = set.sample_value(n, {beta, sigma, theta, phi});
       // The local peak as docs/conventions.md defines it: the largest value over φ of this
-      // slice, floored at 1e-3 of the white fibre's (σa = 0). Float rounding of the mapped
+      // slice, floored at 1e-3 of the white fiber's (σa = 0). Float rounding of the mapped
       // coordinates moves the cell position by ~count × 2^-24 of a cell, and float underflows
       // below 1e-38 (absorbed lobes), which the floor ignores.
       double scale = 0.0, white = 0.0;
@@ -109,7 +109,7 @@ TEST_CASE("Typed views fold a signed theta_d and phi, and give NaN for NaN", "[s
   CHECK(std::isnan(h.np_residual(std::nan(""), 0.2)));
   CHECK(h.np_residual(0.5, -0.4) == h.np_residual(0.5, 0.4));
   const sampler::HairScattering<float> s(h);
-  const sampler::Fibre f = fibre_from_melanin(0.8, 0.2, radians(10.0), radians(12.0));
+  const sampler::Fiber f = fiber_from_melanin(0.8, 0.2, radians(10.0), radians(12.0));
   double rgb[3];
   s.eval(f, 0.1, std::nan(""), 0.2, rgb);
   CHECK((std::isnan(rgb[0]) && std::isnan(rgb[1]) && std::isnan(rgb[2])));
@@ -125,16 +125,16 @@ TEST_CASE("hair_tables refuses what it cannot read", "[sampler][views]") {
   set.metadata["model"] = "deon2011";
   set.tables.erase(set.tables.begin());  // np/R
   CHECK_THROWS_AS((hair_tables<float, double>(set)), DomainError);
-  CHECK_THROWS_AS(fibre_from_melanin(-1.0, 0.0, 0.1, 0.1), DomainError);
+  CHECK_THROWS_AS(fiber_from_melanin(-1.0, 0.0, 0.1, 0.1), DomainError);
 }
 
 // S = Σ_p M_p(θi, θr) N_p(φ; θd) + M_res N_res against the same sum of directly evaluated lobes:
 // M_p in closed form (longitudinal_deon_tilted, the table's tilt), N_p by the baker's Fourier
 // method at 1e-12, the residual from its reference energy. Each table may be off by the file's
 // threshold `accuracy_max_rel` relative to its local peak (N_p: over φ at the same β, σa, θd,
-// floored at 1e-3 of the white fibre's; M_p: over θr at the same β, θi), so S may be off by
+// floored at 1e-3 of the white fiber's; M_p: over θr at the same β, θi), so S may be off by
 // Σ_p thr (M_p N̂_p + M̂_p N_p) + thr² M̂_p N̂_p (hats: the peaks).
-TEST_CASE("S of a fibre from the tables matches direct evaluation within the tables' accuracy threshold", "[sampler][views]") {
+TEST_CASE("S of a fiber from the tables matches direct evaluation within the tables' accuracy threshold", "[sampler][views]") {
   const TableSet& set = default_set();
   const auto cfg = nlohmann::json::parse(set.metadata.at("config").get<std::string>());
   const double thr = cfg.at("validate").at("thresholds").at("accuracy_max_rel").get<double>();
@@ -145,13 +145,13 @@ TEST_CASE("S of a fibre from the tables matches direct evaluation within the tab
   std::vector<double> alpha;
   for (int p = 0; p < L; ++p) alpha.push_back(set.find("mp/" + lobes[static_cast<std::size_t>(p)].get<std::string>())->attributes.value("alpha", 0.0));
   alpha.push_back(set.find("mp/residual")->attributes.value("alpha", 0.0));
-  sampler::Fibre given;
+  sampler::Fiber given;
   given.sigma_a[0] = 0.1, given.sigma_a[1] = 1.0, given.sigma_a[2] = 5.0, given.beta_m = radians(25.0), given.beta_n = radians(30.0);
-  const sampler::Fibre fibres[] = {fibre_from_melanin(0.8, 0.2, radians(10.0), radians(12.0)), given};
+  const sampler::Fiber fibers[] = {fiber_from_melanin(0.8, 0.2, radians(10.0), radians(12.0)), given};
   std::mt19937_64 rng(3);
   const auto rules = std::make_shared<GaussLegendreCache>();
   constexpr int kDense = 97;
-  for (const sampler::Fibre& f : fibres) {
+  for (const sampler::Fiber& f : fibers) {
     double worst = 0.0, worst_views = 0.0;
     for (int i = 0; i < 40; ++i) {
       const double ti = draw(rng, -radians(85.0), radians(85.0)), tr = draw(rng, -radians(85.0), radians(85.0)), phi = draw(rng, -kPi, kPi);
@@ -207,7 +207,7 @@ TEST_CASE("S of a fibre from the tables matches direct evaluation within the tab
   }
 }
 
-TEST_CASE("fast_acos and fast_atan01 are within 2e-8 of acos and atan, and fibre_angles gives the angles of S from direction vectors", "[sampler][views]") {
+TEST_CASE("fast_acos and fast_atan01 are within 2e-8 of acos and atan, and fiber_angles gives the angles of S from direction vectors", "[sampler][views]") {
   double worst = 0.0, worst_float = 0.0;
   for (int i = -20000; i <= 20000; ++i) {
     const double x = i / 20000.0;
@@ -230,7 +230,7 @@ TEST_CASE("fast_acos and fast_atan01 are within 2e-8 of acos and atan, and fibre
     const double wi[3] = {std::sin(ti), std::cos(ti) * std::cos(pi_), std::cos(ti) * std::sin(pi_)};
     const double wo[3] = {std::sin(tr), std::cos(tr) * std::cos(pr), std::cos(tr) * std::sin(pr)};
     double a, b, phi;
-    sampler::fibre_angles(wi, wo, a, b, phi);
+    sampler::fiber_angles(wi, wo, a, b, phi);
     CHECK(a == Approx(ti).margin(1e-7));
     CHECK(b == Approx(tr).margin(1e-7));
     CHECK(phi == Approx(std::abs(std::remainder(pr - pi_, kTwoPi))).margin(1e-6));  // acos near 0 and π: √ of the rounding

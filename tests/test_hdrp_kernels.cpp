@@ -496,7 +496,7 @@ TEST_CASE("Variant unity-hdrp-hair-deon: HDRP's textures with exact functions co
   WARN("TT energy at beta 0.5, sin theta_o 0.2: exact functions " << e_exact << ", HDRP's " << e_hdrp);
   CHECK(std::abs(e_exact - 1) < 1e-9);
   CHECK(std::abs(e_hdrp - 1) > 1e-3);
-  // Attenuation of a nearly white fibre (d = 63.5/64: σa = 1.9e-6): with exact functions front + back
+  // Attenuation of a nearly white fiber (d = 63.5/64: σa = 1.9e-6): with exact functions front + back
   // is the luminance weight sum times ½∫ Σ_p A_p dh = 1 up to that absorption (|ΔE| < 1e-4).
   const Table* f = set.find("unity/attenuation/front");
   const Table* b = set.find("unity/attenuation/back");
@@ -508,7 +508,7 @@ TEST_CASE("Variant unity-hdrp-hair-deon: HDRP's textures with exact functions co
       const std::size_t i = (static_cast<std::size_t>(63) * 64 + static_cast<std::size_t>(y)) * 64 + static_cast<std::size_t>(x);
       worst_furnace = std::max(worst_furnace, std::abs(f->get(i) + b->get(i) - 1.0));
     }
-  WARN("variant attenuation, white fibre: max |front + back - 1| " << worst_furnace);
+  WARN("variant attenuation, white fiber: max |front + back - 1| " << worst_furnace);
   CHECK(worst_furnace < 1e-4);
   fs::remove_all(dir);
 }

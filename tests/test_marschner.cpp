@@ -20,7 +20,7 @@ double theta_d_for_eta_prime(double eta, double eta_prime) {
 }
 
 // Φ(p, γ) of the exact map.
-double exact_phi(const FibreGeometry& g, int p, double gamma) {
+double exact_phi(const FiberGeometry& g, int p, double gamma) {
   return exit_azimuth(p, gamma, std::asin(std::sin(gamma) * g.inv_eta_prime));
 }
 
@@ -116,7 +116,7 @@ TEST_CASE("Exact and cubic roots satisfy their maps to 1e-12 and none is missed"
     for (double td : {0.0, 0.5, 1.2, 1.55})
       for (int p = 0; p <= 2; ++p)
         for (double phi : {-3.1, -2.0, -0.9, -0.3, 0.0, 0.05, 0.3, 0.9, 2.0, 3.13}) {
-          const FibreGeometry g = FibreGeometry::make(eta, td);
+          const FiberGeometry g = FiberGeometry::make(eta, td);
           const double c = cubic_edge_angle(g.inv_eta_prime);
           INFO("eta " << eta << " theta_d " << td << " p " << p << " phi " << phi);
           const auto exact = azimuthal_roots(g, p, phi);
@@ -131,7 +131,7 @@ TEST_CASE("Exact and cubic roots satisfy their maps to 1e-12 and none is missed"
 TEST_CASE("The number of TRT roots switches at the caustic phi_c of Descartes' formula", "[marschner][caustic]") {
   for (double eta : {1.2, 1.333, 1.55, 1.9})
     for (double td : {0.0, 0.3, 0.6}) {
-      const FibreGeometry g = FibreGeometry::make(eta, td);
+      const FiberGeometry g = FiberGeometry::make(eta, td);
       const double eta_prime = 1.0 / g.inv_eta_prime;
       if (eta_prime >= 2.0) continue;
       const double hc = std::sqrt((4.0 - eta_prime * eta_prime) / 3.0);  // Descartes
@@ -153,7 +153,7 @@ TEST_CASE("The number of TRT roots switches at the caustic phi_c of Descartes' f
       CHECK(std::abs(kc.phi_c - phi_c) < radians(eta_prime >= 1.5 ? 4.0 : 25.0));
     }
   // Past the merge (η' > 2) the TRT map is monotone: at most one root anywhere.
-  const FibreGeometry g = FibreGeometry::make(1.55, 1.2);
+  const FiberGeometry g = FiberGeometry::make(1.55, 1.2);
   REQUIRE(1.0 / g.inv_eta_prime > 2.0);
   CHECK_FALSE(marschner_trt_caustic(g, MarschnerRoots::exact, CausticParams{}).folds);
   for (double phi = -kPi; phi <= kPi; phi += 0.01) CHECK(azimuthal_roots(g, 2, phi).size() <= 1);
@@ -200,7 +200,7 @@ TEST_CASE("Integrating N_p over phi gives the energies computed over h (exact an
             m.energy(p, sig, e);
             // φ quadrature, split where N_p has kinks: the caustics, the azimuths of the edge paths.
             std::vector<double> bp = {-kPi, 0.0, kPi, m.caustic().phi_c, -m.caustic().phi_c};
-            const FibreGeometry& g = m.geometry(p);
+            const FiberGeometry& g = m.geometry(p);
             const double c = cubic_edge_angle(g.inv_eta_prime);
             for (double edge : {kHalfPi, -kHalfPi}) {
               const double phi_edge = std::remainder(roots == MarschnerRoots::exact ? exact_phi(g, p, edge) : cubic_exit_azimuth(p, edge, c), kTwoPi);

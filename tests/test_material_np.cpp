@@ -54,12 +54,12 @@ TEST_CASE("Periodic grids with both ends present are recognised", "[fourier][mat
 TEST_CASE("Spreading on a grid with both ends present repeats the first point at the last", "[fourier][material]") {
   const auto phis = uniform(-kPi, kTwoPi / 40, 41);
   const double beta = radians(3.0), tol = 1e-12;
-  const FibreGeometry g = FibreGeometry::make(1.55, radians(20.0));
+  const FiberGeometry g = FiberGeometry::make(1.55, radians(20.0));
   const GaussLegendreRule rule(spread_nodes(beta, 2, g, tol));
   const std::vector<SpreadLobe> lobes = {{0, beta}, {1, beta}, {2, beta}};
   const double sigma[1] = {0.4};
   std::vector<std::vector<double>> out;
-  spread_np(FibreNodes::make(g, AbsorptionPath::chord, rule), g, lobes, sigma, PeriodicGrid::of(phis), tol, out);
+  spread_np(FiberNodes::make(g, AbsorptionPath::chord, rule), g, lobes, sigma, PeriodicGrid::of(phis), tol, out);
   const AttenuationSlice slice(1.55, radians(20.0), 0.4);
   for (std::size_t l = 0; l < lobes.size(); ++l) {
     CHECK(out[l][40] == out[l][0]);
@@ -151,7 +151,7 @@ TEST_CASE("Lobe energies of all channels at once equal lobe_energies", "[materia
 
 TEST_CASE("Transplanted rules keep 1e-10 of the lobe peak at the edges of the domain", "[fourier][material]") {
   // Index close to 1 (the Fresnel floor of the node count) and large, grazing and head-on θd,
-  // white and black fibres, the narrowest and a wide β, and a tighter tolerance, on hairlut's
+  // white and black fibers, the narrowest and a wide β, and a tighter tolerance, on hairlut's
   // (0, π) cell centres; every 4th φ against the adaptive reference.
   std::vector<double> phis;
   for (int j = 0; j < 64; ++j) phis.push_back((j + 0.5) * kPi / 64.0);
@@ -168,7 +168,7 @@ TEST_CASE("Transplanted rules keep 1e-10 of the lobe peak at the edges of the do
     for (std::size_t t = 0; t < thetas.size(); ++t) {
       np.evaluate(t, v);
       for (int p = 0; p < 4; ++p) {
-        // Relative to the lobe's peak, floored at 1e-3 of the white fibre's (docs: "Error as a
+        // Relative to the lobe's peak, floored at 1e-3 of the white fiber's (docs: "Error as a
         // renderer sees it"): a lobe absorbed below that no longer shows.
         double white_peak = 0.0;
         for (int k = 0; k < 2; ++k) {  // white first
@@ -271,7 +271,7 @@ TEST_CASE("Materials baked together give each material's own values, bit for bit
     const Rgb s = melanin_sigma_a_rgb(0.05 + 1.25 * i, 0.1 + 0.05 * i);
     sigmas.push_back({s.r, s.g, s.b});
   }
-  sigmas[4] = {0.0, 0.0, 0.0};  // a white fibre among them
+  sigmas[4] = {0.0, 0.0, 0.0};  // a white fiber among them
   std::vector<double> all;
   for (const auto& s : sigmas) all.insert(all.end(), s.begin(), s.end());
   const std::vector<std::vector<double>> grids = {uniform(-kPi, kTwoPi / 63.0, 64), uniform(0.0, kTwoPi / 48.0, 48), uniform(0.0, kPi / 64.0, 65)};

@@ -133,7 +133,7 @@ void reference_s(const TableSet& set, const std::string& group, double to, doubl
 TEST_CASE("MaterialScattering: eval is the material's S as TableView reads each table", "[scattering][material]") {
   const TableSet& set = show_tables();
   Rng rng(3);
-  const sampler::Fibre f;
+  const sampler::Fiber f;
   for (const std::string& name : show_materials()) {
     const Runtime rt = hair_scattering<float>(set, "materials/" + name);
     REQUIRE(rt.valid());
@@ -155,7 +155,7 @@ TEST_CASE("MaterialScattering: eval is the material's S as TableView reads each 
 TEST_CASE("MaterialScattering: pdf integrates to one and albedo() is the integral of S", "[scattering][material]") {
   // Midpoint rule in (θi, φ) on 1/16° × 1/8° cells, θo up to 0.05° from the poles.
   const TableSet& set = show_tables();
-  const sampler::Fibre f;
+  const sampler::Fiber f;
   for (const std::string& name : {std::string("white-beard"), std::string("hero-brunette")}) {
     const Runtime rt = hair_scattering<float>(set, "materials/" + name);
     for (double deg : {-89.95, -70.0, 0.0, 33.0, 89.95}) {
@@ -182,7 +182,7 @@ TEST_CASE("MaterialScattering: pdf integrates to one and albedo() is the integra
 
 TEST_CASE("MaterialScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurnaceSampled", "[scattering][material]") {
   const MaterialSet& m = pbrt_white();
-  const sampler::Fibre f;
+  const sampler::Fiber f;
   Rng rng(7);
   double wo[3];
   uniform_sphere(rng(), rng(), wo);
@@ -212,11 +212,11 @@ TEST_CASE("MaterialScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurnaceSa
     }
 }
 
-TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fibre", "[scattering][material]") {
+TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingWeights, every sample's weight of a white fiber", "[scattering][material]") {
   const MaterialSet m(grid({0.1, 0.3, 0.5, 0.7, 0.9}, {0.4, 0.6, 0.8}), 0.0, false);
   Rng rng(13);
   peer::WeightSpread r;
-  for (const auto& [key, rt] : m.rt) peer::sampling_weights(rt, sampler::Fibre(), rng, 10000, false, r);
+  for (const auto& [key, rt] : m.rt) peer::sampling_weights(rt, sampler::Fiber(), rng, 10000, false, r);
   INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
   CHECK(r.total == 150000);
   CHECK(r.outside == 0);
@@ -228,14 +228,14 @@ TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingConsistency, importance and 
   for (const auto& [key, rt] : m.rt) {
     double wo[3];
     uniform_sphere(rng(), rng(), wo);
-    const auto [importance, uniform] = peer::sampling_consistency(rt, sampler::Fibre(), wo, rng, 64 * 1024);
+    const auto [importance, uniform] = peer::sampling_consistency(rt, sampler::Fiber(), wo, rng, 64 * 1024);
     INFO("pbrt beta_m " << key.first << " beta_n " << key.second << ": importance " << importance << " uniform " << uniform);
     CHECK(std::fabs(importance - uniform) / uniform < 0.05);
   }
 }
 
 TEST_CASE("MaterialScattering: pbrt-v4 Hair.HOnTheEdge and the frame's edges give finite values", "[scattering][material]") {
-  const peer::EdgeChecks r = peer::h_on_the_edge(pbrt_white()(0.1, 0.1), sampler::Fibre());
+  const peer::EdgeChecks r = peer::h_on_the_edge(pbrt_white()(0.1, 0.1), sampler::Fiber());
   INFO(r.failures << " failed, the first: " << r.first);
   CHECK(r.failures == 0);
 }
@@ -247,7 +247,7 @@ TEST_CASE("MaterialScattering: Mitsuba 3 test04_sample_numeric, every lane's lum
   const MaterialSet m(pairs, 0.0, false);
   Rng rng(0);
   peer::LaneWeights w;
-  for (const auto& p : pairs) peer::sample_numeric(m(p.first, p.second), sampler::Fibre(), rng, 100000, w);
+  for (const auto& p : pairs) peer::sample_numeric(m(p.first, p.second), sampler::Fiber(), rng, 100000, w);
   INFO(w.lanes << " lanes, worst |w - 1| " << w.worst);
   CHECK(w.bad == 0);
 }
@@ -257,7 +257,7 @@ TEST_CASE("MaterialScattering: Mitsuba 3 test06_chi2 on the shipped show's mater
   // 0.99 π/4 (φ π/2) for each of the four tilted, coloured materials; significance 0.01 with the
   // Šidák correction over the 8 configurations.
   const TableSet& set = show_tables();
-  const sampler::Fibre f;
+  const sampler::Fiber f;
   const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / 8.0);
   int k = 0;
   for (const std::string& name : show_materials()) {
@@ -278,7 +278,7 @@ TEST_CASE("MaterialScattering: tilted materials' weights are the albedo at wo, a
   // sampling. The coloured materials' weights are each channel's S over the channels' mean density,
   // so for them the check is that pdf() and the weights are what sample() reports.
   const TableSet& set = show_tables();
-  const sampler::Fibre f;
+  const sampler::Fiber f;
   Rng rng(29);
   for (const std::string& name : show_materials()) {
     const Runtime rt = hair_scattering<float>(set, "materials/" + name);
@@ -319,7 +319,7 @@ TEST_CASE("MaterialScattering: hostile values and axes", "[scattering][material]
         for (std::size_t k = 0; k < t.f32.size(); k += 5) t.f32[k] = k % 3 == 0 ? std::nanf("") : k % 3 == 1 ? -1e30f : INFINITY;
     const Runtime rt = hair_scattering<float>(set, g);
     REQUIRE(rt.valid());
-    const sampler::Fibre f;
+    const sampler::Fiber f;
     Rng rng(31);
     for (int i = 0; i < 5000; ++i) {
       double wo[3], wi[3], rgb[3];

@@ -77,7 +77,7 @@ TEST_CASE("Sampling: eval is the library's table evaluation, pdf is the document
     const Runtime& rt = mixture ? all : one.runtime();
     for (int k = 0; k < 40; ++k) {
       const double beta = std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), sigma_a = 4.0 * u(rng) * u(rng);
-      const sampler::Fibre f = grey_fibre(beta, sigma_a);
+      const sampler::Fiber f = grey_fiber(beta, sigma_a);
       // θi sampled, θo (the tables' θr) held.
       const double ti = (u(rng) - 0.5) * 170.0 * kDeg, to = (u(rng) - 0.5) * 170.0 * kDeg, phi = (2.0 * u(rng) - 1.0) * kPi;
       const double td = 0.5 * (to - ti);
@@ -121,7 +121,7 @@ void chi_square_case(const Case& c, unsigned seed) {
   const TableSet& set = default_tables();
   const int lobes = static_cast<int>(lobe_names(set).size());
   for (int p = -1; p < lobes; ++p) {
-    const sampler::Fibre f = grey_fibre(c.beta, 0.0);
+    const sampler::Fiber f = grey_fiber(c.beta, 0.0);
     const OneGroup g = group_runtime(set, "", p);
     double integral = 0.0;
     const double pvalue = chi_square(g.runtime(), f, c.theta_o, 200000, seed + static_cast<unsigned>(p + 1), &integral);
@@ -148,7 +148,7 @@ namespace {
 // The furnace of the physics the tables stand for at held θo, ∫ S dω = Σ_p ∫ M_p(θi, θo) cos θi
 // e_p(θd) dθi with d'Eon's M_p (the lobe's tilt and β) and the exact lobe energies e_p = ∫ N_p dφ
 // (adaptive reference): no table involved. With every lobe untilted it is 1 at σa = 0; tilts move
-// each lobe's M_p, and e_p depends on θd, so a tilted white fibre's furnace differs from 1.
+// each lobe's M_p, and e_p depends on θd, so a tilted white fiber's furnace differs from 1.
 double physics_furnace(const TableSet& set, const std::string& group, double beta, double theta_o, double sigma_a) {
   const double eta = set.metadata.at("eta").get<double>();
   const AbsorptionPath path = parse_absorption_path(set.metadata.at("absorption_path").get<std::string>());
@@ -185,7 +185,7 @@ double physics_furnace(const TableSet& set, const std::string& group, double bet
 // samples); and the tables' furnace must be the physics' within the M_p energy tolerance their
 // config declares (the N_p shapes integrate to 1 and the energies are exact at the nodes; the M_p
 // tables carry the error the validator bounds).
-void furnace_case(const TableSet& set, const std::string& group, const sampler::Fibre& f, double theta_o, double tolerance, unsigned seed,
+void furnace_case(const TableSet& set, const std::string& group, const sampler::Fiber& f, double theta_o, double tolerance, unsigned seed,
                   bool mixture) {
   const int lobes = static_cast<int>(lobe_names(set).size());
   const double physics = mixture ? physics_furnace(set, group, f.beta_m, theta_o, f.sigma_a[0]) : 0.0;
@@ -213,32 +213,32 @@ double energy_tolerance(const TableSet& set) {
 TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[0];
-  furnace_case(set, "", grey_fibre(c.beta, 0.0), c.theta_o, energy_tolerance(set), 1000, true);
+  furnace_case(set, "", grey_fiber(c.beta, 0.0), c.theta_o, energy_tolerance(set), 1000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, narrow roughness, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[0];
-  furnace_case(set, "", grey_fibre(c.beta, 0.0), c.theta_o, energy_tolerance(set), 1000, false);
+  furnace_case(set, "", grey_fiber(c.beta, 0.0), c.theta_o, energy_tolerance(set), 1000, false);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[1];
-  furnace_case(set, "", grey_fibre(c.beta, 0.0), c.theta_o, energy_tolerance(set), 2000, true);
+  furnace_case(set, "", grey_fiber(c.beta, 0.0), c.theta_o, energy_tolerance(set), 2000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, wide roughness, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[1];
-  furnace_case(set, "", grey_fibre(c.beta, 0.0), c.theta_o, energy_tolerance(set), 2000, false);
+  furnace_case(set, "", grey_fiber(c.beta, 0.0), c.theta_o, energy_tolerance(set), 2000, false);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, all lobes", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[2];
-  furnace_case(set, "", grey_fibre(c.beta, 0.0), c.theta_o, energy_tolerance(set), 3000, true);
+  furnace_case(set, "", grey_fiber(c.beta, 0.0), c.theta_o, energy_tolerance(set), 3000, true);
 }
 TEST_CASE("Sampling: white furnace through sampling, default tables, grazing incidence, each lobe", "[sampling]") {
   const TableSet& set = default_tables();
   const Case& c = kGenericCases[2];
-  furnace_case(set, "", grey_fibre(c.beta, 0.0), c.theta_o, energy_tolerance(set), 3000, false);
+  furnace_case(set, "", grey_fiber(c.beta, 0.0), c.theta_o, energy_tolerance(set), 3000, false);
 }
 
 namespace {
@@ -249,7 +249,7 @@ void material_chi_square(const char* material, unsigned seed) {
   int tests = 0;
   for (const Case& c : kMaterialCases)
     for (int p = -1; p < lobes; ++p) {
-      const sampler::Fibre f;  // the material's tables fix σa and β
+      const sampler::Fiber f;  // the material's tables fix σa and β
       const OneGroup g = group_runtime(set, group, p);
       double integral = 0.0;
       const double pvalue = chi_square(g.runtime(), f, c.theta_o, 100000, seed + static_cast<unsigned>(tests), &integral);
@@ -270,7 +270,7 @@ namespace {
 void white_material_furnace(const Case& c, unsigned seed) {
   const TableSet& set = material_tables();
   CHECK(std::fabs(physics_furnace(set, "materials/white", 0.0, c.theta_o, 0.0) - 1.0) <= 1e-9);
-  furnace_case(set, "materials/white", sampler::Fibre{}, c.theta_o, energy_tolerance(set), seed, true);
+  furnace_case(set, "materials/white", sampler::Fiber{}, c.theta_o, energy_tolerance(set), seed, true);
 }
 }  // namespace
 
@@ -283,5 +283,5 @@ TEST_CASE("Sampling: per-material tables, white furnace through sampling, grazin
 
 TEST_CASE("Sampling: per-material tables, each lobe's furnace through sampling", "[sampling]") {
   const TableSet& set = material_tables();
-  for (const Case& c : kMaterialCases) furnace_case(set, "materials/white", sampler::Fibre{}, c.theta_o, energy_tolerance(set), 5000, false);
+  for (const Case& c : kMaterialCases) furnace_case(set, "materials/white", sampler::Fiber{}, c.theta_o, energy_tolerance(set), 5000, false);
 }

@@ -157,7 +157,7 @@ TEST_CASE("Sampling: the mixture fast path on linear tables, pdf against quadrat
       const Table& energy = *set.find(set.find("np/" + lin.names[static_cast<std::size_t>(p)])->factor());
       for (int k = 0; k < 20; ++k) {
         const double beta = std::exp(std::log(4.5 * kDeg) + u(rng) * std::log(40.0 / 4.5)), sigma_a = 4.0 * u(rng) * u(rng);
-        const sampler::Fibre f = grey_fibre(beta, sigma_a);
+        const sampler::Fiber f = grey_fiber(beta, sigma_a);
         const double ti = (u(rng) - 0.5) * 170.0 * kDeg, to = (u(rng) - 0.5) * 170.0 * kDeg, phi = (2.0 * u(rng) - 1.0) * kPi;
         const double td = 0.5 * (to - ti);
         auto m_at = [&](double t) {
@@ -184,7 +184,7 @@ TEST_CASE("Sampling: the mixture fast path on linear tables, pdf against quadrat
     // Chi-square and ∫ pdf = 1 of the mixture of all lobes at wide and narrow roughness, and a
     // furnace through sampling against quadrature of eval.
     for (const Case& c : {kGenericCases[0], kGenericCases[1]}) {
-      const sampler::Fibre f = grey_fibre(c.beta, 0.5);
+      const sampler::Fiber f = grey_fiber(c.beta, 0.5);
       double integral = 0.0;
       const double pvalue = chi_square(all, f, c.theta_o, 200000, 700 + static_cast<unsigned>(cubic_sampled), &integral);
       const Quadrature exact = quadrature_energy(set, "", all, f, c.theta_o);

@@ -118,7 +118,7 @@ void check_clamp_bounds(const TableSet& set, unsigned seed) {
 // Chi-square fit, ∫ pdf = 1 and the furnace against quadrature of eval, for the mixture of all
 // lobes and for each explicit lobe alone, through the runtime reading the stored data (generic
 // tables: the N_p tables' data along φ; the runtime lays M_p out along θi and computes those).
-void stored_sampler_fits(const TableSet& set, const std::string& group, const sampler::Fibre& f, double theta_o, int fits, unsigned seed) {
+void stored_sampler_fits(const TableSet& set, const std::string& group, const sampler::Fiber& f, double theta_o, int fits, unsigned seed) {
   if (group.empty())
     for (const std::string& lobe : lobe_names(set)) REQUIRE(stored_sampling_data(set, *set.find("np/" + lobe)).cdf);
   const int lobes = static_cast<int>(lobe_names(set).size());
@@ -171,7 +171,7 @@ TEST_CASE("Sampling data: the sampler reads stored data or computes them, with t
     REQUIRE(stored.runtime().valid());
     INFO("lobe " << stored.lobe);
     for (int k = 0; k < 200; ++k) {
-      const sampler::Fibre f = grey_fibre((4.5 + 40.0 * u(rng)) * kDeg, 3.0 * u(rng));
+      const sampler::Fiber f = grey_fiber((4.5 + 40.0 * u(rng)) * kDeg, 3.0 * u(rng));
       const Held wo((u(rng) - 0.5) * 170.0 * kDeg);
       const double v[3] = {u(rng), u(rng), u(rng)};
       const sampler::ScatteringSample r1 = stored.runtime().sample(f, wo.wo, v), r2 = computed.runtime().sample(f, wo.wo, v);
@@ -217,7 +217,7 @@ TEST_CASE("Sampling data: the clamp bounds' blocks give the same data in any ord
 TEST_CASE("Sampling data: stored data, chi-square and furnace of every lobe, per-material tables", "[sampling]") {
   for (const char* material : {"blonde", "white"})
     for (const Case& c : kMaterialCases)
-      stored_sampler_fits(material_tables(), std::string("materials/") + material, sampler::Fibre{}, c.theta_o, 20, 960);
+      stored_sampler_fits(material_tables(), std::string("materials/") + material, sampler::Fiber{}, c.theta_o, 20, 960);
 }
 TEST_CASE("Sampling data: an altered stored value is reported", "[sampling]") {
   TableSet set = material_tables();

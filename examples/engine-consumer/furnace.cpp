@@ -1,4 +1,4 @@
-// A path-traced white furnace through hairlut's renderer runtime: a fibre lit by a uniform
+// A path-traced white furnace through hairlut's renderer runtime: a fiber lit by a uniform
 // environment of radiance 1, seen from several directions wo. Each path combines the two
 // strategies a path tracer has, by the balance heuristic: a direction drawn by the hair
 // (HairScattering::sample, weight S / pdf) and one drawn uniformly on the sphere (the
@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
     const double ce = argc > 2 ? std::atof(argv[2]) : 0.0, cp = argc > 2 ? std::atof(argv[3]) : 0.0;
     const double bm = (argc > 2 ? std::atof(argv[4]) : 10.0) * deg, bn = (argc > 2 ? std::atof(argv[5]) : 10.0) * deg;
     const long paths = argc > 6 ? std::atol(argv[6]) : 100000;
-    const hairlut::sampler::Fibre fibre = hairlut::fibre_from_melanin(ce, cp, bm, bn);
+    const hairlut::sampler::Fiber fiber = hairlut::fiber_from_melanin(ce, cp, bm, bn);
     std::mt19937_64 rng(1);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     std::printf("theta_o   albedo()    MIS estimate (R G B)             hair sampling only   uniform only\n");
@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
       for (long i = 0; i < paths; ++i) {
         // Strategy 1: the hair's own sample.
         const double u[3] = {uniform(rng), uniform(rng), uniform(rng)};
-        const hairlut::sampler::ScatteringSample s = hair.sample(fibre, wo, u);
+        const hairlut::sampler::ScatteringSample s = hair.sample(fiber, wo, u);
         const double sphere_pdf = 1.0 / (4.0 * pi);
         if (s.pdf > 0.0) {
           const double w = s.pdf / (s.pdf + sphere_pdf);
@@ -47,12 +47,12 @@ int main(int argc, char** argv) {
         const double z = 1.0 - 2.0 * uniform(rng), r = std::sqrt(std::max(0.0, 1.0 - z * z)), a = 2.0 * pi * uniform(rng);
         const double wi[3] = {z, r * std::cos(a), r * std::sin(a)};
         double f[3];
-        hair.eval(fibre, wo, wi, f);
-        const double p = hair.pdf(fibre, wo, wi), w = sphere_pdf / (p + sphere_pdf);
+        hair.eval(fiber, wo, wi, f);
+        const double p = hair.pdf(fiber, wo, wi), w = sphere_pdf / (p + sphere_pdf);
         for (int c = 0; c < 3; ++c) mis[c] += w * f[c] / sphere_pdf;
         by_sphere += f[1] / sphere_pdf;
       }
-      std::printf("%6.1f    %.5f    %.5f %.5f %.5f          %.5f              %.5f\n", theta_o, hair.albedo(fibre, wo), mis[0] / paths,
+      std::printf("%6.1f    %.5f    %.5f %.5f %.5f          %.5f              %.5f\n", theta_o, hair.albedo(fiber, wo), mis[0] / paths,
                   mis[1] / paths, mis[2] / paths, by_hair / paths, by_sphere / paths);
     }
     return 0;

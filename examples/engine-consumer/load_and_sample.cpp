@@ -1,4 +1,4 @@
-// Loads a baked table set and samples one fibre the way a path tracer does: a direction drawn
+// Loads a baked table set and samples one fiber the way a path tracer does: a direction drawn
 // in proportion to S, its weight S / pdf, S itself and the pdf for multiple importance sampling.
 //
 //   load-and-sample [FILE]   (default: tables/default/hairlut-default.h5)
@@ -11,14 +11,14 @@ int main(int argc, char** argv) {
   const auto hair = hairlut::hair_scattering<float>(set);  // once per table set; const, shared by threads
 
   // RGB absorption from melanin (eumelanin 0.8, pheomelanin 0.2), beta_m and beta_n in radians.
-  const hairlut::sampler::Fibre fibre = hairlut::fibre_from_melanin(0.8, 0.2, 0.2, 0.2);
+  const hairlut::sampler::Fiber fiber = hairlut::fiber_from_melanin(0.8, 0.2, 0.2, 0.2);
 
-  const double wo[3] = {0.3, 0.9539392014169456, 0.0};  // unit vector towards the viewer, fibre frame
+  const double wo[3] = {0.3, 0.9539392014169456, 0.0};  // unit vector towards the viewer, fiber frame
   const double u[3] = {0.5, 0.25, 0.75};                // three uniform numbers in [0, 1)
-  const hairlut::sampler::ScatteringSample s = hair.sample(fibre, wo, u);
+  const hairlut::sampler::ScatteringSample s = hair.sample(fiber, wo, u);
   double f[3];
-  hair.eval(fibre, wo, s.wi, f);                 // S(wo, wi) per channel [1/sr]
-  const double pdf = hair.pdf(fibre, wo, s.wi);  // the density sample() drew from (for MIS)
+  hair.eval(fiber, wo, s.wi, f);                 // S(wo, wi) per channel [1/sr]
+  const double pdf = hair.pdf(fiber, wo, s.wi);  // the density sample() drew from (for MIS)
   std::printf("wi (%.3f %.3f %.3f): weight %.4f %.4f %.4f = S / pdf, pdf %.4f = %.4f, S %.4f %.4f %.4f\n", s.wi[0], s.wi[1],
               s.wi[2], s.weight[0], s.weight[1], s.weight[2], s.pdf, pdf, f[0], f[1], f[2]);
   return s.pdf > 0.0 ? 0 : 1;

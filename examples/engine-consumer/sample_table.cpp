@@ -1,5 +1,5 @@
 // Loads a baked hairlut table set and looks up the N_p table of one lobe at physical arguments
-// through the typed views (built once from the file's metadata), then S of a fibre from all the
+// through the typed views (built once from the file's metadata), then S of a fiber from all the
 // tables through the renderer runtime (HairScattering), as an engine's asset importer and shading
 // code would.
 //
@@ -29,14 +29,14 @@ int main(int argc, char** argv) {
     const double value = tables.np[p](beta, sigma_a, theta_d, phi);
     std::printf("hairlut %s: np/%s(theta_d=%s deg, sigma_a=%s, beta=%s deg, phi=%s deg) = %.9g 1/rad\n", hairlut::kVersion, argv[2], argv[3],
                 argv[4], argv[5], argv[6], value);
-    // S of a fibre with this σa in every channel and β for both roughnesses, at θi = −θd and the
+    // S of a fiber with this σa in every channel and β for both roughnesses, at θi = −θd and the
     // held direction θo (the tables' θr) = θd.
-    hairlut::sampler::Fibre fibre;
-    fibre.sigma_a[0] = fibre.sigma_a[1] = fibre.sigma_a[2] = sigma_a;
-    fibre.beta_m = fibre.beta_n = beta;
+    hairlut::sampler::Fiber fiber;
+    fiber.sigma_a[0] = fiber.sigma_a[1] = fiber.sigma_a[2] = sigma_a;
+    fiber.beta_m = fiber.beta_n = beta;
     const hairlut::sampler::HairScattering<float> runtime = hairlut::hair_scattering<float>(set);
     double rgb[3];
-    runtime.eval(fibre, theta_d, -theta_d, phi, rgb);
+    runtime.eval(fiber, theta_d, -theta_d, phi, rgb);
     std::printf("S(theta_i=%s deg, theta_r=%s deg, phi=%s deg) = %.9g (all lobes and the residual)\n", ("-" + std::string(argv[3])).c_str(),
                 argv[3], argv[6], rgb[0]);
     return std::isfinite(value) && std::isfinite(rgb[0]) ? 0 : 1;

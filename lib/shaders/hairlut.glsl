@@ -38,7 +38,7 @@
 //       which read the material's sampling rows from the float array HAIRLUT_ROWS (declared at
 //       (HAIRLUT_SET, HAIRLUT_BINDING + 2) unless the shader names its own).
 //
-// Directions are unit vectors in the fibre frame (x along the fibre, root to tip), wo the held one
+// Directions are unit vectors in the fiber frame (x along the fiber, root to tip), wo the held one
 // (towards the viewer), wi the sampled one (towards the light), as HairScattering::eval takes them;
 // angles [rad] θ = asin(w.x), φ = φo − φi. Arguments must be finite.
 #ifndef HAIRLUT_GLSL
@@ -162,7 +162,7 @@ vec3 hairlut_eval_located(HairlutMaterial m, float theta_o, float theta_i, float
 }
 
 // S per channel [1/sr] at θo (held), θi (sampled) and φ = φo − φi [rad], as
-// HairScattering::eval(fibre, theta_o, theta_i, phi, rgb).
+// HairScattering::eval(fiber, theta_o, theta_i, phi, rgb).
 vec3 hairlut_eval_angles(HairlutMaterial m, float theta_o, float theta_i, float phi) {
   float td = 0.5 * (theta_o - theta_i);
   float sd = sin(td);
@@ -172,8 +172,8 @@ vec3 hairlut_eval_angles(HairlutMaterial m, float theta_o, float theta_i, float 
   return hairlut_eval_located(m, theta_o, theta_i, x, f);
 }
 
-// S per channel [1/sr] for unit vectors wo, wi in the fibre frame, as HairScattering::eval(fibre,
-// wo, wi, rgb): θ from the component along the fibre, |φ| the angle between the projections on the
+// S per channel [1/sr] for unit vectors wo, wi in the fiber frame, as HairScattering::eval(fiber,
+// wo, wi, rgb): θ from the component along the fiber, |φ| the angle between the projections on the
 // normal plane, 1 − cos θd from the chord between (sin θo, cos θo) and (sin θi, cos θi).
 vec3 hairlut_eval(HairlutMaterial m, vec3 wo, vec3 wi) {
   float so = clamp(wo.x, -1.0, 1.0), si = clamp(wi.x, -1.0, 1.0);

@@ -19,7 +19,7 @@ struct HairlutPoint {
   int r;
   bool ok;
 };
-// A drawn direction: wi (unit, fibre frame), S / pdf per channel, the pdf per unit solid angle
+// A drawn direction: wi (unit, fiber frame), S / pdf per channel, the pdf per unit solid angle
 // (0: nothing drawn) and the lobe (the residual is the last).
 struct HairlutSample {
   vec3 wi, weight;
@@ -120,7 +120,7 @@ float hairlut_density(HairlutMaterial m, HairlutPoint pt, float theta_i, float c
   return q / ((pt.a0 + pt.a1) * cos_i) * (sbar / s_phi);  // sbar / s_phi first: both may be tiny, their product with q underflow
 }
 
-// The shading point seen from wo (unit, fibre frame), as HairScattering::at.
+// The shading point seen from wo (unit, fiber frame), as HairScattering::at.
 HairlutPoint hairlut_at(HairlutMaterial m, vec3 wo) {
   HairlutPoint pt;
   pt.sin_o = clamp(wo.x, -1.0, 1.0);

@@ -73,7 +73,7 @@ def _record_line(name, data):
 
 def _metadata(version):
     return (f"Metadata-Version: 2.1\nName: hairlut\nVersion: {version}\n"
-            "Summary: Hair-fibre scattering lookup tables: d'Eon 2011 M_p and N_p, baking, baked tables and the renderer runtime\n"
+            "Summary: Hair-fiber scattering lookup tables: d'Eon 2011 M_p and N_p, baking, baked tables and the renderer runtime\n"
             "License: Apache-2.0\nRequires-Python: >=3.9\nRequires-Dist: numpy\n")
 
 

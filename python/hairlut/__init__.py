@@ -21,11 +21,11 @@ from dataclasses import dataclass, field
 import numpy
 
 from . import _core
-from ._core import ConfigError, DomainError, Fibre, IoError
+from ._core import ConfigError, DomainError, Fiber, IoError
 
 __version__ = _core.version
 __all__ = ["longitudinal_mp", "azimuthal_np", "lobe_energies", "furnace", "dual_scattering", "bake", "load_tables",
-           "fibre_from_melanin", "Fibre", "Scattering", "Table", "TableSet", "ConfigError", "DomainError", "IoError", "__version__"]
+           "fiber_from_melanin", "Fiber", "Scattering", "Table", "TableSet", "ConfigError", "DomainError", "IoError", "__version__"]
 
 
 def _real(a, name):
@@ -193,25 +193,25 @@ class Table:
         return xarray.DataArray(self.values, dims=self.dims, coords=coords, name=self.path, attrs=attrs)
 
 
-def fibre_from_melanin(eumelanin, pheomelanin, beta_m, beta_n):
-    """A Fibre for the runtime: RGB sigma_a from d'Eon 2011's melanin model, roughness beta_m, beta_n [rad]."""
-    return _core.fibre_from_melanin(_scalar(eumelanin, "eumelanin"), _scalar(pheomelanin, "pheomelanin"), _scalar(beta_m, "beta_m"),
+def fiber_from_melanin(eumelanin, pheomelanin, beta_m, beta_n):
+    """A Fiber for the runtime: RGB sigma_a from d'Eon 2011's melanin model, roughness beta_m, beta_n [rad]."""
+    return _core.fiber_from_melanin(_scalar(eumelanin, "eumelanin"), _scalar(pheomelanin, "pheomelanin"), _scalar(beta_m, "beta_m"),
                                     _scalar(beta_n, "beta_n"))
 
 
 def _directions(w, name):
     a = numpy.ascontiguousarray(_real(w, name))
     if a.shape[-1:] != (3,):
-        raise DomainError(f"{name} must end in an axis of 3 (a unit vector in the fibre frame), got shape {a.shape}")
+        raise DomainError(f"{name} must end in an axis of 3 (a unit vector in the fiber frame), got shape {a.shape}")
     return a.shape[:-1], a.reshape(-1, 3)
 
 
 class Scattering:
     """The C++ renderer runtime (hairlut::sampler::HairScattering<float>) over baked tables.
 
-    Directions are unit vectors in the fibre frame (x along the fibre, root to tip), arrays of
-    shape (..., 3) that broadcast against each other; the fibre is a Fibre (fibre_from_melanin, or
-    Fibre(sigma_a=[r, g, b], beta_m=..., beta_n=...)). A NaN direction gives NaN (eval) or 0 (pdf).
+    Directions are unit vectors in the fiber frame (x along the fiber, root to tip), arrays of
+    shape (..., 3) that broadcast against each other; the fiber is a Fiber (fiber_from_melanin, or
+    Fiber(sigma_a=[r, g, b], beta_m=..., beta_n=...)). A NaN direction gives NaN (eval) or 0 (pdf).
     """
 
     def __init__(self, core, group):
@@ -225,26 +225,26 @@ class Scattering:
         full = [numpy.ascontiguousarray(numpy.broadcast_to(_real(w, n), shape + (3,))).reshape(-1, 3) for w, n in ((a, na), (b, nb))]
         return shape, full[0], full[1]
 
-    def eval(self, fibre, wo, wi):
+    def eval(self, fiber, wo, wi):
         """S(wo, wi) per RGB channel [1/sr], shape (..., 3)."""
         shape, a, b = self._pair(wo, wi, "wo", "wi")
-        return self._core.eval(fibre, a, b).reshape(shape + (3,))
+        return self._core.eval(fiber, a, b).reshape(shape + (3,))
 
-    def pdf(self, fibre, wo, wi):
+    def pdf(self, fiber, wo, wi):
         """The density per unit solid angle with which sample() draws wi at wo."""
         shape, a, b = self._pair(wo, wi, "wo", "wi")
-        return self._core.pdf(fibre, a, b).reshape(shape)
+        return self._core.pdf(fiber, a, b).reshape(shape)
 
-    def albedo(self, fibre, wo):
+    def albedo(self, fiber, wo):
         """The integral of S over directions at wo, averaged over the channels."""
         shape, a = _directions(wo, "wo")
-        return self._core.albedo(fibre, a).reshape(shape)
+        return self._core.albedo(fiber, a).reshape(shape)
 
-    def sample(self, fibre, wo, u):
+    def sample(self, fiber, wo, u):
         """A direction drawn in proportion to S at wo from three uniform numbers u in [0, 1): a dict of
         wi (..., 3), weight = S / pdf per channel (..., 3), pdf (...) and the lobe drawn (...)."""
         shape, a, b = self._pair(wo, u, "wo", "u")
-        r = self._core.sample(fibre, a, b)
+        r = self._core.sample(fiber, a, b)
         return {"wi": r["wi"].reshape(shape + (3,)), "weight": r["weight"].reshape(shape + (3,)), "pdf": r["pdf"].reshape(shape),
                 "lobe": r["lobe"].reshape(shape)}
 

@@ -116,7 +116,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // Query points a renderer could ask for (the file is the hostile part, not the query).
     constexpr double kPi = 3.14159265358979323846;
     for (; at + 40 <= size; at += 40) {
-      hairlut::sampler::Fibre f;
+      hairlut::sampler::Fiber f;
       f.beta_m = f.beta_n = 0.01 + 0.5 * unit(data + at);
       f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = 2.0 * unit(data + at + 8);
       const double theta_o = (unit(data + at + 16) - 0.5) * kPi, theta_i = (unit(data + at + 24) - 0.5) * kPi;

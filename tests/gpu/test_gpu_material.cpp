@@ -91,7 +91,7 @@ double uniform(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1
 
 // Σ_x |∂S/∂x| per channel at the angles (the C++ angle interface), x ∈ {θo, θi, φ}.
 void slopes(const HairScattering<float>& rt, double to, double ti, double phi, double* slope) {
-  const hairlut::sampler::Fibre f{};
+  const hairlut::sampler::Fiber f{};
   const double h = 1e-5;
   double s0[3];
   rt.eval(f, to, ti, phi, s0);
@@ -116,14 +116,14 @@ Points make_points(const std::vector<HairScattering<float>>& rts, std::size_t n,
     const std::size_t mat = i % materials;
     float a[4], b[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     double s[3], d[3] = {0.0, 0.0, 0.0};
-    const hairlut::sampler::Fibre f{};
+    const hairlut::sampler::Fiber f{};
     if (angles) {
       a[0] = static_cast<float>((uniform(g) - 0.5) * kPi), a[1] = static_cast<float>((uniform(g) - 0.5) * kPi);
       a[2] = static_cast<float>((uniform(g) - 0.5) * 4.0 * kPi);
       rts[mat].eval(f, a[0], a[1], a[2], s);
       slopes(rts[mat], a[0], a[1], a[2], d);
     } else {
-      // Uniform on the sphere, plus the frame's special pairs first: wi = wo, wi = −wo, along the fibre.
+      // Uniform on the sphere, plus the frame's special pairs first: wi = wo, wi = −wo, along the fiber.
       double w[2][3];
       for (auto& v : w) {
         const double z = 2.0 * uniform(g) - 1.0, ph = 2.0 * kPi * uniform(g), r = std::sqrt(std::max(0.0, 1.0 - z * z));
@@ -214,7 +214,7 @@ double pdf_tolerance(const HairScattering<float>& rt, const MaterialSampling& m,
   const double q = (1 - w) * (g0[0] + x * (g0[1] + x * g0[2])) + w * (g1[0] + x * (g1[1] + x * g1[2]));
   const double qa = (1 - w) * (std::fabs(g0[0]) + x * (std::fabs(g0[1]) + x * std::fabs(g0[2]))) +
                     w * (std::fabs(g1[0]) + x * (std::fabs(g1[1]) + x * std::fabs(g1[2])));
-  const hairlut::sampler::Fibre f{};
+  const hairlut::sampler::Fiber f{};
   auto at = [&](double a, double b, double c) {
     const double wo[3] = {std::sin(a), std::cos(a), 0.0};
     return rt.at(f, wo).pdf(b, c);
@@ -354,7 +354,7 @@ int main(int argc, char** argv) {
     // hairlut_pdf at the same (wo, wi) as the C++ runtime's pdf, then hairlut_sample: its pdf
     // against the C++ pdf at the direction it drew, and its direction against the C++ runtime's
     // draw from the same u (reported: float prefix masses may pick a neighbouring cell).
-    const hairlut::sampler::Fibre fibre{};
+    const hairlut::sampler::Fiber fiber{};
     std::memcpy(in.map, dirs.gpu.data(), dirs.gpu.size() * 4);
     vk.run(pipelines.at("sample"), np32, mp32, linear, ubo, in, out, rows, static_cast<std::uint32_t>(n), 0u);
     std::vector<float> res(n * 8);
@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
       const double wo[3] = {p[0], p[1], p[2]}, wi[3] = {p[4], p[5], p[6]};
       double to, ti, phi;
       angles_of(p, p + 4, to, ti, phi);
-      want.push_back(rts[mat].pdf(fibre, wo, wi)), got.push_back(res[i * 8]);
+      want.push_back(rts[mat].pdf(fiber, wo, wi)), got.push_back(res[i * 8]);
       tol.push_back(pdf_tolerance(rts[mat], sampling[mat], to, ti, phi, want.back()));
     }
     runs.push_back({"pdf, float32, explicit filter", "explicit", "float32", "directions", true, compare(want, got, tol, 1)});
@@ -387,7 +387,7 @@ int main(int argc, char** argv) {
       const float* r = &res[i * 8];
       const std::size_t mat = static_cast<std::size_t>(p[3]);
       const double wo[3] = {p[0], p[1], p[2]}, u[3] = {p[4], p[5], p[6]}, wi[3] = {r[0], r[1], r[2]};
-      const auto sp = rts[mat].at(fibre, wo);
+      const auto sp = rts[mat].at(fiber, wo);
       const hairlut::sampler::ScatteringSample cs = sp.sample(u);
       if ((r[3] > 0.0f) != (cs.pdf > 0.0)) ++drawn_mismatch;
       if (!(r[3] > 0.0f)) continue;

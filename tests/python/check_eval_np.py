@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """hairlut-eval np prints by default the value the baker would store, and says which method made
 each value. Checked against two independent evaluations: the adaptive reference (Gauss-Kronrod
-between detector breakpoints) and, for a nearly smooth fibre, the smooth-fibre limit by root
+between detector breakpoints) and, for a nearly smooth fiber, the smooth-fiber limit by root
 solving.
 
   - TT at beta = 0.72 deg around its peak (where 64-point Gauss-Legendre is far off): the default
     value within 1e-10 of the lobe peak of the adaptive reference (the baker promises 1e-12 of
     the peak; the rest is headroom for the reference's own error and rounding).
   - TT at beta = 1e-6 rad, phi = 180 deg: no table can be baked at that beta; the default says so
-    and prints the adaptive reference, which must match the smooth-fibre limit to 1e-9 relative
+    and prints the adaptive reference, which must match the smooth-fiber limit to 1e-9 relative
     (the detector of width 1e-6 changes N by O(beta^2)).
   - The fixed-order and the adaptive evaluations are reachable as options and named as such.
 """
@@ -54,11 +54,11 @@ if "cannot bake" not in d.get("note", "") or not d["method"].startswith("adaptiv
     failures.append(f"beta 1e-6 rad: method '{d['method']}', note '{d.get('note')}'")
 rel = abs(d["N"] - d["N_smooth_fiber"]) / d["N_smooth_fiber"]
 if not rel <= 1e-9:
-    failures.append(f"beta 1e-6 rad: N {d['N']!r} vs smooth-fibre limit {d['N_smooth_fiber']!r} (relative {rel:.3g})")
+    failures.append(f"beta 1e-6 rad: N {d['N']!r} vs smooth-fiber limit {d['N_smooth_fiber']!r} (relative {rel:.3g})")
 
 if failures:
     print("\n".join(failures))
     sys.exit(1)
 print(f"eval np ok: TT 0.72 deg default within {worst:.2g} of the peak of the adaptive reference "
       f"(64-point Gauss-Legendre at 180 deg: {gl['N']:.6g} vs {rows[-1][2]:.6g}); "
-      f"beta 1e-6 rad: {d['N']:.12g} vs smooth fibre {d['N_smooth_fiber']:.12g} (relative {rel:.2g})")
+      f"beta 1e-6 rad: {d['N']:.12g} vs smooth fiber {d['N_smooth_fiber']:.12g} (relative {rel:.2g})")

@@ -76,17 +76,17 @@ public = [
     ("theta_i", lambda: hairlut.dual_scattering(z, beta=0.2)),
     ("beta", lambda: hairlut.dual_scattering(0.3, beta=zs)),
     ("density_factor", lambda: hairlut.dual_scattering(0.3, beta=0.2, density_factor=zs)),
-    ("eumelanin", lambda: hairlut.fibre_from_melanin(zs, 0.2, 0.2, 0.2)),
-    ("beta_n", lambda: hairlut.fibre_from_melanin(0.8, 0.2, 0.2, zs)),
-    ("sigma_a", lambda: hairlut.Fibre(sigma_a=[zs, 0.2, 0.1], beta_m=0.2, beta_n=0.2)),
-    ("beta_m", lambda: hairlut.Fibre(sigma_a=[0.3, 0.2, 0.1], beta_m=zs, beta_n=0.2)),
-    ("tilt", lambda: hairlut.Fibre(sigma_a=[0.3, 0.2, 0.1], beta_m=0.2, beta_n=0.2, tilt=np.complex64(0.1 + 1j))),
+    ("eumelanin", lambda: hairlut.fiber_from_melanin(zs, 0.2, 0.2, 0.2)),
+    ("beta_n", lambda: hairlut.fiber_from_melanin(0.8, 0.2, 0.2, zs)),
+    ("sigma_a", lambda: hairlut.Fiber(sigma_a=[zs, 0.2, 0.1], beta_m=0.2, beta_n=0.2)),
+    ("beta_m", lambda: hairlut.Fiber(sigma_a=[0.3, 0.2, 0.1], beta_m=zs, beta_n=0.2)),
+    ("tilt", lambda: hairlut.Fiber(sigma_a=[0.3, 0.2, 0.1], beta_m=0.2, beta_n=0.2, tilt=np.complex64(0.1 + 1j))),
 ]
 tables = hairlut.load_tables(TABLE)
 hair = tables.scattering()
-fibre = hairlut.fibre_from_melanin(0.8, 0.2, 0.2, 0.2)
-public += [("wo", lambda: hair.eval(fibre, rows + 1e-3j, rows)), ("wi", lambda: hair.pdf(fibre, rows, rows + 1e-3j)),
-           ("u", lambda: hair.sample(fibre, rows, np.full((1, 3), 0.5 + 0.1j))),
+fiber = hairlut.fiber_from_melanin(0.8, 0.2, 0.2, 0.2)
+public += [("wo", lambda: hair.eval(fiber, rows + 1e-3j, rows)), ("wi", lambda: hair.pdf(fiber, rows, rows + 1e-3j)),
+           ("u", lambda: hair.sample(fiber, rows, np.full((1, 3), 0.5 + 0.1j))),
            ("theta_d", lambda: tables.sample("np/TT", beta=0.2, sigma_a=0.3, theta_d=z, phi=0.3))]
 before = len(failures)
 for name, f in public:

@@ -12,7 +12,7 @@ to NaN.
   physics (azimuthal_np, longitudinal_mp) at random points between the nodes: within twice the
   default tables' validate threshold accuracy_max_rel (1e-2; twice because N_p is stored as shape
   times energy, each interpolated), relative to the peak of the slice, as the validator measures.
-- TableSet.scattering (HairScattering<float>): for a white fibre every sample's weight S / pdf is
+- TableSet.scattering (HairScattering<float>): for a white fiber every sample's weight S / pdf is
   the albedo at wo up to the energy tables' interpolation (the default tables' accuracy_max_rel), weight x pdf is eval at the drawn direction, and pdf() gives
   the sample's pdf; the same over one material of a per-material bake, written and loaded back.
 """
@@ -95,34 +95,34 @@ check(mp_err <= 1e-2, f"mp/R read through TableSet.sample within 1e-2 of its pea
 check(np.isnan(tables.sample("mp/R", beta=rad(10), theta_i=np.nan, theta_r=0.0)), "TableSet.sample: NaN in, NaN out")
 
 
-def runtime_checks(hair, fibre, label, white):
+def runtime_checks(hair, fiber, label, white):
     wo = np.array([[0.3, 0.9539392014169456, 0.0], [-0.6, 0.0, 0.8], [0.05, -0.7, -0.7124], [0.9, 0.3, -0.316227766]])
     wo /= np.linalg.norm(wo, axis=1, keepdims=True)
     u = rng.random((len(wo), 200, 3))
-    s = hair.sample(fibre, wo[:, None, :], u)
+    s = hair.sample(fiber, wo[:, None, :], u)
     ok = s["pdf"] > 0
     check(ok.mean() > 0.9, f"{label}: samples drawn")
-    f = hair.eval(fibre, wo[:, None, :], s["wi"])
+    f = hair.eval(fiber, wo[:, None, :], s["wi"])
     check(np.allclose((s["weight"] * s["pdf"][..., None])[ok], f[ok], rtol=1e-5, atol=1e-12), f"{label}: weight x pdf = eval")
-    check(np.allclose(hair.pdf(fibre, wo[:, None, :], s["wi"])[ok], s["pdf"][ok], rtol=1e-5), f"{label}: pdf() = the sample's pdf")
+    check(np.allclose(hair.pdf(fiber, wo[:, None, :], s["wi"])[ok], s["pdf"][ok], rtol=1e-5), f"{label}: pdf() = the sample's pdf")
     if white:
         # Each weight is the albedo up to the linear interpolation of the lobe energies in the
         # theta_i density (hair_scattering.hpp, sampling stage 1), which the default tables'
         # accuracy_max_rel bounds: 1e-2.
-        albedo = hair.albedo(fibre, wo)
+        albedo = hair.albedo(fiber, wo)
         dev = np.max(np.abs(s["weight"][ok] - np.broadcast_to(albedo[:, None, None], s["weight"].shape)[ok]) / albedo.min())
         print(f"{label}: largest |weight - albedo| / albedo {dev:.3g}")
-        check(dev <= 1e-2, f"{label}: a white fibre's weights are its albedo at wo within the energy tables' accuracy (got {dev:.3g})")
-    check(np.isnan(hair.eval(fibre, [np.nan, 0.0, 1.0], wo[0])).all(), f"{label}: eval of a NaN direction is NaN")
+        check(dev <= 1e-2, f"{label}: a white fiber's weights are its albedo at wo within the energy tables' accuracy (got {dev:.3g})")
+    check(np.isnan(hair.eval(fiber, [np.nan, 0.0, 1.0], wo[0])).all(), f"{label}: eval of a NaN direction is NaN")
     print(f"{label}: {ok.sum()} samples checked")
 
 
 hair = tables.scattering()
-runtime_checks(hair, hairlut.Fibre(sigma_a=[0.0, 0.0, 0.0], beta_m=0.2, beta_n=0.25), "generic tables, white fibre", True)
-runtime_checks(hair, hairlut.fibre_from_melanin(0.8, 0.2, beta_m=0.2, beta_n=0.2), "generic tables, brown fibre", False)
+runtime_checks(hair, hairlut.Fiber(sigma_a=[0.0, 0.0, 0.0], beta_m=0.2, beta_n=0.25), "generic tables, white fiber", True)
+runtime_checks(hair, hairlut.fiber_from_melanin(0.8, 0.2, beta_m=0.2, beta_n=0.2), "generic tables, brown fiber", False)
 show = hairlut.bake(show_config, write=True, output_dir=work / "show")
 material = [p for p in show if p.startswith("materials/")][0].split("/")[1]
-runtime_checks(show.scattering(material), hairlut.Fibre(sigma_a=[0.0, 0.0, 0.0], beta_m=0.1, beta_n=0.1), f"material {material}", False)
+runtime_checks(show.scattering(material), hairlut.Fiber(sigma_a=[0.0, 0.0, 0.0], beta_m=0.1, beta_n=0.1), f"material {material}", False)
 
 if failures:
     print(f"{len(failures)} checks failed")

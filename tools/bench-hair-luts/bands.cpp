@@ -16,7 +16,7 @@
 #include <hairlut/bake/sampled_error.hpp>
 #include <hairlut/bake/table_truth.hpp>
 #include <hairlut/tables/beta_bands.hpp>
-#include <hairlut/sampler/sampler_fibre.hpp>
+#include <hairlut/sampler/sampler_fiber.hpp>
 #include <hairlut/sampler/sampler_fixed.hpp>
 
 #include <cmath>

@@ -133,7 +133,7 @@ json time_table(const std::string& kind, const std::string& size, const std::vec
           {"ns_generic_tableview", t_generic}};
 }
 
-// Directions uniform on the sphere (pbrt's hair frame: x along the fibre).
+// Directions uniform on the sphere (pbrt's hair frame: x along the fiber).
 std::vector<PbrtVec3> directions(std::size_t n, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -170,7 +170,7 @@ json bench_lookup(const Settings& st) {
       ratios["4D " + size + " " + interp + " / linear (double)"] =
           find("4D N_p axes", size, interp)["ns_double"].get<double>() / find("4D N_p axes", size, "linear")["ns_double"].get<double>();
 
-  // The shipped default tables: the typed N_p view and S of a fibre against pbrt-v4.
+  // The shipped default tables: the typed N_p view and S of a fiber against pbrt-v4.
   const std::string file = st.source_dir + "/tables/default/hairlut-default.h5";
   const TableSet set = load_tables(file);
   const auto hd = hair_tables<float, double>(set);
@@ -194,10 +194,10 @@ json bench_lookup(const Settings& st) {
     sink = acc;
   });
 
-  // S per RGB: the pbrt section's fibre (eumelanin 0.8, pheomelanin 0.2), β_m = β_n = 0.3 in
-  // pbrt's units; the tables' fibre takes β 10° (M_p) and 12° (N_p), within the tables' range. The
-  // runtime is built once per table set (no per-fibre setup).
-  const sampler::Fibre fibre = fibre_from_melanin(0.8, 0.2, radians(10.0), radians(12.0));
+  // S per RGB: the pbrt section's fiber (eumelanin 0.8, pheomelanin 0.2), β_m = β_n = 0.3 in
+  // pbrt's units; the tables' fiber takes β 10° (M_p) and 12° (N_p), within the tables' range. The
+  // runtime is built once per table set (no per-fiber setup).
+  const sampler::Fiber fiber = fiber_from_melanin(0.8, 0.2, radians(10.0), radians(12.0));
   double t_build = 0.0;
   {
     const double t0 = thread_cpu_seconds();
@@ -228,7 +228,7 @@ json bench_lookup(const Settings& st) {
     t_vectors = std::min(t_vectors, best_ns(n, 1, [&] {
                            double acc = 0.0, rgb[3];
                            for (std::size_t i = 0; i < n; ++i) {
-                             rt.eval(fibre, &vo[3 * i], &vi[3 * i], rgb);  // the angles, then the lookups
+                             rt.eval(fiber, &vo[3 * i], &vi[3 * i], rgb);  // the angles, then the lookups
                              acc += rgb[1];
                            }
                            sink = acc;
@@ -236,7 +236,7 @@ json bench_lookup(const Settings& st) {
     t_angles = std::min(t_angles, best_ns(n, 1, [&] {
                           double acc = 0.0, rgb[3];
                           for (std::size_t i = 0; i < n; ++i) {
-                            rt.eval(fibre, angles[3 * i], angles[3 * i + 1], angles[3 * i + 2], rgb);
+                            rt.eval(fiber, angles[3 * i], angles[3 * i + 1], angles[3 * i + 2], rgb);
                             acc += rgb[1];
                           }
                           sink = acc;
@@ -244,7 +244,7 @@ json bench_lookup(const Settings& st) {
   }
   (void)sink;
   json s = {{"tables", "tables/default/hairlut-default.h5: R, TT, TRT, TRRT and the residual (N_p shape x energy, M_p), RGB"},
-            {"fibre", "eumelanin 0.8, pheomelanin 0.2 (d'Eon RGB sigma_a), beta_m 10 deg, beta_n 12 deg"},
+            {"fiber", "eumelanin 0.8, pheomelanin 0.2 (d'Eon RGB sigma_a), beta_m 10 deg, beta_n 12 deg"},
             {"pbrt", "pbrt_hair.cpp: pbrt-v4 HairBxDF::f re-implemented (mmp/pbrt-v4 5f7a606), beta_m = beta_n = 0.3, h = 0.3, 4 spectral samples"},
             {"runtime", "HairScattering<float>::eval (float32 tables, double arithmetic), built once per table set"},
             {"directions", std::to_string(n) + " pairs uniform on the sphere, the same for both"},
@@ -257,7 +257,7 @@ json bench_lookup(const Settings& st) {
   json result = {{"machine", st.machine},
                  {"load_average_before", load_before},
                  {"load_average_after", load_after},
-                 {"code", "lib/include/hairlut/sampler/sampler_fixed.hpp (FixedView), sampler.hpp (TableView), sampler_fibre.hpp (NpLobe), "
+                 {"code", "lib/include/hairlut/sampler/sampler_fixed.hpp (FixedView), sampler.hpp (TableView), sampler_fiber.hpp (NpLobe), "
                           "hair_scattering.hpp (HairScattering), tools/bench-hair-luts/lookup.cpp"},
                  {"timing", "thread CPU time, best of repeats, one thread; values stored as float32"},
                  {"lookups", rows},
@@ -284,7 +284,7 @@ json bench_lookup(const Settings& st) {
      << "| pbrt-v4 HairBxDF::f (re-implementation, 4 spectral samples) | " << fmt(t_pbrt) << " |\n"
      << "| HairScattering<float>::eval(f, wo, wi), from direction vectors | " << fmt(t_vectors) << " (" << fmt(t_pbrt / t_vectors) << "x faster) |\n"
      << "| HairScattering<float>::eval(f, θo, θi, φ), from angles | " << fmt(t_angles) << " |\n"
-     << "\nThe runtime reads the float32 tables in double arithmetic through the typed views, with no per-fibre setup; building it\n"
+     << "\nThe runtime reads the float32 tables in double arithmetic through the typed views, with no per-fiber setup; building it\n"
      << "over the loaded table set (once per set) took " << fmt(t_build) << " ms.\n";
   write_file(st, "lookup.json", result.dump(2) + "\n");
   write_file(st, "lookup.csv", csv.str());

@@ -23,9 +23,9 @@ class PbrtHair {
  public:
   static constexpr int kPMax = 3, kSamples = 4;
   using Spectrum = std::array<float, kSamples>;
-  /// h ∈ [−1, 1] offset across the fibre, η, σa per spectral sample, β_m, β_n ∈ [0, 1], α in degrees.
+  /// h ∈ [−1, 1] offset across the fiber, η, σa per spectral sample, β_m, β_n ∈ [0, 1], α in degrees.
   PbrtHair(float h, float eta, const Spectrum& sigma_a, float beta_m, float beta_n, float alpha_deg);
-  /// f(wo, wi) in pbrt's hair frame (x along the fibre), divided by |cos θ| of wi as there.
+  /// f(wo, wi) in pbrt's hair frame (x along the fiber), divided by |cos θ| of wi as there.
   Spectrum f(PbrtVec3 wo, PbrtVec3 wi) const;
   /// Sample_f: the lobe by A_p at θo (uc, remapped for φ), θi by inverting M_p (u0, u1), φ by the
   /// trimmed logistic; the pdf summed over the lobes and f at the drawn direction, as there.

@@ -13,7 +13,7 @@
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/physics/azimuthal_fourier.hpp>
-#include <hairlut/physics/fibre_geometry.hpp>
+#include <hairlut/physics/fiber_geometry.hpp>
 #include <hairlut/sampler/fourier_np.hpp>
 #include <hairlut/sampler/sampler_fixed.hpp>
 #include <hairlut/tables/fourier_tables.hpp>
@@ -50,7 +50,7 @@ std::map<std::string, ErrorStats> truncation_errors(const NpPoints& pts, double 
   std::vector<double> C;
   return np_errors(pts, [&, key = std::vector<double>{-1.0, -1.0, -1.0}](int p, const std::vector<double>& x) mutable {
     if (key[0] != p || key[1] != x[1] || key[2] != x[2]) {  // the points of a lobe come in slabs of one (σa, θd)
-      const FibreGeometry g = FibreGeometry::make(eta, x[2]);
+      const FiberGeometry g = FiberGeometry::make(eta, x[2]);
       fourier_coefficients(g, AbsorptionPath::chord, p, std::span<const double>(&x[1], 1), N, rules.get(fourier_nodes(N, p, g, 1e-12)), C);
       key = {static_cast<double>(p), x[1], x[2]};
     }
@@ -184,7 +184,7 @@ std::vector<FourierCase> fourier_cases(bool quick) {
                  double tolerance, bool compare, const std::string& spacing = "cos") {
     cases.push_back({rep, label, theta, sigma, ti, si, spacing, tolerance, compare});
   };
-  // θd carries the error (the C_n oscillate along θd as the caustics and the fibre's edge move, the
+  // θd carries the error (the C_n oscillate along θd as the caustics and the fiber's edge move, the
   // faster the higher n); σa needs few nodes once the absorption at the edge is factored out.
   if (quick) {
     add("fourier-cubic", "Fourier C_n/F, cubic theta_d and sigma_a", 128, "cubic", 16, "cubic", 1e-3, true);

@@ -6,7 +6,7 @@
 // axes), the table read exactly as a renderer reads it (TableSet::sample_value: each axis's
 // interpolation, the energy factor of a normalized table) against direct evaluation (the Fourier
 // method at 1e-12, independent of the table's nodes), relative to the peak over φ of the true
-// slice at the same (β, σa, θd), floored at 1e-3 of the white fibre's (σa = 0) peak at the same
+// slice at the same (β, σa, θd), floored at 1e-3 of the white fiber's (σa = 0) peak at the same
 // (β, θd) (docs/conventions.md, "Error as a renderer sees it"). M_p: relative to the peak over θr
 // at the same (β, θi).
 // Cost: ns per lookup through sampler::FixedView (sampler_fixed.hpp: axis mappings prepared once,
@@ -316,7 +316,7 @@ json bench_representations(bool quick, bool quiet) {
       {"shape-cubic", "shape N_p/E_p + cubic", 16, 24, 64, 128},
   };
   if (quick) generic = {generic[1], generic[2], generic[3]};
-  // Engine budgets: N_p of a white fibre (unit attenuation) over (β, θd, φ) at HDRP's 64³.
+  // Engine budgets: N_p of a white fiber (unit attenuation) over (β, θd, φ) at HDRP's 64³.
   // The same budget (262 144 entries) split evenly, then allocated where the error is: few β
   // nodes (smooth in log β), many θd and φ nodes (the caustics move with θd and narrow with β).
   std::vector<NpCase> engine = {{"uniform-multilinear", "uniform multilinear 64^3", 64, 1, 64, 64},
@@ -397,7 +397,7 @@ void write_representations(const json& rows, const json& machine, const std::str
                "random points over every axis's declared range (log-uniform on log axes); table read as a renderer reads it "
                "(each axis's interpolation, the energy factor of a normalized table); reference: direct evaluation (Fourier "
                "method, 1e-12); N_p error relative to the peak over phi of the true slice at the same (beta, sigma_a, theta_d), "
-               "floored at 1e-3 of the white fibre's peak at the same (beta, theta_d); M_p relative to the peak over theta_r at "
+               "floored at 1e-3 of the white fiber's peak at the same (beta, theta_d); M_p relative to the peak over theta_r at "
                "the same (beta, theta_i)"},
               {"rows", rows}};
   std::ofstream(out_dir + "/representations.json") << doc.dump(2) << "\n";

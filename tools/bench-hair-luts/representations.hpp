@@ -34,7 +34,7 @@ double draw(const hairlut::GridAxis& a, std::mt19937_64& rng);
 /// The random points of the generic N_p measure over axes (beta, sigma_a, theta_d, phi): per slab
 /// a random (σa, θd), 4 random β and 16 random φ; per lobe (index p of `lobes`) each point
 /// x = (β, σa, θd, φ), its exact N_p (Fourier method at 1e−12) and its denominator (the peak over φ
-/// of the same slice on 721 φ, floored at 1e−3 of the white fibre's peak).
+/// of the same slice on 721 φ, floored at 1e−3 of the white fiber's peak).
 struct NpPoints {
   std::vector<std::string> lobes;
   std::vector<std::vector<std::vector<double>>> x;

@@ -3,7 +3,7 @@
 // the same directions and random numbers, for both kinds of tables a renderer loads: the shipped
 // generic default tables (σa and β per call), the 1e-3 set's Fourier N_p (tables/configs/generic-1e-3.json,
 // with the default config's M_p and tilts), and the tables of one material (σa and β baked); and
-// the per-sample weight S / pdf of a white fibre (σa = 0), the quantity pbrt-v4's SamplingWeights
+// the per-sample weight S / pdf of a white fiber (σa = 0), the quantity pbrt-v4's SamplingWeights
 // test bounds.
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
@@ -45,7 +45,7 @@ std::vector<Point> points(std::size_t n, int hs) {
 double beta_m_of(double b) { return 0.726 * b + 0.812 * b * b + 3.7 * std::pow(b, 20); }
 double beta_n_of(double b) { return kPiD / std::sqrt(3.0) * std::sqrt(kPiD / 8.0) * (0.265 * b + 1.194 * b * b + 5.372 * std::pow(b, 22)); }
 
-// The shipped per-show example config reduced to one material, pbrt's fibre: its σa, and per lobe
+// The shipped per-show example config reduced to one material, pbrt's fiber: its σa, and per lobe
 // pbrt's longitudinal deviations (R β_m, TT β_m / 2, TRT and beyond 2 β_m) with β_n; the default
 // tables' tilts. The axes are pinned to those of docs/bench/runtime.md's figures, so that a rerun
 // measures the same tables whatever resolution the shipped config settles on.
@@ -89,40 +89,40 @@ struct Costs {
   double sample = 0.0, pdf = 0.0, eval = 0.0, point = 0.0;
 };
 // The four costs of one runtime at the points; pdf and eval at its own drawn directions.
-Costs time_runtime(const Runtime& rt, const hairlut::sampler::Fibre& fibre, const std::vector<Point>& pts, int repeats) {
+Costs time_runtime(const Runtime& rt, const hairlut::sampler::Fiber& fiber, const std::vector<Point>& pts, int repeats) {
   const std::size_t n = pts.size();
   std::vector<std::array<double, 3>> wi(n);
   for (std::size_t i = 0; i < n; ++i) {
     wi[i] = {0.0, 1.0, 0.0};
-    const auto s = rt.sample(fibre, pts[i].wo, pts[i].u);
+    const auto s = rt.sample(fiber, pts[i].wo, pts[i].u);
     if (s.pdf > 0.0) wi[i] = {s.wi[0], s.wi[1], s.wi[2]};
   }
   volatile double sink = 0.0;
   Costs c;
   c.sample = best_ns(n, repeats, [&] {
     double acc = 0.0;
-    for (const Point& p : pts) acc += rt.sample(fibre, p.wo, p.u).pdf;
+    for (const Point& p : pts) acc += rt.sample(fiber, p.wo, p.u).pdf;
     sink = acc;
   });
   c.pdf = best_ns(n, repeats, [&] {
     double acc = 0.0;
-    for (std::size_t i = 0; i < n; ++i) acc += rt.pdf(fibre, pts[i].wo, wi[i].data());
+    for (std::size_t i = 0; i < n; ++i) acc += rt.pdf(fiber, pts[i].wo, wi[i].data());
     sink = acc;
   });
   c.eval = best_ns(n, repeats, [&] {
     double acc = 0.0, rgb[3];
     for (std::size_t i = 0; i < n; ++i) {
-      rt.eval(fibre, pts[i].wo, wi[i].data(), rgb);
+      rt.eval(fiber, pts[i].wo, wi[i].data(), rgb);
       acc += rgb[0];
     }
     sink = acc;
   });
-  // One shading point as a path tracer visits it: the BSDF built for (fibre, wo), one sample drawn,
+  // One shading point as a path tracer visits it: the BSDF built for (fiber, wo), one sample drawn,
   // and one light direction weighed by pdf() and eval() (MIS).
   c.point = best_ns(n, repeats, [&] {
     double acc = 0.0, rgb[3];
     for (std::size_t i = 0; i < n; ++i) {
-      const auto sp = rt.at(fibre, pts[i].wo);
+      const auto sp = rt.at(fiber, pts[i].wo);
       acc += sp.sample(pts[i].u).pdf + sp.pdf(wi[(i + 1) % n].data());
       sp.eval(wi[(i + 1) % n].data(), rgb);
       acc += rgb[0];
@@ -133,9 +133,9 @@ Costs time_runtime(const Runtime& rt, const hairlut::sampler::Fibre& fibre, cons
   return c;
 }
 
-// Weights of a white fibre at the points: their range, the share outside 1% and 10%, and the same
+// Weights of a white fiber at the points: their range, the share outside 1% and 10%, and the same
 // for weight / albedo(wo).
-json white_weights(const Runtime& rt, const hairlut::sampler::Fibre& white, const std::vector<Point>& pts, const std::string& label, std::ostringstream& md) {
+json white_weights(const Runtime& rt, const hairlut::sampler::Fiber& white, const std::vector<Point>& pts, const std::string& label, std::ostringstream& md) {
   double lo = 1e300, hi = 0.0, rlo = 1e300, rhi = 0.0;
   std::size_t out1 = 0, out10 = 0, rout1 = 0, count = 0;
   for (const Point& p : pts) {
@@ -159,9 +159,9 @@ json white_weights(const Runtime& rt, const hairlut::sampler::Fibre& white, cons
 json bench_runtime(const Settings& st) {
   log(st.quiet, "runtime: HairScattering eval/sample/pdf against pbrt-v4 f/Sample_f/PDF ...\n");
   const hairlut::Rgb sa = hairlut::melanin_sigma_a_rgb(0.8, 0.2);
-  hairlut::sampler::Fibre fibre;
-  fibre.sigma_a[0] = sa.r, fibre.sigma_a[1] = sa.g, fibre.sigma_a[2] = sa.b;
-  fibre.beta_m = beta_m_of(0.3), fibre.beta_n = beta_n_of(0.3);
+  hairlut::sampler::Fiber fiber;
+  fiber.sigma_a[0] = sa.r, fiber.sigma_a[1] = sa.g, fiber.sigma_a[2] = sa.b;
+  fiber.beta_m = beta_m_of(0.3), fiber.beta_n = beta_n_of(0.3);
 
   const hairlut::TableSet generic = hairlut::load_tables(st.source_dir + "/tables/default/hairlut-default.h5");
   double t0 = thread_cpu_seconds();
@@ -171,12 +171,12 @@ json bench_runtime(const Settings& st) {
   t0 = thread_cpu_seconds();
   const Runtime rt_fourier = hairlut::hair_scattering<float>(fourier);
   const double prepare_fourier_ms = (thread_cpu_seconds() - t0) * 1e3;
-  const hairlut::TableSet material = bake_material(st, fibre.sigma_a, fibre.beta_m, fibre.beta_n);
+  const hairlut::TableSet material = bake_material(st, fiber.sigma_a, fiber.beta_m, fiber.beta_n);
   t0 = thread_cpu_seconds();
   const Runtime rt_material = hairlut::hair_scattering<float>(material, "materials/pbrt");
   const double prepare_material_ms = (thread_cpu_seconds() - t0) * 1e3;
   const double zero[3] = {0.0, 0.0, 0.0};
-  const hairlut::TableSet white_material = bake_material(st, zero, fibre.beta_m, fibre.beta_n);
+  const hairlut::TableSet white_material = bake_material(st, zero, fiber.beta_m, fiber.beta_n);
   const Runtime rt_white = hairlut::hair_scattering<float>(white_material, "materials/pbrt");
 
   const PbrtHair::Spectrum sigma = {static_cast<float>(sa.r), static_cast<float>(sa.g), static_cast<float>(sa.b), static_cast<float>((sa.r + sa.g + sa.b) / 3.0)};
@@ -232,9 +232,9 @@ json bench_runtime(const Settings& st) {
     });
     (void)sink;
     keep_best(peer_best, peer);
-    keep_best(gen, time_runtime(rt_generic, fibre, pts, 1));
-    keep_best(four, time_runtime(rt_fourier, fibre, pts, 1));
-    keep_best(mat, time_runtime(rt_material, fibre, pts, 1));
+    keep_best(gen, time_runtime(rt_generic, fiber, pts, 1));
+    keep_best(four, time_runtime(rt_fourier, fiber, pts, 1));
+    keep_best(mat, time_runtime(rt_material, fiber, pts, 1));
   }
   const Costs& peer = peer_best;
 
@@ -244,18 +244,18 @@ json bench_runtime(const Settings& st) {
       << "|---|---|---|---|---|---|---|---|---|\n";
   json weights = json::array();
   for (double bm : {4.0, 10.0, 20.0, 45.0}) {
-    hairlut::sampler::Fibre white;
+    hairlut::sampler::Fiber white;
     white.beta_m = bm * kPiD / 180.0, white.beta_n = 12.0 * kPiD / 180.0;
     weights.push_back(white_weights(rt_generic, white, pts, "generic default, beta_m " + fmt(bm) + " deg, beta_n 12 deg", wmd));
   }
   {
-    hairlut::sampler::Fibre white;
+    hairlut::sampler::Fiber white;
     white.beta_m = 10.0 * kPiD / 180.0, white.beta_n = 12.0 * kPiD / 180.0;
     weights.push_back(white_weights(rt_fourier, white, pts, "Fourier N_p (1e-3 set), beta_m 10 deg, beta_n 12 deg", wmd));
   }
-  weights.push_back(white_weights(rt_white, hairlut::sampler::Fibre(), pts,
-                                  "material, sigma_a 0, beta_m " + fmt(fibre.beta_m * 180.0 / kPiD) + " deg (TT half, TRT twice), beta_n " +
-                                      fmt(fibre.beta_n * 180.0 / kPiD) + " deg",
+  weights.push_back(white_weights(rt_white, hairlut::sampler::Fiber(), pts,
+                                  "material, sigma_a 0, beta_m " + fmt(fiber.beta_m * 180.0 / kPiD) + " deg (TT half, TRT twice), beta_n " +
+                                      fmt(fiber.beta_n * 180.0 / kPiD) + " deg",
                                   wmd));
 
   auto costs_json = [](const Costs& c) { return json{{"sample_ns", c.sample}, {"pdf_ns", c.pdf}, {"eval_ns", c.eval}, {"shading_point_ns", c.point}}; };
@@ -264,10 +264,10 @@ json bench_runtime(const Settings& st) {
                  {"fourier_tables", "tables/configs/generic-1e-3.json's Fourier N_p (256 cos theta_d x 64 sqrt sigma_a, 132 terms, float32) with "
                                     "tables/configs/default.json's M_p axes and tilts, baked in memory"},
                  {"material_tables", "tables/configs/show-example.json with N_p over 64 cos theta_d x 129 phi, M_p over 91 theta_i x 181 theta_r (linear, float32) baked for one "
-                                     "material: the fibre's sigma_a, beta per lobe R beta_m, TT beta_m / 2, TRT and residual 2 beta_m (pbrt's variances), beta_n; the default tilts"},
+                                     "material: the fiber's sigma_a, beta per lobe R beta_m, TT beta_m / 2, TRT and residual 2 beta_m (pbrt's variances), beta_n; the default tilts"},
                  {"peer", "tools/bench-hair-luts/pbrt_hair.cpp: pbrt-v4 HairBxDF f, Sample_f, PDF re-implemented in float (commits in pbrt_hair.hpp); "
                           "beta_m 0.3, beta_n 0.3, alpha 2 deg, eta 1.55, 4 spectral samples, 64 offsets h"},
-                 {"fibre", "sigma_a of eumelanin 0.8 + pheomelanin 0.2 (RGB), beta_m " + fmt(fibre.beta_m * 180.0 / kPiD) + " deg, beta_n " + fmt(fibre.beta_n * 180.0 / kPiD) +
+                 {"fiber", "sigma_a of eumelanin 0.8 + pheomelanin 0.2 (RGB), beta_m " + fmt(fiber.beta_m * 180.0 / kPiD) + " deg, beta_n " + fmt(fiber.beta_n * 180.0 / kPiD) +
                                " deg (pbrt's 0.3 in hairlut's units)"},
                  {"arithmetic", "hairlut: float tables, double arithmetic (the runtime has no float path); pbrt: float"},
                  {"calls", n},
@@ -275,12 +275,12 @@ json bench_runtime(const Settings& st) {
                  {"prepare_generic_ms", prepare_generic_ms},
                  {"prepare_fourier_ms", prepare_fourier_ms},
                  {"prepare_material_ms", prepare_material_ms},
-                 {"per_fibre_setup_ns", 0.0},
+                 {"per_fiber_setup_ns", 0.0},
                  {"pbrt", costs_json(peer)},
                  {"hairlut_generic", costs_json(gen)},
                  {"hairlut_fourier", costs_json(four)},
                  {"hairlut_material", costs_json(mat)},
-                 {"white_fibre_weights", weights}};
+                 {"white_fiber_weights", weights}};
   std::ostringstream md, csv;
   md << "Machine: " << st.machine.value("cpu", std::string("?")) << ", load average " << load_average() << "; command: bench-hair-luts --only runtime --out "
      << st.out_dir << (st.quick ? " --quick" : "") << "; " << result["timing"].get<std::string>() << ".\n\n";
@@ -295,15 +295,15 @@ json bench_runtime(const Settings& st) {
   row("sample", peer.sample, gen.sample, four.sample, mat.sample, "<= 1");
   row("pdf", peer.pdf, gen.pdf, four.pdf, mat.pdf, "<= 1");
   row("eval", peer.eval, gen.eval, four.eval, mat.eval, "<= 0.5");
-  row("shading point: BSDF for (fibre, wo), sample, pdf and eval of a light direction", peer.point, gen.point, four.point, mat.point, "");
-  md << "| per-fibre setup | none | none | | none | | none | | <= 20 us |\n\n"
+  row("shading point: BSDF for (fiber, wo), sample, pdf and eval of a light direction", peer.point, gen.point, four.point, mat.point, "");
+  md << "| per-fiber setup | none | none | | none | | none | | <= 20 us |\n\n"
      << "Runtimes prepared from the loaded tables in " << fmt(prepare_generic_ms) << " ms (generic: M_p copied with theta_i last; N_p sampling data read from the file and checked), "
      << fmt(prepare_fourier_ms) << " ms (Fourier: the same for M_p, the energies on the coefficients' nodes) and "
      << fmt(prepare_material_ms) << " ms (material: tables interleaved per node, the theta_i rows and phi rows of the sampler tabulated).\n"
-     << "Fibre: " << result["fibre"].get<std::string>() << "; generic and Fourier tables read at it per call (Fourier: "
+     << "Fiber: " << result["fiber"].get<std::string>() << "; generic and Fourier tables read at it per call (Fourier: "
      << result["fourier_tables"].get<std::string>() << "), material tables baked for it (" << result["material_tables"].get<std::string>() << ").\n"
      << "hairlut in double arithmetic over float tables, pbrt in float.\n\n"
-     << "Weights S / pdf of a white fibre (sigma_a = 0), tilted tables, at the same " << n << " points. Their mean at wo is the\n"
+     << "Weights S / pdf of a white fiber (sigma_a = 0), tilted tables, at the same " << n << " points. Their mean at wo is the\n"
      << "albedo there, which the tilted model holds away from 1 near grazing (docs/conventions.md); weight / albedo(wo) is the sampling's own spread:\n\n"
      << wmd.str();
   write_file(st, "runtime.json", result.dump(2) + "\n");

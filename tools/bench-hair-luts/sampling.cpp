@@ -99,7 +99,7 @@ json bench_sampling(const Settings& s) {
   for (const Case& c : cases) {
     const Runtime& rt = recons[static_cast<std::size_t>(rc)];
     log(s.quiet, "sampling: %s, %s ...\n", recon_names[rc], c.name);
-    hairlut::sampler::Fibre f;
+    hairlut::sampler::Fiber f;
     f.beta_m = f.beta_n = c.beta;
     f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = c.sigma_a;
     const double wo[3] = {std::sin(c.theta_o), std::cos(c.theta_o), 0.0};
@@ -207,7 +207,7 @@ json bench_sampling(const Settings& s) {
   }
   md << "\nBuilding the runtime (HairScattering) over the full default tables (cubic, as baked): " << fmt(prepare_stored_ms)
      << " ms with the N_p sampling data stored in the file, " << fmt(prepare_computed_ms) << " ms computing them (prefix integrals and clamp bounds).\n";
-  md << "\nTimed through HairScattering<float> at a held direction wo of inclination theta_o (phi_o = 0), one fibre of one sigma_a and\n"
+  md << "\nTimed through HairScattering<float> at a held direction wo of inclination theta_o (phi_o = 0), one fiber of one sigma_a and\n"
      << "beta_m = beta_n = beta: the first three columns are the runtime's single calls sample(f, wo, u) and pdf(f, wo, wi), each of\n"
      << "which builds the shading point at wo (every lobe's theta_i density) per call, and eval(f, wo, wi); the ShadingPoint\n"
      << "columns time at(f, wo) once, then its sample(u), pdf(wi) and eval(wi) per call. sample() includes S and the mixture pdf of\n"

@@ -100,7 +100,7 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
       s.sigma_a = channel == "R" ? rgb.r : channel == "G" ? rgb.g : rgb.b;
       char buf[128];
       std::snprintf(buf, sizeof buf, "melanin %g, %g, channel %s", melanin[0], melanin.size() > 1 ? melanin[1] : 0.0, channel.c_str());
-      s.fibre = buf;
+      s.fiber = buf;
     }
     s.beta_r = hairlut::radians(beta_r_deg);
     s.phi_h = hairlut::radians(phi_h_deg);

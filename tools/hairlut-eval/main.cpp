@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
   // Fiber parameters shared by np, energy and furnace.
   double eta = 1.55, sigma_a = 0.0;
   std::string path = "chord";
-  auto add_fibre = [&](CLI::App* sub) {
+  auto add_fiber = [&](CLI::App* sub) {
     sub->add_option("--eta", eta, "index of refraction (> 1)")->capture_default_str();
     sub->add_option("--sigma-a", sigma_a, "absorption coefficient per unit fiber radius (>= 0)")->capture_default_str();
     sub->add_option("--absorption-path", path, "internal path length: chord (2 cos gt) or papers (2(1 + cos 2gt))")
@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
 
   // np
   auto* np = app.add_subcommand("np", "azimuthal function N_p(phi) of one lobe");
-  add_fibre(np);
+  add_fiber(np);
   std::string lobe = "TRT";
   double theta_d = 20.0, phi = 30.0, np_beta = 5.0;
   int order = 64;
@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
 
   // energy
   auto* energy = app.add_subcommand("energy", "lobe energies 1/2 int A(p, h) dh at one theta_d");
-  add_fibre(energy);
+  add_fiber(energy);
   int lobes = 4;
   bool residual = false;
   energy->add_option("--theta-d-deg", theta_d, "longitudinal difference angle in degrees")->capture_default_str();
@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
 
   // furnace
   auto* furnace = app.add_subcommand("furnace", "directional albedo E(theta_i) of the full model (white furnace for sigma_a = 0)");
-  add_fibre(furnace);
+  add_fiber(furnace);
   std::vector<double> betas = {10.0}, alphas = {0.0};
   std::vector<double> thetas = {-89, -60, -30, 0, 30, 60, 80, 89};
   furnace->add_option("--beta-deg", betas, "longitudinal roughness in degrees: one value, or one per lobe (+ residual)")
@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
 
   // marschner
   auto* marschner = app.add_subcommand("marschner", "Marschner 2003's N_p(phi) of one lobe (R, TT or TRT), with its paths and caustic");
-  add_fibre(marschner);
+  add_fiber(marschner);
   std::string roots = "exact";
   double k_g = 0.5, w_c = 15.0, eccentricity = 1.0, phi_h = 0.0;
   marschner->add_option("--lobe", lobe, "R, TT or TRT")->capture_default_str();
@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
   marschner->add_option("--phi-h-deg", phi_h, "azimuthal half angle in degrees (eccentric TRT)")->capture_default_str();
   // dual: mean energy and Zinke 2008's dual-scattering quantities at each theta_i.
   auto* dual = app.add_subcommand("dual", "mean energy per lobe and dual scattering (a_f, a_b, alpha, beta^2, A_b, Delta_b, sigma_b)");
-  add_fibre(dual);
+  add_fiber(dual);
   double density = 0.7;
   dual->add_option("--beta-deg", betas, "roughness in degrees (beta_m = beta_n): one value, or one per lobe (+ residual)")->delimiter(',');
   dual->add_option("--alpha-deg", alphas, "tilt in degrees: one value, or one per lobe (+ residual)")->delimiter(',');

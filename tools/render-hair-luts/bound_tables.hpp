@@ -41,8 +41,8 @@ struct LobeRefs {
   TableRef mp;      ///< M_p
 };
 
-/// The fibre coordinates that the tables' axes beta, sigma_a and channel read.
-struct FibreCoordinates {
+/// The fiber coordinates that the tables' axes beta, sigma_a and channel read.
+struct FiberCoordinates {
   double beta = 0.0;
   double sigma_a = 0.0;
   double channel = 0.0;

@@ -1,4 +1,4 @@
-// render-hair-luts: renders a small patch of parallel hair fibres lit by a directional light and a
+// render-hair-luts: renders a small patch of parallel hair fibers lit by a directional light and a
 // uniform environment, once from baked tables as a renderer reads them (generic tables through the
 // renderer runtime hair_scattering.hpp: eval for the light, importance sampling for the
 // environment) and once from direct
@@ -6,9 +6,9 @@
 // the residual), and writes both beside their difference as PNG. Thin: the physics and the table
 // reading live in the library.
 //
-// The picture: fibres run down the image, waving in the image plane and leaning towards and away
+// The picture: fibers run down the image, waving in the image plane and leaning towards and away
 // from the camera, which looks along −z
-// (orthographic). Each fibre is shaded by its far-field scattering function, so a fibre's colour
+// (orthographic). Each fiber is shaded by its far-field scattering function, so a fiber's colour
 // depends on its tangent only: L = L_sun · S(wo = view, wi = light) + L_env · ∫ S(wo = view, wi) dωi,
 // the environment's radiance scattered towards the viewer (the runtime holds wo, the tables' θr).
 // The tables' image estimates that integral from samples drawn by the tables' sampler; the direct
@@ -19,7 +19,7 @@
 // with B = Σ_p ε (peak M̃_p/(1 − ε) · Ñ_p + (M̃_p + ε peak M̃_p/(1 − ε)) · d_p), where ε is the
 // accuracy the validator enforces on these tables (validate.thresholds.accuracy_max_rel of their
 // config, twice for N_p stored as shape × energy: shape and energy each carry it) and d_p the
-// validator's denominator for N_p (peak over φ of the slice, floored at 1e-3 of the white fibre's),
+// validator's denominator for N_p (peak over φ of the slice, floored at 1e-3 of the white fiber's),
 // both estimated from the tables (their peak divided by 1 − ε bounds the exact peak).
 #include <png.h>
 
@@ -53,7 +53,7 @@ namespace fs = std::filesystem;
 using hairlut::sampler::AxisRow;
 using hairlut::sampler::AxisSampler;
 using render::Coordinate;
-using render::FibreCoordinates;
+using render::FiberCoordinates;
 constexpr double kPi = 3.14159265358979323846;
 
 struct Vec {
@@ -65,11 +65,11 @@ double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 Vec cross(Vec a, Vec b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 Vec normalized(Vec a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
 
-// One look: the lobes of a table group and, per channel, the fibre coordinates and physics.
+// One look: the lobes of a table group and, per channel, the fiber coordinates and physics.
 struct Look {
   std::string name;
   std::string group;  // "" generic, "materials/<name>"
-  FibreCoordinates fibre[3];
+  FiberCoordinates fiber[3];
   double sigma_a[3];
   std::vector<double> beta_n, beta_m, alpha;  // per lobe, for the direct evaluation
 };
@@ -101,7 +101,7 @@ struct Bounder {
   const render::BoundTables* h;
   std::vector<AxisSampler<float>> mp, np;
   double eps_m = 0.0, eps_n = 0.0, eps_e = 0.0;
-  double operator()(const FibreCoordinates& f, double ti, double tr, double phi, AxisRow& row) const {
+  double operator()(const FiberCoordinates& f, double ti, double tr, double phi, AxisRow& row) const {
     double b = 0.0;
     for (std::size_t p = 0; p < h->lobes.size(); ++p) {
       const auto& l = h->lobes[p];
@@ -195,16 +195,16 @@ unsigned char srgb8(double v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"render-hair-luts: a patch of hair fibres from baked tables (through the sampler) beside direct evaluation"};
+  CLI::App app{"render-hair-luts: a patch of hair fibers from baked tables (through the sampler) beside direct evaluation"};
   std::string tables, config, out_dir = ".";
-  int width = 96, height = 96, fibres = 12, env_samples = 16;
+  int width = 96, height = 96, fibers = 12, env_samples = 16;
   double gain = 10.0;
   bool check = false;
   app.add_option("--tables", tables, "a table file (HDF5 or EXR) written by bake-hair-luts");
   app.add_option("--config", config, "a config to bake in memory instead (e.g. a per-material scene config)");
   app.add_option("--output-dir", out_dir, "where the PNGs and render.json go")->capture_default_str();
   app.add_option("--size", width, "panel width and height in pixels")->check(CLI::Range(8, 1024))->capture_default_str();
-  app.add_option("--fibres", fibres, "fibres across the patch")->check(CLI::Range(1, 256))->capture_default_str();
+  app.add_option("--fibers", fibers, "fibers across the patch")->check(CLI::Range(1, 256))->capture_default_str();
   app.add_option("--env-samples", env_samples, "environment samples per shading point")->check(CLI::Range(1, 4096))->capture_default_str();
   app.add_option("--diff-gain", gain, "the difference panel shows |tables - direct| times this")->capture_default_str();
   app.add_flag("--check", check, "exit 1 when a pixel's difference exceeds its bound from the validator's accuracy");
@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
           const double s = mel ? set.sample_value(*mel, {st.eu, st.pheo, static_cast<double>(c)}) : 0.0;
           const hairlut::Rgb d = hairlut::melanin_sigma_a_rgb(st.eu, st.pheo);
           l.sigma_a[c] = c == 0 ? d.r : c == 1 ? d.g : d.b;
-          l.fibre[c] = FibreCoordinates{st.beta_deg * kPi / 180.0, s, 0.0};
+          l.fiber[c] = FiberCoordinates{st.beta_deg * kPi / 180.0, s, 0.0};
         }
         looks.push_back(l);
       }
@@ -272,13 +272,13 @@ int main(int argc, char** argv) {
         const hairlut::Table* np0 = set.find(g + "/np_R");
         if (!np0) throw hairlut::DomainError(g + "/np_R: missing");
         const auto sig = np0->attributes.at("sigma_a").get<std::vector<double>>();
-        for (int c = 0; c < 3; ++c) l.sigma_a[c] = sig.at(static_cast<std::size_t>(c)), l.fibre[c] = FibreCoordinates{0.0, 0.0, static_cast<double>(c)};
+        for (int c = 0; c < 3; ++c) l.sigma_a[c] = sig.at(static_cast<std::size_t>(c)), l.fiber[c] = FiberCoordinates{0.0, 0.0, static_cast<double>(c)};
         looks.push_back(l);
       }
     }
 
     fs::create_directories(out_dir);
-    nlohmann::ordered_json summary = {{"tables", tables.empty() ? config : tables}, {"size", width}, {"fibres", fibres},
+    nlohmann::ordered_json summary = {{"tables", tables.empty() ? config : tables}, {"size", width}, {"fibers", fibers},
                                       {"env_samples", env_samples}, {"accuracy_max_rel", eps}, {"images", nlohmann::ordered_json::array()}};
     const Vec light = normalized({-0.3, 0.65, 0.7}), view = {0.0, 0.0, 1.0};
     const double l_sun = 1.5, l_env = 0.15, exposure = 1.0;
@@ -291,32 +291,32 @@ int main(int argc, char** argv) {
         const hairlut::Table* mp = set.find(look.group.empty() ? "mp/" + lobe : look.group + "/mp_" + lobe);
         const hairlut::Table* np = set.find(look.group.empty() ? "np/" + lobe : look.group + "/np_" + lobe);
         look.alpha.push_back(mp->attributes.value("alpha", 0.0));
-        look.beta_m.push_back(mp->attributes.contains("beta") ? mp->attributes["beta"].get<double>() : look.fibre[0].beta);
-        look.beta_n.push_back(np->attributes.contains("beta") ? np->attributes["beta"].get<double>() : look.fibre[0].beta);
+        look.beta_m.push_back(mp->attributes.contains("beta") ? mp->attributes["beta"].get<double>() : look.fiber[0].beta);
+        look.beta_n.push_back(np->attributes.contains("beta") ? np->attributes["beta"].get<double>() : look.fiber[0].beta);
       }
       Bounder bound{&h, {}, {}, eps, eps, eps};
       for (const auto& l : h.lobes) {
         bound.mp.emplace_back(l.mp.data, l.mp.axes, l.mp.dims, hairlut::sampler::Measure::plain);
         bound.np.emplace_back(l.np.data, l.np.axes, l.np.dims, hairlut::sampler::Measure::plain);
       }
-      // Shade every (fibre, row): the tangent is the same across a fibre's width.
-      std::vector<double> table_px(static_cast<std::size_t>(fibres * height * 3)), direct_px(table_px.size()), bound_px(table_px.size());
-      // Every look through the renderer runtime (one fibre, RGB at once; the view direction held,
-      // as a path tracer holds wo). A material's runtime ignores the Fibre: its σa and β are baked.
+      // Shade every (fiber, row): the tangent is the same across a fiber's width.
+      std::vector<double> table_px(static_cast<std::size_t>(fibers * height * 3)), direct_px(table_px.size()), bound_px(table_px.size());
+      // Every look through the renderer runtime (one fiber, RGB at once; the view direction held,
+      // as a path tracer holds wo). A material's runtime ignores the Fiber: its σa and β are baked.
       const hairlut::sampler::HairScattering<float> runtime =
           look.group.empty() ? hairlut::hair_scattering<float>(set) : hairlut::hair_scattering<float>(set, look.group);
       if (!runtime.valid()) throw hairlut::DomainError((look.group.empty() ? std::string("tables") : look.group) + ": the runtime cannot read them");
-      hairlut::sampler::Fibre rt_fibre;
-      for (int c = 0; c < 3; ++c) rt_fibre.sigma_a[c] = look.sigma_a[c];
-      rt_fibre.beta_m = rt_fibre.beta_n = look.fibre[0].beta;
+      hairlut::sampler::Fiber rt_fiber;
+      for (int c = 0; c < 3; ++c) rt_fiber.sigma_a[c] = look.sigma_a[c];
+      rt_fiber.beta_m = rt_fiber.beta_n = look.fiber[0].beta;
       for (int c = 0; c < 3; ++c) {
         AxisRow row;
         std::mt19937_64 rng(12345u + static_cast<unsigned>(c));
         std::uniform_real_distribution<double> u(0.0, 1.0);
-        for (int i = 0; i < fibres; ++i)
+        for (int i = 0; i < fibers; ++i)
           for (int y = 0; y < height; ++y) {
             // In-plane wave a and inclination b towards the viewer: the highlight (R) and the
-            // transmitted glow move along each fibre as θv and φ change.
+            // transmitted glow move along each fiber as θv and φ change.
             const double a = 0.3 * std::sin(2.0 * kPi * (1.1 * y / height + 0.37 * i)) + 0.06 * (i % 3 - 1);
             const double b = 0.7 * std::sin(2.0 * kPi * (0.8 * y / height + 0.13 * i));
             const Vec t = normalized({std::sin(a) * std::cos(b), -std::cos(a) * std::cos(b), std::sin(b)});  // root (top) to tip
@@ -332,16 +332,16 @@ int main(int argc, char** argv) {
             angles(view, &tv, &pv);
             double phi = pv - pl;
             phi = std::remainder(phi, 2.0 * kPi);
-            const FibreCoordinates& f = look.fibre[c];
+            const FiberCoordinates& f = look.fiber[c];
             double lt = 0.0, ld = l_sun * direct_s(look, c, eta, path, tl, tv, phi);
             double lb = l_sun * bound(f, tl, tv, phi, row);
             double et = 0.0, ed = 0.0, eb = 0.0;
             // S(wo = view, wi = light), then the environment through samples of wi at wo.
             double rgb_s[3];
-            runtime.eval(rt_fibre, tv, tl, phi, rgb_s);
+            runtime.eval(rt_fiber, tv, tl, phi, rgb_s);
             lt = l_sun * rgb_s[c];
             const double wo[3] = {std::sin(tv), std::cos(tv), 0.0};
-            const auto point = runtime.at(rt_fibre, wo);
+            const auto point = runtime.at(rt_fiber, wo);
             for (int k = 0; k < env_samples; ++k) {
               const double uu[3] = {u(rng), u(rng), u(rng)};
               const auto s = point.sample(uu);
@@ -355,12 +355,12 @@ int main(int argc, char** argv) {
             table_px[at] = lt, direct_px[at] = ld, bound_px[at] = lb;
           }
       }
-      // Compose: tables | direct | |difference| × gain; gaps between fibres are black.
+      // Compose: tables | direct | |difference| × gain; gaps between fibers are black.
       const int w3 = 3 * width;
       std::vector<unsigned char> rgb(static_cast<std::size_t>(w3 * height * 3), 0);
       double max_diff = 0.0, max_ratio = 0.0, max_value = 0.0, sum2 = 0.0;
       int count = 0;
-      for (int i = 0; i < fibres; ++i)
+      for (int i = 0; i < fibers; ++i)
         for (int y = 0; y < height; ++y)
           for (int c = 0; c < 3; ++c) {
             const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);
@@ -373,9 +373,9 @@ int main(int argc, char** argv) {
           }
       for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-          const double fx = (x + 0.5) * fibres / width;
-          const int i = std::min(fibres - 1, static_cast<int>(fx));
-          const double hoff = 2.0 * (fx - i) - 1.0;  // offset across the fibre
+          const double fx = (x + 0.5) * fibers / width;
+          const int i = std::min(fibers - 1, static_cast<int>(fx));
+          const double hoff = 2.0 * (fx - i) - 1.0;  // offset across the fiber
           if (std::fabs(hoff) > 0.85) continue;
           for (int c = 0; c < 3; ++c) {
             const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);

@@ -8,7 +8,7 @@
 #include "hairlut/physics/directional_albedo.hpp"
 #include "hairlut/physics/dual_scattering.hpp"
 #include "hairlut/util/error.hpp"
-#include "hairlut/physics/fibre_geometry.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/fresnel.hpp"
 #include "hairlut/physics/gaussian_detector.hpp"
 #include "hairlut/physics/hair_model.hpp"

@@ -271,7 +271,7 @@ void unit_attenuation_np(double eta, int p, double theta_d, std::span<const doub
     if (!std::isfinite(f)) throw_domain_error("phi", "must be finite", f);
   out.assign(betas.size() * phis.size(), 0.0);
   if (betas.empty() || phis.empty()) return;
-  const FibreGeometry g = FibreGeometry::make(eta, theta_d);
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
   const double beta_min = *std::min_element(betas.begin(), betas.end());
   const int N = fourier_terms(beta_min, tolerance);
   const int order = fourier_nodes(N, p, g, tolerance);
@@ -383,7 +383,7 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
       {"definitions", ds_definitions()},
       {"normalization",
        "hairlut's S integrates to the directional albedo E(theta_i) = int int S cos(theta_r) dphi dtheta_r. Zinke's eq. 6 carries "
-       "1/pi as an average over a half-turn of incident azimuths; for a circular fibre S depends only on phi = phi_r - phi_i, so that "
+       "1/pi as an average over a half-turn of incident azimuths; for a circular fiber S depends only on phi = phi_r - phi_i, so that "
        "average is the integrand itself: a_f and a_b here are Zinke's with S for f_s, and a_f + a_b = E(theta_i)"},
       {"halves", "backward |phi| <= pi/2, forward pi/2 < |phi| <= pi; the residual lobe is uniform in phi (half each)"},
       {"angles", "alpha and beta are shifts and widths of theta_r (hairlut's tilt, d'Eon's beta_m); Zinke's theta_h convention is half of "

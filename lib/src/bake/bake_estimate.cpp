@@ -132,7 +132,7 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
             sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0, kDeflatedFraction, cubic(order));
     t.table(mul(3, slice), mul(lobes + (c.residual ? 1 : 0), materials));
   }
-  if (c.np_axes && c.marschner) {  // N_p over (σa, θd, φ) per lobe, TRT of an eccentric fibre over φh too; energies without φ
+  if (c.np_axes && c.marschner) {  // N_p over (σa, θd, φ) per lobe, TRT of an eccentric fiber over φh too; energies without φ
     const std::vector<GridAxis>& ax = *c.np_axes;
     const GridAxis* h = c.marschner->params.eccentricity != 1.0 ? named(ax, "phi_h") : nullptr;
     for (std::uint64_t p = 0; p < explicit_lobes; ++p) {

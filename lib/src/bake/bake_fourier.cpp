@@ -81,7 +81,7 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
   std::vector<int> order(nt * static_cast<std::size_t>(lobes), 0);
   std::map<int, const GaussLegendreRule*> rules;
   for (std::size_t t = 0; t < nt; ++t) {
-    const FibreGeometry g = FibreGeometry::make(c.eta, thetas[t]);
+    const FiberGeometry g = FiberGeometry::make(c.eta, thetas[t]);
     for (int p = 0; p < lobes; ++p) {
       const int m = fourier_nodes(terms - 1, p, g, qtol);
       order[t * static_cast<std::size_t>(lobes) + static_cast<std::size_t>(p)] = m;
@@ -89,14 +89,14 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
     }
   }
   parallel_for(nt, run.options, "N_p Fourier", ns * static_cast<std::size_t>(lobes), [&](std::size_t t) {
-    const FibreGeometry g = FibreGeometry::make(c.eta, thetas[t]);
+    const FiberGeometry g = FiberGeometry::make(c.eta, thetas[t]);
     const double l_min = edge_segment_length(g, c.path);
-    std::map<int, FibreNodes> nodes;
+    std::map<int, FiberNodes> nodes;
     std::vector<double> C;
     for (int p = 0; p < lobes; ++p) {
       const int m = order[t * static_cast<std::size_t>(lobes) + static_cast<std::size_t>(p)];
       auto it = nodes.find(m);
-      if (it == nodes.end()) it = nodes.emplace(m, FibreNodes::make(g, c.path, *rules.at(m))).first;
+      if (it == nodes.end()) it = nodes.emplace(m, FiberNodes::make(g, c.path, *rules.at(m))).first;
       fourier_coefficients(it->second, g, p, sigmas, terms - 1, C, l_min);  // C_n / F, [n][σa]
       Table& out = set.tables[first + static_cast<std::size_t>(p)];
       for (std::size_t k = 0; k < ns; ++k)

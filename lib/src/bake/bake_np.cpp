@@ -17,7 +17,7 @@
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
-#include "hairlut/sampler/sampler_fibre.hpp"
+#include "hairlut/sampler/sampler_fiber.hpp"
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
 
@@ -133,7 +133,7 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
     std::vector<int> spread_m(nt, 0), fourier_m(nt, 0);
     int max_terms = 0;
     for (std::size_t t = 0; t < nt; ++t) {
-      const FibreGeometry g = FibreGeometry::make(r.eta, thetas[t]);
+      const FiberGeometry g = FiberGeometry::make(r.eta, thetas[t]);
       for (int p = 0; p < r.lobes; ++p) {
         const auto betas = betas_of(p);
         std::vector<std::size_t> order(betas.size());
@@ -169,10 +169,10 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
         if (m > 0 && !rules.count(m)) rules[m] = &cache->get(m);
     const CosineSeries series(phis, max_terms);
     parallel_for(nt, opt, stage, ns * nphi * L, [&](std::size_t t) {
-      const FibreGeometry g = FibreGeometry::make(r.eta, thetas[t]);
-      std::optional<FibreNodes> spread_nodes_t, fourier_nodes_t;
-      if (spread_m[t] > 0) spread_nodes_t = FibreNodes::make(g, r.path, *rules.at(spread_m[t]));
-      if (fourier_m[t] > 0) fourier_nodes_t = FibreNodes::make(g, r.path, *rules.at(fourier_m[t]));
+      const FiberGeometry g = FiberGeometry::make(r.eta, thetas[t]);
+      std::optional<FiberNodes> spread_nodes_t, fourier_nodes_t;
+      if (spread_m[t] > 0) spread_nodes_t = FiberNodes::make(g, r.path, *rules.at(spread_m[t]));
+      if (fourier_m[t] > 0) fourier_nodes_t = FiberNodes::make(g, r.path, *rules.at(fourier_m[t]));
       std::vector<double> C, v, row(nphi);
       // Every spread (lobe, β) of this θd in one pass over the nodes.
       std::vector<SpreadLobe> spread_lobes;

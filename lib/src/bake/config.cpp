@@ -46,9 +46,9 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   if (c.model == "deon") c.model = "deon2011";  // short names (schema enum) → the recorded ones
   if (c.model == "marschner") c.model = "marschner2003";
 
-  const json fibre = doc.value("fiber", json::object());
-  c.eta = get_number(fibre, "eta", 1.55);
-  c.path = parse_absorption_path(fibre.value("absorption_path", std::string("chord")), "fiber.absorption_path");
+  const json fiber = doc.value("fiber", json::object());
+  c.eta = get_number(fiber, "eta", 1.55);
+  c.path = parse_absorption_path(fiber.value("absorption_path", std::string("chord")), "fiber.absorption_path");
 
   const json lobes = doc.value("lobes", json::object());
   const auto names = lobes.value("explicit", c.model == "marschner2003" ? std::vector<std::string>{"R", "TT", "TRT"}

@@ -119,7 +119,7 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
   std::atomic<std::size_t> unconverged{0};
   detail::parallel_for(nodes, opt, stage + " (azimuthal halves)", K, [&](std::size_t j) {
     const double theta_d = theta_d_of(j);
-    const FibreGeometry g = FibreGeometry::make(rq.eta, theta_d);
+    const FiberGeometry g = FiberGeometry::make(rq.eta, theta_d);
     for (std::size_t k = 0; k < K; ++k) {
       const auto e = lobe_energies(AttenuationSlice(rq.eta, theta_d, rq.sigmas[k], rq.path), LobeSet{P, rq.residual}, energy_rule);
       for (std::size_t l = 0; l < L; ++l) energy[l][k][j] = e[l];
@@ -131,7 +131,7 @@ DualScatteringGridStats dual_scattering_grid(const DualScatteringGridRequest& rq
       auto& hp = half[static_cast<std::size_t>(p)];
       if (ff < w.size()) {
         const int N = fourier_terms(w[ff], tol);
-        const FibreNodes fn = FibreNodes::make(g, rq.path, rules->get(fourier_nodes(N, p, g, tol)));
+        const FiberNodes fn = FiberNodes::make(g, rq.path, rules->get(fourier_nodes(N, p, g, tol)));
         fourier_coefficients(fn, g, p, rq.sigmas, N, C);
         for (std::size_t i = ff; i < w.size(); ++i)
           for (std::size_t k = 0; k < K; ++k) {

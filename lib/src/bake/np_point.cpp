@@ -8,7 +8,7 @@
 #include "hairlut/physics/azimuthal_np.hpp"
 #include "hairlut/bake/bake.hpp"
 #include "hairlut/util/error.hpp"
-#include "hairlut/physics/fibre_geometry.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
 
 namespace hairlut {
 
@@ -58,7 +58,7 @@ PointNp baker_np(double eta, AbsorptionPath path, double theta_d, double sigma_a
 
   // The baker plans with both forms; it cannot bake a β whose Fourier series is too long, nor one
   // for which neither form fits the largest Gauss–Legendre rule.
-  const FibreGeometry g = FibreGeometry::make(eta, theta_d);
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
   const int spread_m = spread_nodes(beta, p, g, tolerance);
   std::string why;
   try {

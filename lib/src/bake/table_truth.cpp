@@ -6,7 +6,7 @@
 #include "hairlut/util/angles.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/physics/azimuthal_np.hpp"
-#include "hairlut/physics/fibre_geometry.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/melanin.hpp"
@@ -19,8 +19,8 @@ constexpr double kEnergyFloor = 1e-6;      // absolute floor of an energy or N_p
 constexpr double kMelaninFloor = 1e-2;     // absolute floor of σa (1/radius): exp(−2·0.01) ≈ 0.98 per diameter
 
 const char* kNpWords = "peak over all phi of the exact N_p of the same (beta, sigma_a, theta_d) slice, floored at 1e-3 x that peak of "
-                       "the white fibre (sigma_a = 0) at the same (beta, theta_d)";
-const char* kEnergyWords = "the exact value itself (relative error), floored at 1e-3 x the white fibre's (sigma_a = 0) value at the same "
+                       "the white fiber (sigma_a = 0) at the same (beta, theta_d)";
+const char* kEnergyWords = "the exact value itself (relative error), floored at 1e-3 x the white fiber's (sigma_a = 0) value at the same "
                            "theta_d and at 1e-6";
 const char* kMpWords = "peak over theta_r in [-pi/2, pi/2] of the exact M_p at the same (beta, theta_i)";
 
@@ -112,7 +112,7 @@ std::optional<TableTruth> marschner_truth(const Table& t, const MarschnerConfig&
 PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double sigma, int p, double beta_min, int beta_axis, double beta_fixed,
                          int phi_axis, GaussLegendreCache& rules) {
   constexpr double kTolerance = 1e-10;
-  const FibreGeometry g = FibreGeometry::make(eta, theta_d);
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
   const int terms = fourier_terms(beta_min, kTolerance);
   const GaussLegendreRule& rule = rules.get(fourier_nodes(terms, p, g, kTolerance));
   struct State {
@@ -141,7 +141,7 @@ PointFunction fourier_np(double eta, AbsorptionPath path, double theta_d, double
 // Where N_p of lobe p has features in |φ| at θd: the lobe's edges Φ(p, ±1) and, for p ≥ 2 when
 // it exists, the caustic Φ(p, ±h_c) (dΦ/dh = 0), each wrapped to [0, π].
 std::vector<double> np_features(double eta, double theta_d, int p) {
-  const FibreGeometry g = FibreGeometry::make(eta, std::clamp(theta_d, -kHalfPi, kHalfPi));
+  const FiberGeometry g = FiberGeometry::make(eta, std::clamp(theta_d, -kHalfPi, kHalfPi));
   std::vector<double> out;
   auto add = [&](double gamma_i) {
     const double phi = wrap_azimuth(exit_azimuth(p, gamma_i, gamma_transmitted(std::sin(gamma_i), g.inv_eta_prime)));
@@ -219,7 +219,7 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.peak_lo = 0.0;  // N_p of a circular fiber is even in phi
     tr.features = [eta = info.eta, p](const std::vector<double>& x) { return np_features(eta, x[1], p); };
     tr.denominator = "peak over all phi of the exact N_p of the same (channel, theta_d) slice at the material's beta and the "
-                     "channel's sigma_a, floored at 1e-3 x that peak of the white fibre (sigma_a = 0) at the same theta_d";
+                     "channel's sigma_a, floored at 1e-3 x that peak of the white fiber (sigma_a = 0) at the same theta_d";
     return tr;
   }
   if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && dims == std::vector<std::string>{"sigma_a", "theta_d"}) {

@@ -35,7 +35,7 @@ double PathPoint::residual_attenuation(int P) const {
 }
 
 AttenuationSlice::AttenuationSlice(double eta, double theta_d, double sigma_a, AbsorptionPath path)
-    : geometry_(FibreGeometry::make(eta, theta_d)), sigma_a_(sigma_a), path_(path) {
+    : geometry_(FiberGeometry::make(eta, theta_d)), sigma_a_(sigma_a), path_(path) {
   require_non_negative("sigma_a", sigma_a);
   sigma_a_prime_ = reduced_absorption(sigma_a, geometry_);
 }
@@ -73,7 +73,7 @@ PathPoint AttenuationSlice::evaluate(double h, double gamma_i, double cos_gamma_
 
 namespace hairlut {
 
-double edge_segment_length(const FibreGeometry& g, AbsorptionPath path) {
+double edge_segment_length(const FiberGeometry& g, AbsorptionPath path) {
   const double a = g.inv_eta_prime;  // sin γt at h = 1, as AttenuationSlice::at_h(1) evaluates it
   const double ct = std::sqrt((1.0 - a) * (1.0 + a));
   return path == AbsorptionPath::chord ? 2.0 * ct : 4.0 * ct * ct;

@@ -23,7 +23,7 @@ int fourier_terms(double beta, double tolerance) {
   throw_domain_error("beta", "is too small for the Fourier method (more than 4e6 terms)", beta);
 }
 
-int fourier_nodes(int terms, int p, const FibreGeometry& g, double tolerance) {
+int fourier_nodes(int terms, int p, const FiberGeometry& g, double tolerance) {
   // dΦ/dγ = 2p cos γ / (η' cos γt) − 2 decreases from 2p/η' − 2 at γ = 0 to −2 at γ = π/2.
   const double rate = std::max(std::abs(2.0 * p * g.inv_eta_prime - 2.0), 2.0);
   // Gauss–Legendre with m nodes integrates cos(kx) over [−1, 1] to ε once
@@ -43,8 +43,8 @@ int fourier_nodes(int terms, int p, const FibreGeometry& g, double tolerance) {
   return static_cast<int>(std::ceil(m / 16.0)) * 16;  // multiples of 16 let bakes share rules
 }
 
-FibreNodes FibreNodes::make(const FibreGeometry& g, AbsorptionPath path, const GaussLegendreRule& rule) {
-  FibreNodes n;
+FiberNodes FiberNodes::make(const FiberGeometry& g, AbsorptionPath path, const GaussLegendreRule& rule) {
+  FiberNodes n;
   const auto x = rule.nodes();
   const auto wt = rule.weights();
   const double a = g.inv_eta_prime;
@@ -69,7 +69,7 @@ FibreNodes FibreNodes::make(const FibreGeometry& g, AbsorptionPath path, const G
 namespace {
 
 // A(p) without absorption: f for p = 0, (1 − f)² f^{p−1} otherwise.
-double fresnel_factor(const FibreNodes& n, std::size_t i, int p) {
+double fresnel_factor(const FiberNodes& n, std::size_t i, int p) {
   if (p == 0) return n.f[i];
   double v = n.one_minus_f[i] * n.one_minus_f[i];
   for (int q = 1; q < p; ++q) v *= n.f[i];
@@ -78,7 +78,7 @@ double fresnel_factor(const FibreNodes& n, std::size_t i, int p) {
 
 }  // namespace
 
-void fourier_coefficients(const FibreNodes& nodes, const FibreGeometry& g, int p, std::span<const double> sigmas, int terms,
+void fourier_coefficients(const FiberNodes& nodes, const FiberGeometry& g, int p, std::span<const double> sigmas, int terms,
                           std::vector<double>& out, double length_offset) {
   if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
   if (terms < 0) throw_domain_error("terms", "must be >= 0", static_cast<long long>(terms));
@@ -134,12 +134,12 @@ void fourier_coefficients(const FibreNodes& nodes, const FibreGeometry& g, int p
   }
 }
 
-void fourier_coefficients(const FibreGeometry& g, AbsorptionPath path, int p, std::span<const double> sigmas, int terms,
+void fourier_coefficients(const FiberGeometry& g, AbsorptionPath path, int p, std::span<const double> sigmas, int terms,
                           const GaussLegendreRule& rule, std::vector<double>& out) {
-  fourier_coefficients(FibreNodes::make(g, path, rule), g, p, sigmas, terms, out);
+  fourier_coefficients(FiberNodes::make(g, path, rule), g, p, sigmas, terms, out);
 }
 
-int spread_nodes(double beta, int p, const FibreGeometry& g, double tolerance) {
+int spread_nodes(double beta, int p, const FiberGeometry& g, double tolerance) {
   const double rate = std::max(std::abs(2.0 * p * g.inv_eta_prime - 2.0), 2.0);
   const double sigma = beta / rate;
   const double h = kPi * sigma * std::sqrt(2.0 / std::log(10.0 / tolerance));  // widest spacing allowed
@@ -211,7 +211,7 @@ std::string PeriodicGrid::why_not(std::span<const double> phis) {
   return std::string(s.why) + ": narrow detectors are evaluated from the Fourier series instead of by spreading (slower)";
 }
 
-void spread_np(const FibreNodes& nodes, const FibreGeometry& g, std::span<const SpreadLobe> lobes, std::span<const double> sigmas,
+void spread_np(const FiberNodes& nodes, const FiberGeometry& g, std::span<const SpreadLobe> lobes, std::span<const double> sigmas,
                const PeriodicGrid& grid, double tolerance, std::vector<std::vector<double>>& out) {
   if (grid.period <= 0) throw DomainError("spread_np needs a periodic phi grid");
   const std::size_t K = sigmas.size(), L = lobes.size();

@@ -29,7 +29,7 @@ double folded_integrand(const AttenuationSlice& slice, int p, double beta, doubl
 }
 
 // Φ(p, γ) for the geometry, unwrapped.
-double exit_azimuth_at(const FibreGeometry& g, int p, double gamma) {
+double exit_azimuth_at(const FiberGeometry& g, int p, double gamma) {
   return exit_azimuth(p, gamma, std::asin(std::sin(gamma) * g.inv_eta_prime));
 }
 
@@ -88,7 +88,7 @@ AdaptiveResult azimuthal_np_reference(const AttenuationSlice& slice, int p, doub
       [&](double g, std::span<double> out) { out[0] = folded_integrand(slice, p, beta, phi, g); }, 1, bp, opt);
 }
 
-std::vector<double> detector_breakpoints(const FibreGeometry& geometry, int p, double beta, std::span<const double> phis) {
+std::vector<double> detector_breakpoints(const FiberGeometry& geometry, int p, double beta, std::span<const double> phis) {
   std::vector<double> bp = {0.0, kHalfPi};
   for (double phi : phis)
     for (double g : azimuthal_roots(geometry, p, phi)) {
@@ -109,7 +109,7 @@ std::vector<double> detector_breakpoints(const FibreGeometry& geometry, int p, d
   return bp;
 }
 
-std::vector<double> azimuthal_roots(const FibreGeometry& geometry, int p, double phi) {
+std::vector<double> azimuthal_roots(const FiberGeometry& geometry, int p, double phi) {
   if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
   if (!std::isfinite(phi)) throw_domain_error("phi", "must be finite", phi);
   std::vector<double> edges = {-kHalfPi, kHalfPi};
@@ -119,7 +119,7 @@ std::vector<double> azimuthal_roots(const FibreGeometry& geometry, int p, double
 
 double azimuthal_np_smooth(const AttenuationSlice& slice, int p, double phi) {
   double sum = 0.0;
-  const FibreGeometry& g = slice.geometry();
+  const FiberGeometry& g = slice.geometry();
   for (double gamma : azimuthal_roots(g, p, phi)) {
     const PathPoint q = slice.at_gamma(gamma);
     const double a = q.attenuation(p) * q.cos_gamma_i;

@@ -52,7 +52,7 @@ void check_beta(double beta) { require_positive("beta", beta); }
 // Breakpoints of a half-range integrand over γ in [0, π/2]: the γ where Φ(p, γ) ≡ ±π/2 (the edges
 // of the halves, where W_b and W_f step over a width δ = β/|dΦ/dγ|), refined at δ·4^k on both sides
 // so that no panel next to an edge is much wider than the edge, and the caustic.
-std::vector<double> half_range_breakpoints(const FibreGeometry& g, int p, double beta) {
+std::vector<double> half_range_breakpoints(const FiberGeometry& g, int p, double beta) {
   const double edges[2] = {kHalfPi, -kHalfPi};
   return detector_breakpoints(g, p, beta, edges);
 }
@@ -88,7 +88,7 @@ HalfRangeEnergy half_range_fourier(std::span<const double> c, std::size_t stride
   return {std::max(0.0, 0.5 * c0 + (2.0 / kPi) * s), std::max(0.0, 0.5 * c0 - (2.0 / kPi) * s)};
 }
 
-bool half_range_direct(const FibreGeometry& g, AbsorptionPath path, int p, std::span<const double> sigmas, double beta,
+bool half_range_direct(const FiberGeometry& g, AbsorptionPath path, int p, std::span<const double> sigmas, double beta,
                        std::span<double> out, double rel_tol) {
   if (p < 0) throw_domain_error("p", "must be >= 0", static_cast<long long>(p));
   check_beta(beta);

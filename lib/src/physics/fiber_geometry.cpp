@@ -1,4 +1,4 @@
-#include "hairlut/physics/fibre_geometry.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
 
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
@@ -6,10 +6,10 @@
 
 namespace hairlut {
 
-FibreGeometry FibreGeometry::make(double eta, double theta_d) {
+FiberGeometry FiberGeometry::make(double eta, double theta_d) {
   require_greater("eta", eta, 1.0, "must be a finite number > 1");
   theta_d = checked_inclination("theta_d", theta_d);
-  FibreGeometry g;
+  FiberGeometry g;
   g.eta = eta;
   g.theta_d = theta_d;
   g.cos_theta_d = std::cos(theta_d);
@@ -20,7 +20,7 @@ FibreGeometry FibreGeometry::make(double eta, double theta_d) {
   return g;
 }
 
-double caustic_gamma(int p, const FibreGeometry& g) {
+double caustic_gamma(int p, const FiberGeometry& g) {
   if (p < 2) return -1.0;
   // η'² = 1/inv²; sin²γc = (p² − η'²)/(p² − 1) needs η' ≤ p, i.e. p·(1/η') ≥ 1.
   const double pa = p * g.inv_eta_prime;

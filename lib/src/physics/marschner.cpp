@@ -121,7 +121,7 @@ std::vector<double> cubic_azimuthal_roots(double inv_eta_prime, int p, double ph
   return detail::monotone_piece_roots([&](double g) { return cubic_exit_azimuth(p, g, c); }, edges, phi);
 }
 
-std::vector<AzimuthalPath> marschner_paths(const FibreGeometry& g, int p, double phi, MarschnerRoots roots) {
+std::vector<AzimuthalPath> marschner_paths(const FiberGeometry& g, int p, double phi, MarschnerRoots roots) {
   const double a = g.inv_eta_prime, c = cubic_edge_angle(a);
   const std::vector<double> gammas = roots == MarschnerRoots::exact ? azimuthal_roots(g, p, phi) : cubic_azimuthal_roots(a, p, phi);
   std::vector<AzimuthalPath> paths;
@@ -134,7 +134,7 @@ std::vector<AzimuthalPath> marschner_paths(const FibreGeometry& g, int p, double
   return paths;
 }
 
-TrtCaustic marschner_trt_caustic(const FibreGeometry& g, MarschnerRoots roots, const CausticParams& params) {
+TrtCaustic marschner_trt_caustic(const FiberGeometry& g, MarschnerRoots roots, const CausticParams& params) {
   TrtCaustic k;
   const double a = g.inv_eta_prime, c = cubic_edge_angle(a);
   k.delta_h = params.delta_h_max;
@@ -163,7 +163,7 @@ TrtCaustic marschner_trt_caustic(const FibreGeometry& g, MarschnerRoots roots, c
 
 MarschnerAttenuation::MarschnerAttenuation(double eta, double theta_d, double sigma_a, AbsorptionPath path)
     : path_(path) {
-  const FibreGeometry g = FibreGeometry::make(eta, theta_d);
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
   require_non_negative("sigma_a", sigma_a);
   inv_eta_prime_ = g.inv_eta_prime;
   eta_double_prime_ = eta * eta * g.inv_eta_prime;  // η'' = η² cos θd / √(η² − sin²θd)
@@ -185,9 +185,9 @@ double MarschnerAttenuation::operator()(int p, double gamma_i) const {
 MarschnerAzimuthal::MarschnerAzimuthal(const MarschnerParams& params, double theta_d, double phi_h) : params_(params) {
   params_.validate();
   theta_d_ = checked_inclination("theta_d", theta_d);
-  geometry_ = FibreGeometry::make(params_.eta, theta_d_);
+  geometry_ = FiberGeometry::make(params_.eta, theta_d_);
   const double eta_trt = params_.eccentricity == 1.0 ? params_.eta : eccentric_eta(params_.eta, params_.eccentricity, phi_h);
-  trt_geometry_ = FibreGeometry::make(eta_trt, theta_d_);
+  trt_geometry_ = FiberGeometry::make(eta_trt, theta_d_);
   eta_fresnel_trt_ = params_.eccentric_fresnel == EccentricFresnel::eta_star ? eta_trt : params_.eta;
   caustic_ = marschner_trt_caustic(trt_geometry_, params_.roots, params_.caustic);
 }
@@ -249,7 +249,7 @@ double MarschnerAzimuthal::np_smooth(int p, double sigma_a, double phi) const {
 
 void MarschnerAzimuthal::energy(int p, std::span<const double> sigmas, std::span<double> out, double rel_tol) const {
   check_lobe(p);
-  const FibreGeometry& g = geometry(p);
+  const FiberGeometry& g = geometry(p);
   const double a = g.inv_eta_prime, c = cubic_edge_angle(a);
   std::vector<MarschnerAttenuation> A;
   for (double s : sigmas) A.push_back(attenuation(p, s));

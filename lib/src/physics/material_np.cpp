@@ -10,7 +10,7 @@
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/util/vector_math.hpp"
-#include "hairlut/physics/fibre_geometry.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/fresnel.hpp"
 
 namespace hairlut {
@@ -206,7 +206,7 @@ double fourier_work(int m, int terms, std::size_t planes, std::size_t points) {
 }  // namespace
 
 struct MaterialNp::Row {
-  FibreGeometry g;
+  FiberGeometry g;
   std::size_t m = 0, K = 0;
   std::vector<double> st, gt, len, f, omf, T, fpow, tpow, amp;  // T, tpow, amp: [k · m + i]
   std::vector<double> centre, d0, g0, rr, win, buf, circle, scale;  // win: [i · run + j]; scale: [i · planes + k]
@@ -253,7 +253,7 @@ MaterialNp::MaterialNp(MaterialNpRequest request) : r_(std::move(request)), grid
   // for p ≤ 2), so they are computed once per lobe and rate.
   std::map<std::pair<std::size_t, double>, int> counts;
   for (std::size_t t = 0; t < nt; ++t) {
-    const FibreGeometry g = FibreGeometry::make(r_.eta, r_.thetas[t]);
+    const FiberGeometry g = FiberGeometry::make(r_.eta, r_.thetas[t]);
     for (std::size_t p = 0; p < L; ++p) {
       const double rate = std::max(std::abs(2.0 * static_cast<double>(p) * g.inv_eta_prime - 2.0), 2.0);
       auto it = counts.find({p, rate});
@@ -351,7 +351,7 @@ void MaterialNp::window_values(std::size_t p, std::size_t i, const Row& row, dou
 // The factors of every node of θd node t that do not depend on the lobe: γt, the path length,
 // f and 1 − f, and T = e^{−σa' ℓ} per channel.
 void MaterialNp::node_factors(std::size_t t, Row& row) const {
-  const FibreGeometry& g = row.g;
+  const FiberGeometry& g = row.g;
   const RuleNodes& n = nodes_.at(m_[t]);
   const std::size_t m = n.gamma.size(), K = r_.sigmas.size();
   row.m = m, row.K = K;
@@ -372,7 +372,7 @@ void MaterialNp::node_factors(std::size_t t, Row& row) const {
 void MaterialNp::evaluate(std::size_t t, std::vector<double>& out, std::vector<double>* energies) const {
   const std::size_t L = r_.betas.size(), K = r_.sigmas.size(), nphi = r_.phis.size(), E = L;
   thread_local Row row;
-  row.g = FibreGeometry::make(r_.eta, r_.thetas[t]);
+  row.g = FiberGeometry::make(r_.eta, r_.thetas[t]);
   node_factors(t, row);
   row.rotations = false;
   const RuleNodes& n = nodes_.at(m_[t]);
@@ -558,7 +558,7 @@ void MaterialNp::fourier_lobe(std::size_t p, const RuleNodes& n, Row& row, std::
 void material_energies(double eta, double theta_d, AbsorptionPath path, std::span<const double> sigmas, LobeSet lobes,
                        const GaussLegendreRule& rule, std::vector<double>& out) {
   if (lobes.count < 1 || lobes.count > 1000) throw_domain_error("lobe count", "must lie in [1, 1000]", static_cast<long long>(lobes.count));
-  const FibreGeometry g = FibreGeometry::make(eta, theta_d);
+  const FiberGeometry g = FiberGeometry::make(eta, theta_d);
   const std::size_t K = sigmas.size(), E = static_cast<std::size_t>(lobes.size()), P = static_cast<std::size_t>(lobes.count);
   std::vector<double> sp(K);
   for (std::size_t k = 0; k < K; ++k) {

@@ -17,7 +17,7 @@ double map_alpha(int m, double tolerance) { return 1.0 / std::cosh(std::log(1e3 
 
 }  // namespace
 
-int material_np_nodes(double beta, int p, const FibreGeometry& g, double tol) {
+int material_np_nodes(double beta, int p, const FiberGeometry& g, double tol) {
   require_positive("beta", beta);
   if (!(tol > 0.0 && tol < 1.0)) throw_domain_error("tolerance", "must lie in (0, 1)", tol);
   const double rate = std::max(std::abs(2.0 * p * g.inv_eta_prime - 2.0), 2.0);

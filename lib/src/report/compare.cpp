@@ -207,7 +207,7 @@ json cubic_section(const CompareSettings& s) {
   if (water > 1.01) list.insert(list.begin() + 1, {water, "this fiber in water (eta/1.333)"});
   for (const Case& c : list) {
     check_cancel(s);
-    const FibreGeometry g = FibreGeometry::make(c.eta_prime, 0.0);
+    const FiberGeometry g = FiberGeometry::make(c.eta_prime, 0.0);
     MarschnerParams pe = marschner_params(s, MarschnerRoots::exact), pc = marschner_params(s, MarschnerRoots::cubic);
     pe.eta = pc.eta = c.eta_prime;
     pe.eccentricity = pc.eccentricity = 1.0;
@@ -296,7 +296,7 @@ nlohmann::ordered_json compare_models(const CompareSettings& s) {
   const MarschnerLobes lobes = s.marschner.lobes(s.beta_r);
   json out;
   out["tool"] = "hairlut compare";
-  out["fiber"] = {{"eta", s.eta}, {"sigma_a", s.sigma_a}, {"description", s.fibre}, {"absorption_path", to_string(s.path)},
+  out["fiber"] = {{"eta", s.eta}, {"sigma_a", s.sigma_a}, {"description", s.fiber}, {"absorption_path", to_string(s.path)},
                   {"phi_h", s.phi_h}};
   out["marschner"] = marschner_json(s.marschner);
   out["lobes"] = json::array();

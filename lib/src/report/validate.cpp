@@ -267,7 +267,7 @@ json compare_for(const TableSet& set, const ModelInfo& info, const ValidationOpt
     const auto b = mt->axes[0].nodes();
     s.beta_r = b[b.size() / 2];
   }
-  s.fibre = "from the tables' metadata";
+  s.fiber = "from the tables' metadata";
   return compare_models(s);
 }
 

@@ -20,11 +20,11 @@ const char* kTruncation =
     "N(beta) = the smallest N with 2 exp(-(N+1)^2 b) / (1 - exp(-(2N+3) b)) <= tolerance / 2, b = beta^2 / 2, at most terms - 1 "
     "(a bound on 2 sum_{n>N} exp(-n^2 b): the truncation is below tolerance x c_0 F / 2 pi); summing more stored terms only adds accuracy";
 const char* kChord =
-    "F = exp(-p sigma_a' l_min), the lobe's least absorption (its shortest internal segment, at the fibre's edge h = +-1): sigma_a' = "
+    "F = exp(-p sigma_a' l_min), the lobe's least absorption (its shortest internal segment, at the fiber's edge h = +-1): sigma_a' = "
     "sigma_a eta / q, q^2 = eta^2 - sin^2 theta_d, l_min = 2 cos gamma_t = 2 sqrt(eta^2 - 1) / q (chord), so F = exp(-2 p eta "
     "sqrt(eta^2 - 1) sigma_a / q^2)";
 const char* kPapers =
-    "F = exp(-p sigma_a' l_min), the lobe's least absorption (its shortest internal segment, at the fibre's edge h = +-1): sigma_a' = "
+    "F = exp(-p sigma_a' l_min), the lobe's least absorption (its shortest internal segment, at the fiber's edge h = +-1): sigma_a' = "
     "sigma_a eta / q, q^2 = eta^2 - sin^2 theta_d, l_min = 4 cos^2 gamma_t = 4 (eta^2 - 1) / q^2 (papers), so F = exp(-4 p eta "
     "(eta^2 - 1) sigma_a / q^3)";
 const char* kInterpolation =

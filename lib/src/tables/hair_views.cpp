@@ -261,11 +261,11 @@ int lobe_index(const TableSet& set, std::string_view lobe) {
   throw DomainError("table set: no lobe " + std::string(lobe) + " (lobes: " + (have.empty() ? std::string("none") : have) + ")");
 }
 
-sampler::Fibre fibre_from_melanin(double eumelanin, double pheomelanin, double beta_m, double beta_n) {
+sampler::Fiber fiber_from_melanin(double eumelanin, double pheomelanin, double beta_m, double beta_n) {
   require_positive("beta_m", beta_m);
   require_positive("beta_n", beta_n);
   const Rgb s = melanin_sigma_a_rgb(eumelanin, pheomelanin);
-  sampler::Fibre f;
+  sampler::Fiber f;
   f.sigma_a[0] = s.r, f.sigma_a[1] = s.g, f.sigma_a[2] = s.b;
   f.beta_m = beta_m, f.beta_n = beta_n;
   return f;

@@ -53,7 +53,7 @@ struct AbsorptionMapping {
   static AbsorptionMapping from_json(const nlohmann::json& j);
 };
 
-/// The fibre a mean-energy or dual-scattering table entry stands for: η and the absorption path,
+/// The fiber a mean-energy or dual-scattering table entry stands for: η and the absorption path,
 /// σa from the absorption axis's value, the lobes (and residual) from the roughness axis's value.
 HairModel table_model(const RoughnessMapping& roughness, const AbsorptionMapping& absorption, double eta, AbsorptionPath path,
                       double roughness_x, double absorption_x);

@@ -8,7 +8,7 @@
 // HDRP's 10-term I0 series and its large-argument logarithm, Karis's modified index, the trimmed
 // logistic, Schlick's Fresnel, the guard epsilons inside square roots) are evaluated as HDRP writes
 // them, in double precision. The integrals HDRP estimates with Riemann sums and 32 Hammersley
-// samples (over the fibre width h, the light azimuth and the hemisphere) are computed here to a
+// samples (over the fiber width h, the light azimuth and the hemisphere) are computed here to a
 // relative 1e-10 by adaptive Gauss–Kronrod between the integrands' kinks and peaks, with the trimmed
 // logistic's azimuthal weights in closed form. Two guards are left out because they are not part of
 // the integrals' definition: the 1e-4 added to |wi.z| before it is divided out of the reference BSDF

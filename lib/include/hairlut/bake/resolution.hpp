@@ -32,7 +32,7 @@ struct ResolutionPlan {
 /// interpolation (linear, cubic or geometric in its mapped coordinate) from the exact values at
 /// its nodes with the other coordinates exact, against direct evaluation (the Fourier method at
 /// 1e−12), relative to the peak over φ of the true slice at the same (β, σa, θd), floored at 1e−3
-/// of the white fibre's peak (docs/conventions.md). With normalize_energy the table holds
+/// of the white fiber's peak (docs/conventions.md). With normalize_energy the table holds
 /// N_p / E_p: the nodes' shapes are interpolated and multiplied by the exact energy at the point.
 /// Lobes R, TT, TRT and TRRT (as many as `lobes`).
 class AxisErrorProbe {
@@ -114,7 +114,7 @@ struct AchievedError {
 /// The error of every lobe's N_p table of group "np" (R, TT, TRT, TRRT, ...; not the residual,
 /// which the validator judges with the energies), or of group "np_fourier" read through
 /// sampler::FourierNp in double (over its domain, fourier_domain), relative to the peak over φ of
-/// the same (β, σa, θd) slice floored at 1e−3 × the white fibre's (as validate-hair-luts's
+/// the same (β, σa, θd) slice floored at 1e−3 × the white fiber's (as validate-hair-luts's
 /// accuracy_max_rel): the worst found by `samples` random points per table and the worst-point
 /// search (SampledErrorOptions::search), on points the resolution plan did not probe (a seed of
 /// their own per table, fixed so that a bake is reproducible). `worst` is the worst found, `p99`

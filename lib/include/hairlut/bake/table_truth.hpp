@@ -36,21 +36,21 @@ struct TableTruth {
   /// full point; only these coordinates are read).
   std::vector<int> slab_axes;
   std::function<PointFunction(const std::vector<double>&)> make;
-  /// The same quantity for the white fibre (σa = 0, the rest unchanged); empty when the table has
+  /// The same quantity for the white fiber (σa = 0, the rest unchanged); empty when the table has
   /// no absorption.
   std::function<PointFunction(const std::vector<double>&)> make_white;
   /// Denominator: the peak of |exact| along this axis over [peak_lo, peak_hi] at the point's other
   /// coordinates (φ of N_p, θr of M_p); −1: |exact| at the point itself.
   int peak_axis = -1;
   /// Optional: a cheaper evaluation of the same function for the peak search (the Fourier series of
-  /// N_p at 1e−10), for a slab and the white fibre (true) or not; make/make_white otherwise.
+  /// N_p at 1e−10), for a slab and the white fiber (true) or not; make/make_white otherwise.
   std::function<PointFunction(const std::vector<double>&, bool white)> make_fast;
   double peak_lo = 0.0, peak_hi = 0.0;
   /// Optional: where along the peak axis the quantity has features at the point's other
   /// coordinates (N_p: the caustics and the lobe's edges, Φ(p, h) at dΦ/dh = 0 and h = ±1; M_p: the
   /// specular cone θr = α − θi), for the worst-point search to look at and around.
   std::function<std::vector<double>(const std::vector<double>&)> features;
-  /// The denominator is at least white_floor × (the same denominator of the white fibre) and at
+  /// The denominator is at least white_floor × (the same denominator of the white fiber) and at
   /// least absolute_floor.
   double white_floor = 0.0;
   double absolute_floor = 0.0;

@@ -5,7 +5,7 @@
 
 #include <string_view>
 
-#include "hairlut/physics/fibre_geometry.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
 
 namespace hairlut {
 
@@ -46,7 +46,7 @@ class AttenuationSlice {
   /// Validates η > 1, θd in [−π/2, π/2], σa ≥ 0 (throws DomainError).
   AttenuationSlice(double eta, double theta_d, double sigma_a, AbsorptionPath path = AbsorptionPath::chord);
 
-  const FibreGeometry& geometry() const { return geometry_; }
+  const FiberGeometry& geometry() const { return geometry_; }
   double sigma_a() const { return sigma_a_; }
   double sigma_a_prime() const { return sigma_a_prime_; }
   AbsorptionPath path() const { return path_; }
@@ -60,7 +60,7 @@ class AttenuationSlice {
  private:
   PathPoint evaluate(double h, double gamma_i, double cos_gamma_i) const;
 
-  FibreGeometry geometry_;
+  FiberGeometry geometry_;
   double sigma_a_;
   double sigma_a_prime_;
   AbsorptionPath path_;
@@ -68,7 +68,7 @@ class AttenuationSlice {
 
 /// ℓ_min: the length of the shortest internal segment, at the fiber's edge h = ±1 where
 /// sin γt = 1/η' (2 cos γt for the chord, 4 cos²γt for the papers' form). Exact.
-double edge_segment_length(const FibreGeometry& geometry, AbsorptionPath path);
+double edge_segment_length(const FiberGeometry& geometry, AbsorptionPath path);
 
 /// F = T(h = ±1)^p: lobe p's least absorption, along its shortest internal segments (at the fiber's
 /// edge, where cos γt is smallest), so that A(p, h) / F ≤ (1 − f)² f^{p−1} at every h (and the

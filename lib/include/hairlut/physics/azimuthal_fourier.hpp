@@ -30,18 +30,18 @@ int fourier_terms(double beta, double tolerance);
 /// phase n Φ(γ) oscillates at most at k_n = n · max|dΦ/dγ| · π/4 on the rule's [−1, 1], where
 /// m ≥ 0.5 k + (0.35 log10(1/ε) + 0.6) k^{1/3} + 4 integrates cos(kx) to ε (measured), and C_n needs
 /// only ε_n = tolerance / (10 N e^{−n²β²/2}); plus nodes for the Fresnel edge of an η close to 1.
-int fourier_nodes(int terms, int p, const FibreGeometry& geometry, double tolerance);
+int fourier_nodes(int terms, int p, const FiberGeometry& geometry, double tolerance);
 
 /// C_n for n = 0 … terms of lobe p at the geometry's θd, for each σa in `sigmas`, written to
 /// out[n · sigmas.size() + k]. `rule` is a Gauss–Legendre rule on [−1, 1] (mapped to [0, π/2]).
-void fourier_coefficients(const FibreGeometry& geometry, AbsorptionPath path, int p, std::span<const double> sigmas, int terms,
+void fourier_coefficients(const FiberGeometry& geometry, AbsorptionPath path, int p, std::span<const double> sigmas, int terms,
                           const GaussLegendreRule& rule, std::vector<double>& out);
-struct FibreNodes;
+struct FiberNodes;
 /// The same from precomputed node factors. With length_offset = ℓ_min (edge_segment_length,
 /// attenuation.hpp) the result is C_n / F, F = e^{−p σa′ ℓ_min} the lobe's least absorption, taken
 /// inside the integral (each node's T^p as e^{−p σa′ (ℓ − ℓ_min)}), so that it keeps its digits
 /// where C_n and F underflow.
-void fourier_coefficients(const FibreNodes& nodes, const FibreGeometry& geometry, int p, std::span<const double> sigmas, int terms,
+void fourier_coefficients(const FiberNodes& nodes, const FiberGeometry& geometry, int p, std::span<const double> sigmas, int terms,
                           std::vector<double>& out, double length_offset = 0.0);
 
 /// Σ_{n=0}^{N} v_n cos(n φ_j) on a fixed grid of φ_j, for any N up to max_terms. On a uniform
@@ -65,19 +65,19 @@ class CosineSeries {
 
 /// The factors of A(p, h) at the nodes of a rule on γ ∈ [0, π/2] that do not depend on p or σa,
 /// computed once per θd and shared by every lobe and absorption.
-struct FibreNodes {
+struct FiberNodes {
   std::vector<double> weight;  ///< rule weight × π/4 × cos γ (dh = cos γ dγ)
   std::vector<double> gamma_i, gamma_t, f, one_minus_f, length;  ///< length: σa'-free path of one segment
   std::size_t size() const { return weight.size(); }
   /// Evaluates the nodes of `rule` (on [−1, 1], mapped to [0, π/2]) at the geometry's θd.
-  static FibreNodes make(const FibreGeometry& geometry, AbsorptionPath path, const GaussLegendreRule& rule);
+  static FiberNodes make(const FiberGeometry& geometry, AbsorptionPath path, const GaussLegendreRule& rule);
 };
 
 /// Gauss–Legendre nodes on γ ∈ [0, π/2] for evaluating N_p directly (spreading, below) with a
 /// detector of width β to the tolerance: the detector is a Gaussian of width σ = β / max|dΦ/dγ|
 /// in γ, which the rule resolves to ε once its widest spacing (π²/4m at the centre) is below
 /// π σ √(2 / ln(1/ε)) (the trapezoid-rule bound for a Gaussian); plus the Fresnel-edge nodes.
-int spread_nodes(double beta, int p, const FibreGeometry& geometry, double tolerance);
+int spread_nodes(double beta, int p, const FiberGeometry& geometry, double tolerance);
 
 /// A uniform φ grid whose step divides 2π and that is symmetric about φ = 0 on the circle:
 /// φ_j = φ_0 + 2πj/P for j < points ≤ P + 1 (with P + 1 points both ends are present, 0 and 2π or
@@ -103,7 +103,7 @@ struct SpreadLobe {
 /// within √(2 ln(2/ε)) β of their centre (all images of the wrapped detector included) with a
 /// two-exponential recurrence; g(φ + Φ) is the mirror image of g(φ − Φ) on the (symmetric) grid.
 /// The same quadrature as the Fourier form with the same nodes. out[l][k · points + j].
-void spread_np(const FibreNodes& nodes, const FibreGeometry& geometry, std::span<const SpreadLobe> lobes,
+void spread_np(const FiberNodes& nodes, const FiberGeometry& geometry, std::span<const SpreadLobe> lobes,
                std::span<const double> sigmas, const PeriodicGrid& grid, double tolerance, std::vector<std::vector<double>>& out);
 
 /// Work estimates used to choose between the Fourier form and spreading for one (θd, lobe).

@@ -58,12 +58,12 @@ AdaptiveResult azimuthal_np_reference(const AttenuationSlice& slice, int p, doub
 /// caustic, and at every |γ0| with Φ(p, γ0) ≡ φ for each φ of `phis` the points |γ0| ± w·4^k, where
 /// w = β/max(|dΦ/dγ|, 2√β) is the detector's width in γ (√β near a caustic), so that no panel next
 /// to a peak or step is more than four times wider than it. Sorted, without duplicates.
-std::vector<double> detector_breakpoints(const FibreGeometry& geometry, int p, double beta, std::span<const double> phis);
+std::vector<double> detector_breakpoints(const FiberGeometry& geometry, int p, double beta, std::span<const double> phis);
 
 /// Every γi in [−π/2, π/2] with Φ(p, sin γi) ≡ φ (mod 2π), ascending: one per monotone piece of Φ
 /// and multiple of 2π (one or three for TRT, one for R and TT). Found by bracketed TOMS 748 on the
 /// pieces between the caustics ±γc, so |Φ − φ − 2πk| is at rounding level.
-std::vector<double> azimuthal_roots(const FibreGeometry& geometry, int p, double phi);
+std::vector<double> azimuthal_roots(const FiberGeometry& geometry, int p, double phi);
 
 /// The smooth-fiber limit of N_p as β → 0: Σ_roots A(p, h) / |2 dΦ/dh| = Σ A cos γ / (2 |dΦ/dγ|).
 /// Finite and ≥ 0 except exactly at a caustic azimuth, where the smooth fiber's intensity is

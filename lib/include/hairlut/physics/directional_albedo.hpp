@@ -31,7 +31,7 @@ struct AlbedoResult {
 /// and tilt fold) of M_p · e_p(θd) · cos θr, the lobe energies e_p by Gauss–Legendre of
 /// energy_order nodes in γ. Each lobe meets rel_tol relative to its own value or an absolute
 /// kAlbedoAbsTol, whichever is looser, so that a lobe carrying almost no energy (R as η → 1, or
-/// every lobe but R in a strongly absorbing fibre) does not drive the integral into rounding noise:
+/// every lobe but R in a strongly absorbing fiber) does not drive the integral into rounding noise:
 /// the cost stays bounded for every legal η, β and θi. Throws DomainError for an invalid model or θi.
 AlbedoResult directional_albedo(const HairModel& model, double theta_i, double rel_tol = 1e-11,
                                 int energy_order = 128);

@@ -4,7 +4,7 @@
 //
 // Normalisation: hairlut's S integrates to the directional albedo, E(θi) = ∫∫ S cos θr dφ dθr.
 // Zinke's eq. 6 writes ā_f(θ) = (1/π) ∫ ∫_{Ω_f} f_s cos θ' dω' dφ, an average over a half-turn of
-// incident azimuths; for a circular fibre S depends only on φ = φr − φi, so that average is the
+// incident azimuths; for a circular fiber S depends only on φ = φr − φi, so that average is the
 // integrand itself and ā_f, ā_b below are Zinke's with hairlut's S for f_s: ā_f + ā_b = E(θi).
 //
 // Halves of the azimuth circle: backward |φ| ≤ π/2 (the light returns to the side it came from),
@@ -67,7 +67,7 @@ HalfRangeEnergy half_range_fourier(std::span<const double> coefficients, std::si
 /// for all σa of `sigmas` at once. out[2k] = backward, out[2k + 1] = forward of sigmas[k].
 /// Returns whether every component met rel_tol (absolute floor 1e−15).
 /// Domain: η > 1, θd in [−π/2, π/2], p ≥ 0, β > 0, σa ≥ 0.
-bool half_range_direct(const FibreGeometry& geometry, AbsorptionPath path, int p, std::span<const double> sigmas, double beta,
+bool half_range_direct(const FiberGeometry& geometry, AbsorptionPath path, int p, std::span<const double> sigmas, double beta,
                        std::span<double> out, double rel_tol = 1e-11);
 
 /// One slice (η, θd, σa, path) and lobe: the convenience form of half_range_direct.

@@ -36,7 +36,7 @@
 
 #include "hairlut/util/angles.hpp"
 #include "hairlut/physics/attenuation.hpp"
-#include "hairlut/physics/fibre_geometry.hpp"
+#include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 
 namespace hairlut {
@@ -115,7 +115,7 @@ struct AzimuthalPath {
 };
 
 /// The paths of lobe p reaching φ, exactly or with the cubic map. For TRT, one or three.
-std::vector<AzimuthalPath> marschner_paths(const FibreGeometry& geometry, int p, double phi, MarschnerRoots roots);
+std::vector<AzimuthalPath> marschner_paths(const FiberGeometry& geometry, int p, double phi, MarschnerRoots roots);
 
 /// Where the TRT caustic sits and how it is replaced (Marschner §5.2.2).
 struct TrtCaustic {
@@ -127,7 +127,7 @@ struct TrtCaustic {
   double delta_h = 0.0;   ///< Δh = min(Δh_M, 2 √(2 w_c / |d²Φ/dh²|)); Δh_M past the merge
 };
 /// The TRT caustic of the geometry (η' from it), with the exact or the cubic map.
-TrtCaustic marschner_trt_caustic(const FibreGeometry& geometry, MarschnerRoots roots, const CausticParams& params);
+TrtCaustic marschner_trt_caustic(const FiberGeometry& geometry, MarschnerRoots roots, const CausticParams& params);
 
 /// Marschner's attenuation A(p, h) with the Bravais Fresnel factor, for one (η, θd, σa).
 class MarschnerAttenuation {
@@ -162,7 +162,7 @@ class MarschnerAzimuthal {
   void energy(int p, std::span<const double> sigmas, std::span<double> out, double rel_tol = 1e-11) const;
 
   /// The geometry lobe p uses (η* for an eccentric TRT).
-  const FibreGeometry& geometry(int p) const { return p == 2 ? trt_geometry_ : geometry_; }
+  const FiberGeometry& geometry(int p) const { return p == 2 ? trt_geometry_ : geometry_; }
   const TrtCaustic& caustic() const { return caustic_; }
   const MarschnerParams& params() const { return params_; }
 
@@ -173,7 +173,7 @@ class MarschnerAzimuthal {
 
   MarschnerParams params_;
   double theta_d_, eta_fresnel_trt_;
-  FibreGeometry geometry_, trt_geometry_;
+  FiberGeometry geometry_, trt_geometry_;
   TrtCaustic caustic_;
 };
 

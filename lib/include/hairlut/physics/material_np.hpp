@@ -78,7 +78,7 @@ struct MaterialNpRequest {
 /// to the lobe's peak): the widest spacing π²α/(4m asin α) must resolve a Gaussian of width
 /// σ = β / max|dΦ/dγ| (spacing ≤ π σ √(2 / ln(10/ε)), the trapezoid bound), plus 4; and at least
 /// max(32, 12 + 12/√(η − 1)) × max(1, ln(1/ε)/ln(1e10)) for the Fresnel factor's rise near grazing.
-int material_np_nodes(double beta, int p, const FibreGeometry& geometry, double tolerance);
+int material_np_nodes(double beta, int p, const FiberGeometry& geometry, double tolerance);
 
 class MaterialNp {
  public:

@@ -26,7 +26,7 @@ struct CompareSettings {
   double eta = 1.55;
   AbsorptionPath path = AbsorptionPath::chord;
   double sigma_a = 0.5;                     ///< absorption per unit radius
-  std::string fibre = "";                   ///< how σa was chosen, for titles (e.g. "melanin 0.8, 0.1, channel G")
+  std::string fiber = "";                   ///< how σa was chosen, for titles (e.g. "melanin 0.8, 0.1, channel G")
   double beta_r = radians(5.0);             ///< Marschner's β_R (d'Eon's R lobe roughness too)
   MarschnerConfig marschner;                ///< caustic, eccentricity, α_R, argument (both root finders are shown)
   double phi_h = 0.0;                       ///< azimuthal half angle for an eccentric fiber

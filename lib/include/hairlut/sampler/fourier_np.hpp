@@ -8,7 +8,7 @@
 //   C_n(θd, σa) = ½ ∫ A(p, h) cos(n Φ(p, h)) dh,
 // so every β and φ share the C_n. A table stores c_n = C_n / F at (θd, σa) nodes, n = 0 … terms − 1
 // the fastest axis, with the lobe's least absorption F = e^{−p σa′ ℓ_min} divided out (ℓ_min the
-// shortest internal segment, at the fibre's edge h = ±1; σa′ = σa / cos θt): what is left varies
+// shortest internal segment, at the fiber's edge h = ±1; σa′ = σa / cos θt): what is left varies
 // slowly with σa. A lookup interpolates the c_n along θd and σa (each axis's own interpolation,
 // as FixedView reads it), multiplies F back exactly and sums the series to N(β) terms:
 //   N(β) = the smallest N with 2 e^{−(N+1)²β²/2} / (1 − e^{−(2N+3)β²/2}) ≤ tolerance / 2,
@@ -63,7 +63,7 @@ inline bool fourier_tail_within(int N, double beta, double tolerance) {
 }
 
 /// F = e^{−p σa′ ℓ_min}: the lobe's least absorption, along its shortest internal segment (at the
-/// fibre's edge, sin γt = 1/η′). With q² = η² − sin²θd, σa′ = σa η / q and cos γt = √(η² − 1) / q
+/// fiber's edge, sin γt = 1/η′). With q² = η² − sin²θd, σa′ = σa η / q and cos γt = √(η² − 1) / q
 /// there, so the chord 2 cos γt gives F = exp(−2 p η √(η² − 1) σa / q²) and the papers' 4 cos²γt
 /// F = exp(−4 p η (η² − 1) σa / q³). Exact; 1 for p = 0 or σa = 0. FourierAbsorption holds the
 /// factors that do not depend on the point (η² − 1 and the constant k of x = k σa / q², or k σa / q³

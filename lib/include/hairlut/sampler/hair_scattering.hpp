@@ -1,14 +1,14 @@
 // hairlut::sampler::HairScattering — what a renderer calls per shading point: eval, sample and pdf
-// of S = Σ_p M_p N_p from d'Eon 2011 tables, with directions in the fibre frame.
+// of S = Σ_p M_p N_p from d'Eon 2011 tables, with directions in the fiber frame.
 //
-// Header-only and dependency-free (C++17, with sampler_fibre.hpp, axis_sampling.hpp and product_row.hpp). Built once
+// Header-only and dependency-free (C++17, with sampler_fiber.hpp, axis_sampling.hpp and product_row.hpp). Built once
 // from the typed views of a table set (HairTables: tensor or β-band N_p, M_p, the residual), from a
 // set whose N_p is a Fourier series (FourierSet, with M_p tables), or from one material's tables
-// (MaterialTables, material_scattering.hpp), then const and shareable between threads. A fibre is plain data (Fibre: RGB σa, β_m, β_n): there is no
-// per-fibre setup, so σa may change per strand or per shading point. Fibre::tilt adds a cuticle
+// (MaterialTables, material_scattering.hpp), then const and shareable between threads. A fiber is plain data (Fiber: RGB σa, β_m, β_n): there is no
+// per-fiber setup, so σa may change per strand or per shading point. Fiber::tilt adds a cuticle
 // scale angle to the tilts the tables were baked with.
 //
-// Frame and angles (pbrt's hair frame): x along the fibre from root to tip, y–z the normal plane;
+// Frame and angles (pbrt's hair frame): x along the fiber from root to tip, y–z the normal plane;
 // θ = asin x, φ = atan2(z, y). wo is the direction the renderer holds (towards the viewer or the
 // previous vertex), wi the one it samples (towards the light). In the tables' terms wo is the exit
 // direction θr and wi the incidence θi: S(wo, wi) = Σ_p M_p(β_m; θi, θo) N_p(φ; β_n, σa, θd) with
@@ -16,7 +16,7 @@
 // held direction, so ∫ M_p cos θi dθi = 1 for every θo and each lobe stays normalised over the
 // direction that is sampled (as pbrt-v4 applies its scale angle to wo).
 //
-// Sampling, exactly from the density that pdf() returns (and, for a white fibre with untilted
+// Sampling, exactly from the density that pdf() returns (and, for a white fiber with untilted
 // tables, in exact proportion to S cos θi; weights then equal the tables' albedo):
 //   1. θi from m(θi) = Σ_p M̃_p(θi) Ê_p(θi) cos θi / G, where M̃_p is the M_p table interpolated
 //      as it declares (Catmull–Rom or linear along every axis, clamped at 0) and Ê_p the lobe's
@@ -51,7 +51,7 @@
 #include "hairlut/sampler/fourier_np.hpp"
 #include "hairlut/sampler/material_scattering.hpp"
 #include "hairlut/sampler/product_row.hpp"
-#include "hairlut/sampler/sampler_fibre.hpp"
+#include "hairlut/sampler/sampler_fiber.hpp"
 
 namespace hairlut {
 namespace sampler {
@@ -59,16 +59,16 @@ namespace sampler {
 /// A direction drawn by HairScattering::sample. pdf == 0 (and weight 0) when nothing could be
 /// drawn (no energy at this wo, or a NaN direction).
 struct ScatteringSample {
-  double wi[3] = {0.0, 0.0, 0.0};      ///< unit vector in the fibre frame
+  double wi[3] = {0.0, 0.0, 0.0};      ///< unit vector in the fiber frame
   double weight[3] = {0.0, 0.0, 0.0};  ///< S(wo, wi) / pdf per channel (pbrt's f |cos| / pdf)
   double pdf = 0.0;                    ///< per unit solid angle
   double theta_i = 0.0, phi = 0.0;     ///< θi and φ = φo − φi of wi [rad]
   int lobe = -1;                       ///< the lobe drawn (the residual is lobes() − 1)
 };
 
-/// The inclination θ = asin(w_x) and azimuth φ = atan2(w_z, w_y) of a unit vector in the fibre frame
+/// The inclination θ = asin(w_x) and azimuth φ = atan2(w_z, w_y) of a unit vector in the fiber frame
 /// (NaN in, NaN out).
-inline void fibre_direction_angles(const double* w, double& theta, double& phi) {
+inline void fiber_direction_angles(const double* w, double& theta, double& phi) {
   theta = w[0] == w[0] ? std::asin(std::max(-1.0, std::min(1.0, w[0]))) : w[0];
   phi = std::atan2(w[2], w[1]);
 }
@@ -113,7 +113,7 @@ class HairScattering {
     double value(const AxisSampler<T>& s, double x) const { return mixed ? s.mix_value(mix, x) : s.value(row, x); }
     double sample(const AxisSampler<T>& s, double u) const { return mixed ? s.sample_mix(mix, u) : s.sample(row, u); }
   };
-  // What depends on the fibre and θo only: each lobe's M̃_p row along θi, its product row M̃_p Ê_p
+  // What depends on the fiber and θo only: each lobe's M̃_p row along θi, its product row M̃_p Ê_p
   // cos θi, and the lobe's share c_p of step 1's density.
   struct Point {
     double theta_o = 0.0;
@@ -157,7 +157,7 @@ class HairScattering {
     valid_ = ok;
   }
   /// From the tables of one material (MaterialTables, copied): σa and β are the material's, so
-  /// every call ignores the Fibre's fields (material_scattering.hpp says how it samples).
+  /// every call ignores the Fiber's fields (material_scattering.hpp says how it samples).
   explicit HairScattering(const MaterialTables<T>& m) : mat_(m) {
     material_ = true;
     valid_ = mat_.valid();
@@ -189,16 +189,16 @@ class HairScattering {
 
   /// False when a table is missing or its sampled axis is one the sampler cannot invert.
   bool valid() const { return valid_; }
-  /// True when built from one material's tables (the Fibre's fields are then not read).
+  /// True when built from one material's tables (the Fiber's fields are then not read).
   bool material() const { return material_; }
   /// Explicit lobes plus the residual (its index is lobes() − 1 when the tables have one).
   int lobes() const { return lobes_; }
   const HairTables<T, double>& tables() const { return t_; }
 
-  /// S(wo, wi) per channel [1/sr] for unit vectors in the fibre frame.
-  void eval(const Fibre& f, const double* wo, const double* wi, double* rgb) const {
+  /// S(wo, wi) per channel [1/sr] for unit vectors in the fiber frame.
+  void eval(const Fiber& f, const double* wo, const double* wi, double* rgb) const {
     if (material_ && valid_ && wo[0] == wo[0] && wi[0] == wi[0]) {
-      // The sines are the directions' components along the fibre, and |φ| (all the tables need:
+      // The sines are the directions' components along the fiber, and |φ| (all the tables need:
       // N_p is even in φ) is the angle between their projections on the normal plane.
       const double cross = wo[1] * wi[2] - wo[2] * wi[1], dot = wo[1] * wi[1] + wo[2] * wi[2];
       const double phi = std::atan2(std::fabs(cross), dot);
@@ -208,13 +208,13 @@ class HairScattering {
       }
     }
     double to, po, ti, pi;
-    fibre_direction_angles(wo, to, po);
-    fibre_direction_angles(wi, ti, pi);
+    fiber_direction_angles(wo, to, po);
+    fiber_direction_angles(wi, ti, pi);
     eval(f, to, ti, po - pi, rgb);
   }
   /// S per channel at θo (held), θi (sampled), φ = φo − φi [rad]. NaN in every channel for a
   /// NaN argument; ≥ 0 otherwise.
-  void eval(const Fibre& f, double theta_o, double theta_i, double phi, double* rgb) const {
+  void eval(const Fiber& f, double theta_o, double theta_i, double phi, double* rgb) const {
     rgb[0] = rgb[1] = rgb[2] = 0.0;
     if (!(theta_o == theta_o) || !(theta_i == theta_i) || !(phi == phi)) {
       rgb[0] = rgb[1] = rgb[2] = theta_o + theta_i + phi;
@@ -251,7 +251,7 @@ class HairScattering {
     }
   }
 
-  /// What sample(), pdf() and albedo() share at one shading point, a fibre and wo: each lobe's θi
+  /// What sample(), pdf() and albedo() share at one shading point, a fiber and wo: each lobe's θi
   /// density. Built by at(); a renderer that draws a direction and also weighs light directions
   /// by pdf() at the same wo builds it once. Holds a pointer to its HairScattering.
   class ShadingPoint {
@@ -335,7 +335,7 @@ class HairScattering {
         return wi[0] == wi[0] && phi == phi ? rt_->mat_.pdf(mpt_, Mat::incl_of_sin(wi[0]), phi) : 0.0;
       }
       double ti, pi;
-      fibre_direction_angles(wi, ti, pi);
+      fiber_direction_angles(wi, ti, pi);
       return pdf(ti, po_ - pi);
     }
     /// The same at θi and φ = φo − φi [rad].
@@ -360,19 +360,19 @@ class HairScattering {
         }
       }
       double ti, pi;
-      fibre_direction_angles(wi, ti, pi);
+      fiber_direction_angles(wi, ti, pi);
       rt_->eval(f_, to_, ti, po_ - pi, rgb);
     }
     /// The normalisation of sample()'s θi density: ∫ S dω averaged over the channels, with each
     /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
-    /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fibre
+    /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fiber
     /// the mean of the sample weights at this wo; 0 where nothing can be sampled.
     double albedo() const { return ok_ ? (rt_->material_ ? rt_->mat_.albedo(mpt_) : pt_->total) : 0.0; }
 
    private:
     friend class HairScattering;
     const HairScattering* rt_ = nullptr;
-    Fibre f_;
+    Fiber f_;
     // |φ| between wo and wi: the angle between their projections on the normal plane, from wo's
     // unit projection (cos φo, sin φo).
     double azimuth(const double* wi) const {
@@ -387,8 +387,8 @@ class HairScattering {
     bool ok_ = false;
   };
 
-  /// The shading point of fibre f seen from wo (a unit vector in the fibre frame).
-  ShadingPoint at(const Fibre& f, const double* wo) const {
+  /// The shading point of fiber f seen from wo (a unit vector in the fiber frame).
+  ShadingPoint at(const Fiber& f, const double* wo) const {
     ShadingPoint sp;
     sp.rt_ = this, sp.f_ = f;
     if (material_) {
@@ -401,18 +401,18 @@ class HairScattering {
       return sp;
     }
     double to;
-    fibre_direction_angles(wo, to, sp.po_);
+    fiber_direction_angles(wo, to, sp.po_);
     sp.to_ = to;
     sp.pt_.emplace();
     sp.ok_ = valid_ && to == to && sp.po_ == sp.po_ && at_theta_o(f, to, *sp.pt_);
     return sp;
   }
   /// at(f, wo).sample(u).
-  ScatteringSample sample(const Fibre& f, const double* wo, const double* u) const { return at(f, wo).sample(u); }
+  ScatteringSample sample(const Fiber& f, const double* wo, const double* u) const { return at(f, wo).sample(u); }
   /// at(f, wo).pdf(wi).
-  double pdf(const Fibre& f, const double* wo, const double* wi) const { return at(f, wo).pdf(wi); }
+  double pdf(const Fiber& f, const double* wo, const double* wi) const { return at(f, wo).pdf(wi); }
   /// at(f, wo).albedo().
-  double albedo(const Fibre& f, const double* wo) const { return at(f, wo).albedo(); }
+  double albedo(const Fiber& f, const double* wo) const { return at(f, wo).albedo(); }
 
  private:
   static double open_unit(double u) {
@@ -420,9 +420,9 @@ class HairScattering {
     if (!(u == u)) u = 0.0;
     return eps + std::min(std::max(u, 0.0), 1.0) * (1.0 - 2.0 * eps);
   }
-  // The held angle at which lobe p's M_p table is read: θo moved by the fibre's extra tilt (see
-  // Fibre::tilt), folded back across a pole as the baker folds a tilted angle.
-  double held(const Fibre& f, int p, double theta_o) const {
+  // The held angle at which lobe p's M_p table is read: θo moved by the fiber's extra tilt (see
+  // Fiber::tilt), folded back across a pole as the baker folds a tilted angle.
+  double held(const Fiber& f, int p, double theta_o) const {
     if (f.tilt == 0.0 || p >= explicit_ || p > 2) return theta_o;
     const double shift = p == 0 ? 2.0 * f.tilt : p == 1 ? -f.tilt : -4.0 * f.tilt, half_pi = 1.57079632679489661923;
     const double t = theta_o - shift;
@@ -434,7 +434,7 @@ class HairScattering {
   }
   // Ē_p(θd): the lobe's energy factor averaged over the channels (1 for a table that stores N_p
   // itself; its φ integral then carries the energy, Z^φ).
-  double mean_energy(const Fibre& f, int p, double theta_d) const {
+  double mean_energy(const Fiber& f, int p, double theta_d) const {
     double e = 0.0;
     if (fourier_) {
       const FourierNp<T, double>& v = p < explicit_ ? fs_.np[p] : fs_.residual;
@@ -446,7 +446,7 @@ class HairScattering {
       e += p < explicit_ ? np[p].energy(f.sigma_a[c], theta_d) : 2.0 * 3.14159265358979323846 * t_.np_residual(f.sigma_a[c], theta_d);
     return e / 3.0;
   }
-  bool at_theta_o(const Fibre& f, double theta_o, Point& pt) const {
+  bool at_theta_o(const Fiber& f, double theta_o, Point& pt) const {
     pt.theta_o = theta_o;
     double sum = 0.0;
     std::vector<double> ebar;
@@ -579,7 +579,7 @@ class HairScattering {
   // The lobes' shares at θi, share_q = M̃_q(θi) Ē_q(θd) Z^φ_q, with each explicit lobe's φ density
   // n_q at (β_n, σ̄a, |θd|) (Z^φ_q its integral; 1 for the residual, uniform in φ). Returns Σ share
   // (0: no lobe has energy here). π_q = share_q / Σ share.
-  double phi_stage(const Fibre& f, const Point& pt, double theta_i, double* share, Density* n) const {
+  double phi_stage(const Fiber& f, const Point& pt, double theta_i, double* share, Density* n) const {
     const double theta_d = 0.5 * (pt.theta_o - theta_i);
     const int band = t_.band_of(f.beta_n);
     const double x[3] = {f.beta_n, (f.sigma_a[0] + f.sigma_a[1] + f.sigma_a[2]) / 3.0, std::fabs(theta_d)};
@@ -604,7 +604,7 @@ class HairScattering {
     return norm > 0.0 && norm < HUGE_VAL ? norm : 0.0;
   }
   // Σ_q π_q n_q(φ) / Z^φ_q [1/rad].
-  double phi_sum(const Fibre& f, const double* share, const Density* n, double norm, double phi) const {
+  double phi_sum(const Fiber& f, const double* share, const Density* n, double norm, double phi) const {
     const int band = t_.band_of(f.beta_n);
     const double pi = 3.14159265358979323846;
     double s = 0.0;

@@ -17,7 +17,7 @@
 //      The residual is uniform in φ.
 // The pdf per unit solid angle is then
 //   pdf(θi, φ) = q(θi) / cos θi · S̄(θi, φ) / S̄_φ(θi),   S̄ = Σ_q M_q N̄_q, S̄_φ = Σ_q M_q Z_q,
-// so that for a white fibre the weight S / pdf = S̄_φ cos θi / q(θi): the exact θi marginal over
+// so that for a white fiber the weight S / pdf = S̄_φ cos θi / q(θi): the exact θi marginal over
 // its piecewise-linear stand-in, ≈ the albedo at θo.
 //
 // Header-only, C++17, no dependencies beyond sampler.hpp's axis definitions. The tables are copied
@@ -59,7 +59,7 @@ class MaterialScattering {
     double theta = 0.0, sin = 0.0, cos = 1.0;
   };
   static Incl incl(double theta) { return {theta, std::sin(theta), std::cos(theta)}; }
-  /// From the sine (a direction's component along the fibre), clamped to [−1, 1].
+  /// From the sine (a direction's component along the fiber), clamped to [−1, 1].
   static Incl incl_of_sin(double s) {
     s = std::min(std::max(s, -1.0), 1.0);
     return {std::asin(s), s, std::sqrt(std::max(0.0, 1.0 - s * s))};
@@ -225,7 +225,7 @@ class MaterialScattering {
     pt.ok = valid_ && total > 0.0 && total < HUGE_VAL;
     return pt;
   }
-  /// ∫ S̄ dω at the point's θo as step 1 holds it: the mean weight of a white fibre.
+  /// ∫ S̄ dω at the point's θo as step 1 holds it: the mean weight of a white fiber.
   double albedo(const Point& pt) const { return pt.ok ? pt.a0 + pt.a1 : 0.0; }
   /// The pdf per unit solid angle of drawing (θi, φ) at the point.
   double pdf(const Point& pt, const Incl& i, double phi) const {

@@ -91,7 +91,7 @@ class FixedAxis {
   /// Whether locate(x) is s = (x − t0()) · scale() + offset() clamped to [0, top()], then the
   /// integer part and the fraction f, with snapping where |f − ½| > unsnapped(): a uniform axis
   /// of at least 2 nodes that clamps, or an even one for x ∈ [0, π] (what an evaluator that
-  /// locates several axes at once in registers relies on, sampler_fibre.hpp).
+  /// locates several axes at once in registers relies on, sampler_fiber.hpp).
   bool uniform_affine() const { return simple_ && spacing_ == Spacing::uniform && (fold_ == Fold::none || fold_ == Fold::even); }
   bool even() const { return fold_ == Fold::even; }
   R t0() const { return t0_; }

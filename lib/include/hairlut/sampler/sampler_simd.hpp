@@ -1,5 +1,5 @@
 // hairlut sampler, four lanes of arithmetic: what the fixed-dimension views (sampler_fixed.hpp)
-// and the fibre evaluator (sampler_fibre.hpp) use to combine four values in one operation.
+// and the fiber evaluator (sampler_fiber.hpp) use to combine four values in one operation.
 //
 // Header-only and dependency-free (C++17 standard library only). detail::Vec4<R> holds four
 // values of the arithmetic type R: one SSE2 register for float, two for double, on every x86-64

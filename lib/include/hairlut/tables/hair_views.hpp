@@ -1,5 +1,5 @@
 // Typed views of a loaded table set: the d'Eon 2011 N_p, M_p and residual tables of a TableSet as
-// sampler::HairTables (hairlut/sampler/sampler_fibre.hpp), built from the set's metadata, so that a user
+// sampler::HairTables (hairlut/sampler/sampler_fiber.hpp), built from the set's metadata, so that a user
 // looks values up by physical arguments without mapping axis names or attributes by hand.
 #pragma once
 
@@ -7,7 +7,7 @@
 
 #include "hairlut/sampler/fourier_np.hpp"
 #include "hairlut/sampler/hair_scattering.hpp"
-#include "hairlut/sampler/sampler_fibre.hpp"
+#include "hairlut/sampler/sampler_fiber.hpp"
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
@@ -49,9 +49,9 @@ sampler::FourierNp<T, R> fourier_np(const TableSet& set, std::string_view lobe);
 /// them). Throws DomainError naming the lobes the set has.
 int lobe_index(const TableSet& set, std::string_view lobe);
 
-/// A fibre from d'Eon 2011's melanin model (σa = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05),
+/// A fiber from d'Eon 2011's melanin model (σa = c_e (0.419, 0.697, 1.37) + c_p (0.187, 0.4, 1.05),
 /// melanin_sigma_a_rgb) and its roughness β_m, β_n [rad]. Throws DomainError for negative or
 /// non-finite concentrations or roughness ≤ 0.
-sampler::Fibre fibre_from_melanin(double eumelanin, double pheomelanin, double beta_m, double beta_n);
+sampler::Fiber fiber_from_melanin(double eumelanin, double pheomelanin, double beta_m, double beta_n);
 
 }  // namespace hairlut

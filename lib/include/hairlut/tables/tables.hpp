@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "hairlut/sampler/sampler_fibre.hpp"
+#include "hairlut/sampler/sampler_fiber.hpp"
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/util/hash.hpp"
 

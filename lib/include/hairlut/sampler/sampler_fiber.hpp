@@ -1,13 +1,13 @@
 // hairlut sampler, typed views of d'Eon 2011 tables: N_p, M_p and the residual looked up by their
-// physical arguments (HairTables, which the renderer runtime HairScattering reads), one fibre's
-// parameters (Fibre), and the angles of S from direction vectors (fibre_angles).
+// physical arguments (HairTables, which the renderer runtime HairScattering reads), one fiber's
+// parameters (Fiber), and the angles of S from direction vectors (fiber_angles).
 //
 // Header-only and dependency-free (C++17, with sampler.hpp and sampler_fixed.hpp). A loader fills
 // the views from a file's metadata once (hairlut::hair_tables in hairlut/tables/hair_views.hpp does it
 // from a loaded TableSet; an engine may fill the axes from the sidecar or the EXR header itself).
 //
 // Conventions (docs/conventions.md, docs/table-format.md): angles in radians, θd = (θr − θi)/2,
-// φ = φr − φi, σa per unit fibre radius, β the standard deviation of the azimuthal (N_p) or
+// φ = φr − φi, σa per unit fiber radius, β the standard deviation of the azimuthal (N_p) or
 // longitudinal (M_p, v = β²) roughness. S = Σ_p M_p(θi, θr) N_p(φ; θd) with no 1/cos²θd factor
 // (d'Eon's energy-conserving M_p contains it), the residual p ≥ P added as one more lobe.
 //
@@ -96,14 +96,14 @@ HAIRLUT_SAMPLER_INLINE R fast_atan01(R x) {
   return x * (((q01 + z2 * q23) + z4 * (q45 + z2 * q67)) + (z4 * z4) * R(0.0028662257));
 }
 
-/// The arguments of S from unit vectors in the fibre frame (x along the fibre root to tip, y–z
+/// The arguments of S from unit vectors in the fiber frame (x along the fiber root to tip, y–z
 /// the normal plane; pbrt's hair frame): θ = asin x = π/2 − acos x (fast_acos, ≤ 2e-8 rad), and
 /// φ ∈ [0, π] the angle between the normal-plane projections, atan2(|cross|, dot) of the two
 /// projections by fast_atan01 on the octant (≤ 2e-8 rad, and no loss of accuracy near 0 and π);
-/// N_p is even in φ, so its sign is not needed. φ = 0 when a direction lies along the fibre.
+/// N_p is even in φ, so its sign is not needed. φ = 0 when a direction lies along the fiber.
 /// The two arcsines are fast_acos's operations on two register lanes (the same bits).
 template <class R>
-HAIRLUT_SAMPLER_INLINE void fibre_angles(const R* wi, const R* wo, R& theta_i, R& theta_r, R& phi) {
+HAIRLUT_SAMPLER_INLINE void fiber_angles(const R* wi, const R* wo, R& theta_i, R& theta_r, R& phi) {
   const R half_pi = static_cast<R>(1.57079632679489661923);
   {
     using V = detail::Vec4<R>;
@@ -236,7 +236,7 @@ class MpLobe {
 };
 
 /// N of the residual lobes p ≥ P over (σa, θd): their energy spread uniformly in φ and β. A table
-/// that reaches θd = 90° stores N / g (GrazingFactor: the residual of a white fibre vanishes as
+/// that reaches θd = 90° stores N / g (GrazingFactor: the residual of a white fiber vanishes as
 /// cos θd, of an absorbing one as cos²θd); the view multiplies g back.
 template <class T, class R = double>
 class NpResidual {
@@ -271,7 +271,7 @@ struct HairTables {
   static constexpr int kMaxLobes = 8;
   static constexpr int kMaxBetaBands = 4;
   int lobes = 0;           ///< explicit lobes p = 0 … lobes − 1 (R, TT, TRT, ...)
-  double eta = 0.0;        ///< the fibre's refractive index the tables were baked for
+  double eta = 0.0;        ///< the fiber's refractive index the tables were baked for
   NpLobe<T, R> np[kMaxLobes];  ///< N_p (β band 0 of a set baked in β bands)
   /// β bands (docs/table-format.md): band 0 is np, band k ≥ 1 np_band[k − 1]; band_hi[k] is the
   /// upper end of band k's β range. A set without bands has beta_bands = 1.
@@ -299,9 +299,9 @@ struct HairTables {
   R np_value(int p, R beta, R sigma_a, R theta_d, R phi) const { return np_at(beta)[p](beta, sigma_a, theta_d, phi); }
 };
 
-/// One fibre: absorption per channel (per unit radius; e.g. from melanin), the longitudinal
+/// One fiber: absorption per channel (per unit radius; e.g. from melanin), the longitudinal
 /// roughness β_m of M_p and the azimuthal roughness β_n of N_p (radians, the tables' β axes).
-struct Fibre {
+struct Fiber {
   double sigma_a[3] = {0.0, 0.0, 0.0};
   double beta_m = 0.0;
   double beta_n = 0.0;

@@ -1,4 +1,4 @@
-// The angles of S from direction vectors in the fibre frame (sampler_fibre.hpp): fibre_angles takes
+// The angles of S from direction vectors in the fiber frame (sampler_fiber.hpp): fiber_angles takes
 // its two arcsines on register lanes, which must give fast_acos's values up to rounding.
 #include <cmath>
 #include <hairlut/tables/hair_views.hpp>
@@ -9,7 +9,7 @@
 
 using namespace hairlut;
 
-// fibre_angles takes the two arcsines on register lanes: fast_acos's operations, one lane each.
+// fiber_angles takes the two arcsines on register lanes: fast_acos's operations, one lane each.
 template <class R>
 double compare_angle_lanes(std::uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -21,14 +21,14 @@ double compare_angle_lanes(std::uint64_t seed) {
     for (int j = 0; j < 3; ++j) wi[j] = static_cast<R>(u(rng)), wo[j] = static_cast<R>(u(rng));
     if (k % 50 == 0) wi[0] = static_cast<R>(k % 100 == 0 ? 1 : -1), wo[0] = static_cast<R>(u(rng) * 1.5);  // |x| ≥ 1 clamps
     R ti, tr, phi;
-    sampler::fibre_angles(wi, wo, ti, tr, phi);
+    sampler::fiber_angles(wi, wo, ti, tr, phi);
     worst = std::max(worst, std::abs(static_cast<double>(ti - (half_pi - sampler::fast_acos(wi[0])))));
     worst = std::max(worst, std::abs(static_cast<double>(tr - (half_pi - sampler::fast_acos(wo[0])))));
   }
   return worst / (2.0 * std::numeric_limits<R>::epsilon() * 1.6);  // 2 ulps of π/2
 }
 
-TEST_CASE("fibre_angles' arcsines on register lanes equal fast_acos up to rounding", "[sampler][views]") {
+TEST_CASE("fiber_angles' arcsines on register lanes equal fast_acos up to rounding", "[sampler][views]") {
   CHECK(compare_angle_lanes<double>(5) <= 1.0);
   CHECK(compare_angle_lanes<float>(6) <= 1.0);
 }

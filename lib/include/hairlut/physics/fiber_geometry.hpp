@@ -9,7 +9,7 @@
 namespace hairlut {
 
 /// Quantities of the fiber's cross-section that depend on η and θd only (not on h, p or φ).
-struct FibreGeometry {
+struct FiberGeometry {
   double eta = 1.55;          ///< index of refraction η > 1
   double theta_d = 0.0;       ///< longitudinal difference angle θd in [−π/2, π/2] (radians)
   double cos_theta_d = 1.0;   ///< cos θd
@@ -18,7 +18,7 @@ struct FibreGeometry {
   double cos_theta_t = 1.0;   ///< cos θt = √(η² − sin²θd) / η
 
   /// Builds the geometry, validating η > 1 and θd in [−π/2, π/2] (throws DomainError).
-  static FibreGeometry make(double eta, double theta_d);
+  static FiberGeometry make(double eta, double theta_d);
 };
 
 /// γi = asin(h): azimuthal angle of incidence at offset h in [−1, 1].
@@ -43,10 +43,10 @@ inline double exit_azimuth_derivative(int p, double cos_gamma_i, double cos_gamm
 /// The caustic offset of lobe p: the γi ≥ 0 where dΦ/dγi = 0, from
 /// sin²γc = (p² − η'²)/(p² − 1) (for p = 2 this is Descartes' h_c² = (4 − η'²)/3).
 /// Returns a negative value when lobe p has no caustic (p < 2 or η' ≥ p).
-double caustic_gamma(int p, const FibreGeometry& g);
+double caustic_gamma(int p, const FiberGeometry& g);
 
 /// Reduced absorption σa' = σa / cos θt: a path segment of azimuthal length ℓ has
 /// transmittance exp(−σa' ℓ). Domain: σa ≥ 0.
-inline double reduced_absorption(double sigma_a, const FibreGeometry& g) { return sigma_a / g.cos_theta_t; }
+inline double reduced_absorption(double sigma_a, const FiberGeometry& g) { return sigma_a / g.cos_theta_t; }
 
 }  // namespace hairlut
