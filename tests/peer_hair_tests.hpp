@@ -42,6 +42,31 @@ inline void uniform_sphere(double u0, double u1, double* w) {
 }
 inline double average(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3.0; }
 
+// pbrt-v4's Hair.WhiteFurnace and Hair.WhiteFurnaceSampled at one fiber and wo: S (the channels'
+// mean) integrated over the sphere from `count` uniform directions, and the mean weight of 10⁴
+// importance samples (pbrt: within [0.95, 1.05] and [0.99, 1.01] for a white fiber).
+struct Furnaces {
+  double uniform = 0.0, sampled = 0.0;
+};
+template <class T>
+Furnaces white_furnaces(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, const double* wo, Rng& rng, int count) {
+  Furnaces r;
+  double sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    double wi[3], rgb[3];
+    uniform_sphere(rng(), rng(), wi);
+    rt.eval(f, wo, wi, rgb);
+    sum += average(rgb);
+  }
+  r.uniform = sum / (count / (4.0 * kPi));
+  for (int i = 0; i < 10000; ++i) {
+    const double u[3] = {rng(), rng(), rng()};
+    const hairlut::sampler::ScatteringSample s = rt.sample(f, wo, u);
+    if (s.pdf > 0.0) r.sampled += average(s.weight) / 10000;
+  }
+  return r;
+}
+
 // pbrt-v4's Hair.HOnTheEdge, widened to the frame's edges: between pbrt's two vectors and the
 // directions along, against and normal to the fiber, eval, sample (u = 0, ½ and 1 in every
 // coordinate) and pdf are finite and ≥ 0, and every sample has a density. The number of failed

@@ -189,21 +189,7 @@ TEST_CASE("MaterialScattering: pbrt-v4 Hair.WhiteFurnace and Hair.WhiteFurnaceSa
   for (double bm = 0.1; bm < 1.0; bm += 0.2)
     for (double bn = 0.1; bn < 1.0; bn += 0.2) {
       const Runtime& rt = m(std::round(bm * 10) / 10, std::round(bn * 10) / 10);
-      const int count = (bm < 0.5 || bn < 0.5) ? 100000 : 20000;
-      double sum = 0.0;
-      for (int i = 0; i < count; ++i) {
-        double wi[3], rgb[3];
-        uniform_sphere(rng(), rng(), wi);
-        rt.eval(f, wo, wi, rgb);
-        sum += average(rgb);
-      }
-      const double uniform = sum / (count / (4.0 * kPiM));
-      double sampled = 0.0;
-      for (int i = 0; i < 10000; ++i) {
-        const double u[3] = {rng(), rng(), rng()};
-        const sampler::ScatteringSample s = rt.sample(f, wo, u);
-        if (s.pdf > 0.0) sampled += average(s.weight) / 10000;
-      }
+      const auto [uniform, sampled] = peer::white_furnaces(rt, f, wo, rng, (bm < 0.5 || bn < 0.5) ? 100000 : 20000);
       INFO("pbrt beta_m " << bm << " beta_n " << bn << ": uniform " << uniform << ", sampled " << sampled);
       CHECK(uniform >= 0.95);
       CHECK(uniform <= 1.05);
