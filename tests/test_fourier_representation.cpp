@@ -342,6 +342,70 @@ TEST_CASE("Fourier: a written and read file holds the tables baked, and records 
   CHECK(!fs::exists(output_paths(exr).exr));
 }
 
+TEST_CASE("Fourier: a theta_d axis reaching 90 deg stores c_n / g and follows the model up to grazing", "[fourier-representation][grazing]") {
+  // θd uniform to 90° in cells of 0.47° (cos θd steps of 8.2e-3 at grazing, where the stored c_n / g
+  // still varies by 30% over 0.02 in cos θd for TRRT: (1 − f)² f² with 1 − f ≈ 5.75 cos θd).
+  json j = fourier_config(192, 12);
+  j["tables"]["np"]["axes"]["theta_d"]["range_deg"] = {0, 90};
+  j["tables"]["np"]["axes"]["theta_d"]["spacing"] = "uniform";
+  const TableSet set = bake(config_in(temp_dir("grazing"), j));
+  CHECK(!set.find("np_fourier/R")->attributes.contains("cos_theta_d_power"));
+  for (const char* lobe : {"TT", "TRT", "TRRT"}) CHECK(set.find(std::string("np_fourier/") + lobe)->attributes.value("cos_theta_d_power", 0) == 2);
+  CHECK(set.find("np_fourier/residual")->attributes.contains("grazing_absorption"));
+  CHECK(format_version_text(set) == "3.0");
+  // The same coefficients as such a set stored them before: c_n itself (g multiplied back at the
+  // nodes), no attributes. It holds the same nodes, so only the interpolation near 90° differs.
+  auto undivided = [&](const char* lobe) {
+    Table t = *set.find(std::string("np_fourier/") + lobe);
+    const sampler::GrazingFactor g = t.grazing_factor();
+    const std::vector<double> th = t.axes[0].nodes(), sg = t.axes[1].nodes();
+    const std::size_t terms = static_cast<std::size_t>(t.axes[2].count);
+    for (std::size_t i = 0; i < t.size(); ++i) t.set(i, t.get(i) * g(sg[(i / terms) % sg.size()], th[i / terms / sg.size()]));
+    t.attributes.erase("cos_theta_d_power");
+    return t;
+  };
+  double worst = 0.0, worst_before = 0.0, worst_energy = 0.0;
+  std::string worst_at;
+  for (const char* lobe : {"R", "TT", "TRT", "TRRT"}) {
+    const int p = lobe_index(set, lobe);
+    const FourierNpReference now(*set.find(std::string("np_fourier/") + lobe));
+    const Table old_table = undivided(lobe);
+    const FourierNpReference before(old_table);
+    for (double deg : {80.0, 88.0, 89.5, 89.9, 89.99}) {
+      const double td = radians(deg);
+      for (double sa : {0.0, 0.3, 2.0}) {
+        const AttenuationSlice slice(1.55, td, sa), white(1.55, td, 0.0);
+        for (double beta : {radians(5.0), radians(12.0)}) {
+          const double den = std::max(slice_peak(slice, p, beta), 1e-3 * slice_peak(white, p, beta));  // docs/conventions.md
+          for (int k = 0; k <= 12; ++k) {
+            const double phi = kPi * k / 12.0, exact = azimuthal_np_reference(slice, p, beta, phi, 1e-12).value[0];
+            INFO(lobe << " at theta_d " << deg << " deg, sigma_a " << sa << ", beta " << beta << ", phi " << phi << ": exact " << exact);
+            const double err = std::abs(now(beta, sa, td, phi) - exact) / den;
+            if (err > worst) worst = err, worst_at = std::string(lobe) + " at theta_d " + std::to_string(deg) + " deg, sigma_a " + std::to_string(sa);
+            worst_before = std::max(worst_before, std::abs(before(beta, sa, td, phi) - exact) / den);
+          }
+        }
+        const double e = lobe_energies(slice, LobeSet{4, false}, GaussLegendreRule(256))[static_cast<std::size_t>(p)];
+        const double e_white = lobe_energies(white, LobeSet{4, false}, GaussLegendreRule(256))[static_cast<std::size_t>(p)];
+        worst_energy = std::max(worst_energy, std::abs(now.energy(sa, td) - e) / std::max(e, 1e-3 * e_white));
+      }
+    }
+    // At 90° itself every lobe but R has vanished (cos θd = 6.1e-17 at the double nearest π/2).
+    for (double phi : {0.0, 1.0, kPi}) {
+      const double v = now(radians(5.0), 0.3, 0.5 * kPi, phi);
+      CHECK(std::isfinite(v));
+      CHECK(v >= 0.0);
+      if (p > 0) CHECK(v <= 1e-28);
+    }
+  }
+  WARN("Fourier N_p at theta_d 80-89.99 deg, 192 theta_d x 12 sqrt sigma_a nodes: worst error " << worst << " of the local peak (" << worst_at
+                                                                                                 << "; c_n stored undivided: " << worst_before
+                                                                                                 << "); energies " << worst_energy);
+  CHECK(worst <= 1e-3);
+  CHECK(worst_energy <= 1e-3);
+  CHECK(worst_before > 10.0 * worst);
+}
+
 TEST_CASE("Fourier: the coefficients are bit-identical for any thread count", "[fourier-representation]") {
   const BakeConfig c = config_in(temp_dir("threads"), fourier_config(10, 5));
   BakeOptions one, two;

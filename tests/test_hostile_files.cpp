@@ -311,6 +311,29 @@ TEST_CASE("Contents that make no sense are refused even with a valid checksum", 
   }
 }
 
+TEST_CASE("Grazing-factor attributes beyond what a bake writes are refused", "[io][hostile]") {
+  // A lookup raises cos θd to cos_theta_d_power: 1e9 would be a loop of 1e9 steps per lookup.
+  const fs::path dir = temp_dir("grazing");
+  json j = tiny_config(false);
+  j["tables"]["np"]["axes"]["theta_d"]["range_deg"] = {0, 90};
+  const TableSet good = bake(config_in(dir, j), {});
+  const fs::path p = dir / "t.h5";
+  REQUIRE(refusal(good, p) == "(loaded)");
+  REQUIRE(good.find("np/energy_TT"));
+  REQUIRE(good.find("np/energy_TT")->attributes.value("cos_theta_d_power", 0) == 2);
+  for (const json& bad : {json(1000000000), json(-1), json(3), json(1.5), json("2")}) {
+    TableSet s = good;
+    table(s, "np/energy_TT").attributes["cos_theta_d_power"] = bad;
+    CHECK_CONTAINS(refusal(s, p), "cos_theta_d_power");
+  }
+  for (const char* key : {"x_scale", "tau", "d"})
+    for (const json& bad : {json(-1.0), json(1e300), json(nullptr)}) {
+      TableSet s = good;
+      table(s, "np/residual").attributes["grazing_absorption"][key] = bad;
+      CHECK_CONTAINS(refusal(s, p), std::string("grazing_absorption.") + key);
+    }
+}
+
 TEST_CASE("Beta bands that overlap, leave gaps or disagree with their tables are refused", "[io][hostile]") {
   const fs::path dir = temp_dir("bands");
   json j = tiny_config(false);

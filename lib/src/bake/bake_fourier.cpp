@@ -3,6 +3,10 @@
 //   C_n(θd, σa) = ½ ∫ A(p, h) cos(n Φ(p, h)) dh,  F = e^{−p σa′ ℓ_min} (least_absorption),
 // at every (θd, σa) node for n = 0 … terms − 1, and the residual's one coefficient c_0 = E_{≥P} / F_P
 // (it is uniform in φ and β); then the energy and residual tables the tensor representation has.
+// Where the θd axis reaches 90°, each table stores its values divided by its lobe's grazing factor
+// g (cos²θd for p ≥ 1, the residual's g_res; none for R), which a lookup multiplies back, so the
+// coefficients stay finite as the lobes' energies vanish; the 90° node is evaluated at the double
+// nearest π/2, where the physics gives the ratio to rounding (docs/table-format.md).
 //
 // Exact and approximate: the C_n / F are the Fourier method's integrals (azimuthal_fourier.hpp,
 // Gauss–Legendre in γ with the nodes its error bound asks for at the quadrature tolerance), F taken
@@ -56,6 +60,7 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
   if (!readable) residual_sigma = sigma_axis, residual_theta = theta_axis;
   // The tables: np_fourier/<lobe> over (θd, σa, n), np_fourier/residual with its one coefficient.
   const std::size_t first = set.tables.size();
+  std::vector<sampler::GrazingFactor> info_grazing;  // per table below, as its attributes record
   for (int p = 0; p <= lobes; ++p) {
     const bool residual = p == lobes;
     if (residual && !c.residual) break;
@@ -66,6 +71,7 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
     info.params.eta = c.eta;
     info.params.absorption_p = p;
     info.params.papers_path = c.path == AbsorptionPath::papers;
+    info.params.grazing = grazing_factor_of(c, residual ? residual_theta : theta_axis, p, residual);
     info.beta_max = f.beta_hi;
     info.lobe = residual ? "residual" : lobe_name(p);
     info.p = p;
@@ -74,6 +80,8 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
     Table t = make_table(kFourierGroup, info.lobe, kFourierQuantity, "1", words,
                          {residual ? residual_theta : theta_axis, residual ? residual_sigma : sigma_axis, fourier_n_axis(info.params.terms)}, run.precision);
     t.attributes = fourier_attributes(info, std::string(to_string(c.path)));
+    t.set_grazing_factor(info.params.grazing);
+    info_grazing.push_back(info.params.grazing);
     set.tables.push_back(std::move(t));
   }
   // Gauss–Legendre rules per (θd, lobe), fetched before the parallel loop (the cache is shared).
@@ -99,8 +107,11 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
       if (it == nodes.end()) it = nodes.emplace(m, FiberNodes::make(g, c.path, *rules.at(m))).first;
       fourier_coefficients(it->second, g, p, sigmas, terms - 1, C, l_min);  // C_n / F, [n][σa]
       Table& out = set.tables[first + static_cast<std::size_t>(p)];
-      for (std::size_t k = 0; k < ns; ++k)
-        for (std::size_t n = 0; n < nterms; ++n) out.set((t * ns + k) * nterms + n, C[n * ns + k]);
+      const sampler::GrazingFactor& gf = info_grazing[static_cast<std::size_t>(p)];
+      for (std::size_t k = 0; k < ns; ++k) {
+        const double gk = gf(sigmas[k], thetas[t]);
+        for (std::size_t n = 0; n < nterms; ++n) out.set((t * ns + k) * nterms + n, gk > 0.0 ? C[n * ns + k] / gk : 0.0);
+      }
     }
   });
   if (c.residual) {  // c_0 = E_{≥P} / F_P at the residual's (θd, σa) nodes
@@ -110,7 +121,8 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
       for (std::size_t k = 0; k < rs.size(); ++k) {
         const AttenuationSlice slice(c.eta, rt[t], rs[k], c.path);
         const double e = lobe_energies(slice, LobeSet{lobes, true}, run.energy_rule).back(), F = least_absorption(slice, lobes);
-        out.set(t * rs.size() + k, F > 0.0 ? e / F : 0.0);  // F underflows only where the residual has no energy left
+        const double g = info_grazing.back()(rs[k], rt[t]);
+        out.set(t * rs.size() + k, F > 0.0 && g > 0.0 ? e / F / g : 0.0);  // F and g underflow only where the residual has no energy left
       }
     });
     report.entries += rt.size() * rs.size();

@@ -250,8 +250,6 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
 
 namespace detail {
 
-namespace {
-
 // Whether a θd axis has its last node at 90°, where the energies of the lobes p ≥ 1 and of the
 // residual vanish (Fresnel transmission 1 − F ~ cos θd at grazing).
 bool reaches_grazing(const GridAxis& theta_d) {
@@ -285,11 +283,7 @@ sampler::GrazingFactor grazing_factor_of(const BakeConfig& c, const GridAxis& th
   return g;
 }
 
-void set_grazing_attributes(Table& t, const sampler::GrazingFactor& g) {
-  if (g.none()) return;
-  t.attributes["cos_theta_d_power"] = g.cos_power;
-  if (g.x_scale != 0.0) t.attributes["grazing_absorption"] = {{"x_scale", g.x_scale}, {"tau", g.tau}, {"b", g.b}, {"c", g.c}, {"d", g.d}};
-}
+namespace {
 
 // A value over g at a node: θd = 90° is evaluated as the double nearest π/2 (below it), where cos θd = 6.1e-17
 // and the physics gives the limit ratio to rounding.
@@ -312,7 +306,7 @@ void append_energy_tables(const BakeRun& s, const std::vector<GridAxis>& axes, T
                              (g.none() ? "" : " divided by its grazing factor"),
                          axes, s.precision);
     t.attributes = {{"lobe", lobe}, {"p", p}};
-    set_grazing_attributes(t, g);
+    t.set_grazing_factor(g);
     set.tables.push_back(std::move(t));
   }
   if (c.residual) {
@@ -322,7 +316,7 @@ void append_energy_tables(const BakeRun& s, const std::vector<GridAxis>& axes, T
                              (g.none() ? "" : ", divided by its grazing factor"),
                          axes, s.precision);
     t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"uniform_in", json::array({"phi", "beta"})}};
-    set_grazing_attributes(t, g);
+    t.set_grazing_factor(g);
     set.tables.push_back(std::move(t));
   }
 }

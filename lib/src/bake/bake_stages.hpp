@@ -51,6 +51,11 @@ void bake_fourier_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport
 // The lobe energies np/energy_<lobe>, np/energy_residual and the residual np/residual over (σa, θd)
 // (bake_np.cpp): the tables both representations share.
 void bake_energy_tables(const BakeRun& run, const std::vector<GridAxis>& axes, TableSet& set, BakeReport& report);
+// Whether a θd axis has its last node at 90°, and the grazing factor g that the energy, residual
+// and Fourier tables of lobe p (the residual: residual = true) on such an axis are divided by
+// (sampler::GrazingFactor; none where the axis stops short of 90° or for R).
+bool reaches_grazing(const GridAxis& theta_d);
+sampler::GrazingFactor grazing_factor_of(const BakeConfig& c, const GridAxis& theta_d, int p, bool residual);
 void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeReport& report);
 void bake_mp_tables(const BakeRun& run, bool per_material, TableSet& set, BakeReport& report);
 

@@ -93,6 +93,7 @@ FourierTableInfo fourier_table_info(const Table& t) {
   const std::string path = t.attributes.value("absorption_path", std::string());
   if (path != "chord" && path != "papers") throw DomainError("table " + t.path() + ": attribute absorption_path must be chord or papers");
   f.papers_path = path == "papers";
+  f.grazing = t.grazing_factor();
   const std::string where = "table " + t.path() + ": attribute ";
   if (f.terms < 1 || f.terms != t.axes[2].count) throw DomainError(where + "terms must equal the n axis's count");
   // The ranges a config can give (tables.np.axes.beta in [1e-6, pi] rad, fourier.tolerance in
@@ -174,7 +175,7 @@ void FourierNpReference::coefficients(double sigma_a, double theta_d, int count,
       const std::size_t row = (static_cast<std::size_t>(a.i[i]) * ns + static_cast<std::size_t>(b.i[j])) * terms;
       for (std::size_t n = 0; n < c.size(); ++n) c[n] += a.w[i] * b.w[j] * table_->get(row + n);
     }
-  F = sampler::fourier_absorption<double>(info_.params, sigma, std::cos(theta));
+  F = sampler::fourier_absorption<double>(info_.params, sigma, std::cos(theta)) * info_.params.grazing(sigma, theta);
 }
 
 double FourierNpReference::operator()(double beta, double sigma_a, double theta_d, double phi) const {

@@ -51,6 +51,12 @@ sampler::GrazingFactor Table::grazing_factor() const {
   return g;
 }
 
+void Table::set_grazing_factor(const sampler::GrazingFactor& g) {
+  if (g.none()) return;
+  attributes["cos_theta_d_power"] = g.cos_power;
+  if (g.x_scale != 0.0) attributes["grazing_absorption"] = {{"x_scale", g.x_scale}, {"tau", g.tau}, {"b", g.b}, {"c", g.c}, {"d", g.d}};
+}
+
 double TableSet::sample_value(const Table& t, const std::vector<double>& x) const {
   const double v = t.sample(x);
   const std::string f = t.factor();

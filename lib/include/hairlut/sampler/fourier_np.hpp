@@ -9,8 +9,11 @@
 // so every β and φ share the C_n. A table stores c_n = C_n / F at (θd, σa) nodes, n = 0 … terms − 1
 // the fastest axis, with the lobe's least absorption F = e^{−p σa′ ℓ_min} divided out (ℓ_min the
 // shortest internal segment, at the fiber's edge h = ±1; σa′ = σa / cos θt): what is left varies
-// slowly with σa. A lookup interpolates the c_n along θd and σa (each axis's own interpolation,
-// as FixedView reads it), multiplies F back exactly and sums the series to N(β) terms:
+// slowly with σa. A table whose θd axis reaches 90° stores c_n / g instead, g the grazing factor of
+// its lobe (grazing_factor.hpp: cos²θd for p ≥ 1, where every C_n vanishes as cos²θd; 1 for R; the
+// residual's g_res), which has a finite limit there. A lookup interpolates the c_n along θd and σa
+// (each axis's own interpolation, as FixedView reads it), multiplies F and g back exactly and sums
+// the series to N(β) terms:
 //   N(β) = the smallest N with 2 e^{−(N+1)²β²/2} / (1 − e^{−(2N+3)β²/2}) ≤ tolerance / 2,
 // a bound on 2 Σ_{n>N} e^{−n²β²/2}, so the truncation is below tolerance × C_0 / 2π (the lobe's mean
 // height, itself below its peak); a lookup sums whole groups of four terms (a few more than N(β)
@@ -38,6 +41,7 @@
 #include <limits>
 #include <vector>
 
+#include "hairlut/sampler/grazing_factor.hpp"
 #include "hairlut/sampler/sampler.hpp"
 #include "hairlut/sampler/sampler_fixed.hpp"
 #include "hairlut/sampler/sampler_simd.hpp"
@@ -53,6 +57,7 @@ struct FourierNpParams {
   double eta = 1.55;         ///< refractive index of F
   int absorption_p = 0;      ///< p of F = e^{−p σa′ ℓ_min} (the lobe's p; the residual's first lobe)
   bool papers_path = false;  ///< segment length 4 cos²γt (the papers' form) instead of the chord 2 cos γt
+  GrazingFactor grazing;     ///< g that the c_n of a θd axis reaching 90° are divided by (none otherwise)
 };
 
 /// Whether the tail bound holds for N terms beyond n = 0 at β: 2 e^{−(N+1)²b} ≤ ½ tolerance (1 − e^{−(2N+3)b}), b = β²/2.
@@ -279,7 +284,7 @@ class FourierNp {
     R c0 = R(0);
     for (int i = 0; i < nt; ++i)
       for (int j = 0; j < ns; ++j) c0 += tt.w[i] * ts.w[j] * static_cast<R>(data_[tt.off[i] + ts.off[j]]);
-    return c0 * absorption_(sg, cos_t);
+    return c0 * absorption_(sg, cos_t) * params_.grazing.of_cos(sg, cos_t);
   }
 
   /// The series of N_p at β, σa, θd as cosine amplitudes: out[n] = (2 − δ_n0) e^{−n²β²/2} c_n F / 2π,
@@ -299,7 +304,7 @@ class FourierNp {
     const R cos_t = std::cos(th);
     const FixedTaps<R> tt = theta_.taps(theta_cos_ ? -cos_t : th), ts = sigma_.taps(sigma_sqrt_ ? std::sqrt(sg) : sg);
     const int nt = theta_.cubic() ? 4 : 2, ns = sigma_.cubic() ? 4 : 2, count = lookup_terms(bt);
-    const R scale = absorption_(sg, cos_t) * static_cast<R>(0.15915494309189533577), b = R(0.5) * bt * bt;
+    const R scale = absorption_(sg, cos_t) * params_.grazing.of_cos(sg, cos_t) * static_cast<R>(0.15915494309189533577), b = R(0.5) * bt * bt;
     // e^{−n²b} by e^{−(n+1)²b} = e^{−n²b} e^{−(2n+1)b}, the step's factor itself times e^{−2b}.
     const R e2b = std::exp(R(-2) * b);
     R g = R(1), step = std::exp(-b);
@@ -390,7 +395,7 @@ class FourierNp {
       }
       acc = acc + blend<K>(ttap, w, 0) * (g * c);
     }
-    const R F = absorption_(sg, cos_t);
+    const R F = absorption_(sg, cos_t) * params_.grazing.of_cos(sg, cos_t);
     const R v = acc.sum() * F * static_cast<R>(0.15915494309189533577);  // 1/2π
     return v < R(0) ? R(0) : v;
   }

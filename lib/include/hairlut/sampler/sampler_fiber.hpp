@@ -23,38 +23,11 @@
 #include <cstddef>
 #include <vector>
 
+#include "hairlut/sampler/grazing_factor.hpp"
 #include "hairlut/sampler/sampler_fixed.hpp"
 
 namespace hairlut {
 namespace sampler {
-
-/// The factor g(σa, θd) by which an energy or residual table whose θd axis reaches 90° divides its
-/// values, so that they stay finite and smooth where the energies vanish (docs/table-format.md,
-/// "Energies at grazing", format 3.0), with u = cos θd (clamped at 0):
-///   g = u^n · u (u + b x) / (u² + c x u + d x²),  x = x_scale · expm1(τ σa),
-/// the second factor present only where x_scale ≠ 0 (the residual, whose energy goes as u for σa = 0
-/// and as u² for σa > 0, the change over σa of the order of u). From the table's attributes
-/// `cos_theta_d_power` (n) and `grazing_absorption` {x_scale, tau, b, c, d}. g = 0 at u = 0 (n ≥ 1)
-/// and where x overflows (σa so large that the energy underflowed).
-struct GrazingFactor {
-  int cos_power = 0;
-  double x_scale = 0.0, tau = 0.0, b = 0.0, c = 0.0, d = 0.0;
-  bool none() const { return cos_power <= 0 && x_scale == 0.0; }
-  template <class R>
-  R operator()(R sigma_a, R theta_d) const {
-    if (none()) return R(1);
-    const R c0 = std::cos(theta_d);
-    const double u = c0 < R(0) ? 0.0 : static_cast<double>(c0);
-    double g = 1.0;
-    for (int i = 0; i < cos_power; ++i) g *= u;
-    if (x_scale != 0.0) {
-      const double x = x_scale * std::expm1(tau * static_cast<double>(sigma_a));
-      const double den = u * u + c * x * u + d * x * x;
-      g = den > 0.0 && den < HUGE_VAL ? g * u * (u + b * x) / den : 0.0;
-    }
-    return static_cast<R>(g);
-  }
-};
 
 namespace detail {
 template <class R>

@@ -48,6 +48,8 @@ struct Table {
   /// "grazing_absorption", format 3.0: energy and residual tables whose θd axis reaches 90°, where
   /// the energies vanish); none() otherwise.
   sampler::GrazingFactor grazing_factor() const;
+  /// Records g in the attributes grazing_factor() reads (nothing for none()).
+  void set_grazing_factor(const sampler::GrazingFactor& g);
   /// The table whose value multiplies this one's (attribute "factor", e.g. "np/energy_TT" for N_p
   /// stored as the shape N_p / E_p), or "" when the values are the quantity itself.
   std::string factor() const { return attributes.value("factor", std::string()); }
