@@ -164,3 +164,28 @@ TEST_CASE("grazing: nothing is NaN or negative at exactly theta_d = 90 deg", "[g
   CHECK(h.np[0].energy(0.0, td) == Approx(1.0).epsilon(1e-3));
   for (int p = 1; p < h.lobes; ++p) CHECK(h.np[p].energy(0.0, td) < 1e-30);
 }
+
+TEST_CASE("grazing: the residual's grazing factor follows its energy across the corner sigma_a -> 0, theta_d -> 90 deg", "[grazing]") {
+  // e_res / g_res against its limit (π/4) k T∞^{P−1} (docs/table-format.md) at cos θd = 1e-6 (where the
+  // O(cos θd) terms are below 2e-5), for
+  // σa from 0 to where x = expm1(τ σa) / k is 1e6 times cos θd: the energy from the model's own
+  // quadrature, g_res from the shipped file's attributes.
+  const TableSet& set = default_tables();
+  const Table* t = set.find("np/energy_residual");
+  REQUIRE(t);
+  const sampler::GrazingFactor g = t->grazing_factor();
+  REQUIRE(g.x_scale > 0.0);
+  const auto h = hair_tables<float, double>(set);
+  const double eta = h.eta, k = 2.0 * (1.0 + eta * eta) / std::sqrt(eta * eta - 1.0), u = 1e-6, td = std::acos(u);
+  const GaussLegendreRule rule(2048);
+  double worst = 0.0;
+  for (double a : {0.0, 1e-3, 0.01, 0.1, 0.3, 1.0, 2.0, 5.0, 20.0, 100.0, 1e3, 1e4, 1e6}) {
+    const double sigma_a = std::log1p(a * u / g.x_scale) / g.tau;
+    const double e = lobe_energies(AttenuationSlice(eta, td, sigma_a), LobeSet{h.lobes, true}, rule).back();
+    const double limit = 0.25 * kPi * k * std::exp(-g.tau * sigma_a * (h.lobes - 1));
+    INFO("a = " << a << ", sigma_a = " << sigma_a << ": e / g = " << e / g(sigma_a, td) << ", limit " << limit);
+    worst = std::max(worst, std::fabs(e / g(sigma_a, td) / limit - 1.0));
+  }
+  WARN("residual energy over its grazing factor at cos theta_d = 1e-6: within " << worst << " of its limit across the corner");
+  CHECK(worst <= 1e-4);
+}

@@ -51,17 +51,18 @@ bool close(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(1.0,
 
 // The grazing factor's attributes (format 3.0): a lookup raises cos θd to cos_theta_d_power and
 // scales σa by grazing_absorption's numbers, so each is bounded where the baker's lie (power 0, 1
-// or 2; η ≤ 10 gives x_scale ≥ 0.01 and τ ≤ 4.1; b, c, d are constants near 1).
+// or 2; η ≤ 10 gives x_scale ≥ 0.01 and τ ≤ 4.1; b … f are constants below 20).
 void check_grazing(const Table& t, const std::string& name) {
   const std::string where = name + ": table " + t.path() + ": attribute ";
   if (const auto p = t.attributes.find("cos_theta_d_power"); p != t.attributes.end())
     if (!p->is_number_integer() || p->get<long long>() < 0 || p->get<long long>() > sampler::GrazingFactor::kMaxCosPower)
       throw IoError(where + "cos_theta_d_power must be 0, 1 or 2");
   if (const auto a = t.attributes.find("grazing_absorption"); a != t.attributes.end()) {
-    if (!a->is_object()) throw IoError(where + "grazing_absorption must be an object {x_scale, tau, b, c, d}");
-    for (const char* k : {"x_scale", "tau", "b", "c", "d"}) {
+    if (!a->is_object()) throw IoError(where + "grazing_absorption must be an object {x_scale, tau, b, c, d[, e, f]}");
+    for (const char* k : {"x_scale", "tau", "b", "c", "d", "e", "f"}) {
       const auto v = a->find(k);
-      const double x = v != a->end() && v->is_number() ? v->get<double>() : -1.0;
+      const bool optional = std::string(k) == "e" || std::string(k) == "f";
+      const double x = v != a->end() && v->is_number() ? v->get<double>() : optional && v == a->end() ? 0.0 : -1.0;
       if (!(x >= 0.0 && x <= 1e3) || (x == 0.0 && std::string(k) == "x_scale"))
         throw IoError(where + "grazing_absorption." + k + (std::string(k) == "x_scale" ? " must lie in (0, 1e3]" : " must lie in [0, 1e3]"));
     }

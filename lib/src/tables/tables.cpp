@@ -47,14 +47,16 @@ sampler::GrazingFactor Table::grazing_factor() const {
   sampler::GrazingFactor g;
   g.cos_power = attributes.value("cos_theta_d_power", 0);
   if (const auto a = attributes.find("grazing_absorption"); a != attributes.end() && a->is_object())
-    g.x_scale = a->value("x_scale", 0.0), g.tau = a->value("tau", 0.0), g.b = a->value("b", 0.0), g.c = a->value("c", 0.0), g.d = a->value("d", 0.0);
+    g.x_scale = a->value("x_scale", 0.0), g.tau = a->value("tau", 0.0), g.b = a->value("b", 0.0), g.c = a->value("c", 0.0), g.d = a->value("d", 0.0),
+    g.e = a->value("e", 0.0), g.f = a->value("f", 0.0);
   return g;
 }
 
 void Table::set_grazing_factor(const sampler::GrazingFactor& g) {
   if (g.none()) return;
   attributes["cos_theta_d_power"] = g.cos_power;
-  if (g.x_scale != 0.0) attributes["grazing_absorption"] = {{"x_scale", g.x_scale}, {"tau", g.tau}, {"b", g.b}, {"c", g.c}, {"d", g.d}};
+  if (g.x_scale != 0.0)
+    attributes["grazing_absorption"] = {{"x_scale", g.x_scale}, {"tau", g.tau}, {"b", g.b}, {"c", g.c}, {"d", g.d}, {"e", g.e}, {"f", g.f}};
 }
 
 double TableSet::sample_value(const Table& t, const std::vector<double>& x) const {

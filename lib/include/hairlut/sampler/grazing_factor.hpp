@@ -14,16 +14,17 @@ namespace sampler {
 /// energies, the residual, a Fourier table's coefficients), so that they stay finite and smooth
 /// where the energies vanish (docs/table-format.md, "Energies at grazing", format 3.0), with
 /// u = cos θd (clamped at 0):
-///   g = u^n · u (u + b x) / (u² + c x u + d x²),  x = x_scale · expm1(τ σa),
+///   g = u^n · u (u² + b x u + e x²) / (u³ + c x u² + d x² u + f x³),  x = x_scale · expm1(τ σa),
 /// the second factor present only where x_scale ≠ 0 (the residual, whose energy goes as u for σa = 0
-/// and as u² for σa > 0, the change over σa of the order of u). From the table's attributes
-/// `cos_theta_d_power` (n, at most kMaxCosPower: loaders refuse more) and `grazing_absorption`
-/// {x_scale, tau, b, c, d}. g = 0 at u = 0 (n ≥ 1) and where x overflows (σa so large that the
+/// and as u² for σa > 0, the change over σa of the order of u; with a = x / u it is
+/// (1 + b a + e a²) / (1 + c a + d a² + f a³)). From the table's attributes `cos_theta_d_power` (n, at
+/// most kMaxCosPower: loaders refuse more) and `grazing_absorption` {x_scale, tau, b, c, d, e, f}
+/// (e and f 0 where absent). g = 0 at u = 0 (n ≥ 1) and where x overflows (σa so large that the
 /// energy underflowed).
 struct GrazingFactor {
   static constexpr int kMaxCosPower = 2;
   int cos_power = 0;
-  double x_scale = 0.0, tau = 0.0, b = 0.0, c = 0.0, d = 0.0;
+  double x_scale = 0.0, tau = 0.0, b = 0.0, c = 0.0, d = 0.0, e = 0.0, f = 0.0;
   bool none() const { return cos_power <= 0 && x_scale == 0.0; }
   template <class R>
   R operator()(R sigma_a, R theta_d) const {
@@ -39,8 +40,8 @@ struct GrazingFactor {
     for (int i = 0; i < cos_power && i < kMaxCosPower; ++i) g *= u;
     if (x_scale != 0.0) {
       const double x = x_scale * std::expm1(tau * static_cast<double>(sigma_a));
-      const double den = u * u + c * x * u + d * x * x;
-      g = den > 0.0 && den < HUGE_VAL ? g * u * (u + b * x) / den : 0.0;
+      const double den = ((u + c * x) * u + d * x * x) * u + f * x * x * x;
+      g = den > 0.0 && den < HUGE_VAL ? g * u * ((u + b * x) * u + e * x * x) / den : 0.0;
     }
     return static_cast<R>(g);
   }
