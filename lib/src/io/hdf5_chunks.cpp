@@ -2,6 +2,8 @@
 // left to HDF5 because HDF5 runs its filter pipeline on the one thread that calls H5Dwrite (and
 // is not thread-safe), which made deflate the serial part of large bakes; the three filters are
 // small, fixed algorithms of the HDF5 format, and zlib does the compression.
+// Measured: tables/configs/generic.json bakes in 9.4 s of wall time on 2 cores with these chunks,
+// 12.9 s with HDF5's own pipeline (15.5 s of CPU time either way; bake-hair-luts --threads 2).
 #include "hdf5_chunks.hpp"
 
 #include <omp.h>
