@@ -52,8 +52,8 @@ struct Sample {
 SearchStage stage_of(const std::string& name, const std::vector<Sample>& s);
 
 /// The stages after the random points (`all`, to which every point evaluated is appended): the
-/// first and last cell of every axis and every corner, known features, grazing ends, then local
-/// maximisation from the worst points found.
+/// first and last cell of every axis and every corner, known features, every cell where the exact
+/// value is cheap, grazing ends, then local maximisation from the worst points found.
 std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction& sampled, const TableTruth& truth, const SampledErrorOptions& opt,
                                             int threads, std::vector<Sample>& all);
 

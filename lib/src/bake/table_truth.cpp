@@ -252,6 +252,7 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.denominator = kMpWords;
     // The specular cone of the tilted lobe: M(v, θi, θr − α) peaks near θr = α − θi.
     tr.features = [=](const std::vector<double>& x) { return std::vector<double>{alpha - x[with_beta ? 1 : 0]}; };
+    tr.sweep_cells = true;
     return tr;
   }
   if (t.quantity == "sigma_a" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {

@@ -85,8 +85,9 @@ std::string search_html(const json& r) {
   if (!r.contains("accuracy_search")) return "";
   std::ostringstream o;
   o << "<h3>Worst-point search</h3>\n<p>After the random points, each table is searched for its worst point: the first and last cell of "
-       "every axis, every corner, known features (N_p's caustics and lobe edges in &phi;, M_p's specular cone), grazing ends of angle "
-       "axes, then coordinate search from the worst points found. The checks judge the worst found. Seed "
+       "every axis, every corner, known features (N_p's caustics and lobe edges in &phi;, M_p's specular cone), every cell where the "
+       "exact value is cheap (M_p, at its narrowest &beta;), grazing ends of angle axes, then coordinate search from the worst points found "
+       "and from the worst in each &beta; cell. The checks judge the worst found. Seed "
     << escape(r["accuracy_search"]["seed"].dump()) << " (<code>--seed</code> repeats the run).</p>\n"
     << "<table><tr><th>table</th><th>worst found</th><th>where</th><th>points per stage (worst there)</th></tr>\n";
   for (const json& t : r["accuracy"])

@@ -31,8 +31,9 @@ struct SampledErrorOptions {
   bool keep_points = false;    ///< return every point and its error (for heat maps)
   const std::atomic<bool>* cancel = nullptr;  ///< polled; the figures are incomplete when it is set
   /// After the random points, search for the worst point (worst_point_search below): the first and
-  /// last cell of every axis and every corner, known features and grazing ends, then coordinate
-  /// search from the worst points found. Its points come from `seed` too.
+  /// last cell of every axis and every corner, known features, every cell where the exact value is
+  /// cheap (TableTruth::sweep_cells) and grazing ends, then coordinate search from the worst points
+  /// found. Its points come from `seed` too.
   bool search = false;
   int climb_starts = 8;         ///< worst points (in distinct cells) the local maximisation starts from
   int climb_evaluations = 160;  ///< evaluations per start at most

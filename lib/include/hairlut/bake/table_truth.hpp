@@ -50,6 +50,9 @@ struct TableTruth {
   /// coordinates (N_p: the caustics and the lobe's edges, Φ(p, h) at dΦ/dh = 0 and h = ±1; M_p: the
   /// specular cone θr = α − θi), for the worst-point search to look at and around.
   std::function<std::vector<double>(const std::vector<double>&)> features;
+  /// Whether the exact quantity is cheap enough (M_p: one Bessel function) for the search to scan
+  /// the peak axis densely at the middle of every cell of the other axes.
+  bool sweep_cells = false;
   /// The denominator is at least white_floor × (the same denominator of the white fiber) and at
   /// least absolute_floor.
   double white_floor = 0.0;
