@@ -95,18 +95,21 @@ double cell_width(const GridAxis& a, double x) {
 
 using Task = std::vector<std::vector<double>>;  // points sharing a slab (evaluated in order by one thread)
 
-// Evaluates the tasks in parallel; their samples in task order (the same for any thread count).
-std::vector<Sample> run_tasks(const std::vector<Task>& tasks, const Table& t, const PointFunction& sampled, const TableTruth& truth, int threads,
-                              const SampledErrorOptions& opt) {
-  std::vector<std::vector<Sample>> parts(tasks.size());
+// Runs work(i, eval, out) for i < n in parallel, each with its own PointEval appending to its own
+// list, and returns the lists joined in index order (the same for any thread count). The first
+// exception stops the rest and is rethrown naming the table.
+template <class Work>
+std::vector<Sample> parallel_samples(std::size_t n, const Table& t, const PointFunction& sampled, const TableTruth& truth, int threads,
+                                     const SampledErrorOptions& opt, Work&& work) {
+  std::vector<std::vector<Sample>> parts(n);
   std::atomic<bool> failed{false};
   std::string failure;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     if (failed.load() || (opt.cancel && opt.cancel->load())) continue;
     try {
       PointEval eval(sampled, truth);
-      for (const auto& x : tasks[i]) parts[i].push_back(eval(x));
+      work(i, eval, parts[i]);
     } catch (const std::exception& e) {
       if (!failed.exchange(true)) {
 #pragma omp critical(hairlut_sampled_error)
@@ -118,6 +121,14 @@ std::vector<Sample> run_tasks(const std::vector<Task>& tasks, const Table& t, co
   std::vector<Sample> out;
   for (auto& p : parts) std::move(p.begin(), p.end(), std::back_inserter(out));
   return out;
+}
+
+// Evaluates the tasks in parallel; their samples in task order (the same for any thread count).
+std::vector<Sample> run_tasks(const std::vector<Task>& tasks, const Table& t, const PointFunction& sampled, const TableTruth& truth, int threads,
+                              const SampledErrorOptions& opt) {
+  return parallel_samples(tasks.size(), t, sampled, truth, threads, opt, [&](std::size_t i, PointEval& eval, std::vector<Sample>& out) {
+    for (const auto& x : tasks[i]) out.push_back(eval(x));
+  });
 }
 }  // namespace
 
@@ -365,15 +376,9 @@ std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction&
         if (p->rel > 0.0 && c < seen.size() && !seen[c]) seen[c] = 1, start_from(*p);
       }
     }
-    std::vector<std::vector<Sample>> parts(starts.size());
-    std::atomic<bool> failed{false};
-    std::string failure;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t s = 0; s < starts.size(); ++s) {
-      if (failed.load() || (opt.cancel && opt.cancel->load())) continue;
-      try {
-        PointEval eval(sampled, truth);
-        Sample best = starts[s];
+    std::vector<Sample> s =
+        parallel_samples(starts.size(), t, sampled, truth, threads, opt, [&](std::size_t start, PointEval& eval, std::vector<Sample>& part) {
+        Sample best = starts[start];
         std::vector<double> step(dims, 0.0), tlo(dims), thi(dims);
         for (int k : axes) {
           const GridAxis& a = t.axes[static_cast<std::size_t>(k)];
@@ -399,7 +404,7 @@ std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction&
               Sample q = eval(y);
               ++evaluations;
               const bool better = q.rel > best.rel;
-              parts[s].push_back(q);
+              part.push_back(q);
               if (better) {
                 best = std::move(q);
                 moved = true;
@@ -412,16 +417,7 @@ std::vector<SearchStage> worst_point_search(const Table& t, const PointFunction&
             ++halvings;
           }
         }
-      } catch (const std::exception& e) {
-        if (!failed.exchange(true)) {
-#pragma omp critical(hairlut_sampled_error)
-          failure = e.what();
-        }
-      }
-    }
-    if (failed) throw DomainError(t.path() + ": " + failure);
-    std::vector<Sample> s;
-    for (auto& p : parts) std::move(p.begin(), p.end(), std::back_inserter(s));
+        });
     stages.push_back(stage_of("climb", s));
     std::move(s.begin(), s.end(), std::back_inserter(all));
   }
