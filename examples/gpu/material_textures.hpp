@@ -26,16 +26,19 @@
 
 namespace hairlut_gpu {
 
-/// The GLSL struct HairlutMaterial (std140 and std430: 96 bytes).
+/// The GLSL struct HairlutMaterial (std140 and std430: 176 bytes).
 struct GpuMaterial {
   float theta_d[4], phi[4], theta_i[4], theta_r[4];  // a, b, last, 1 / count: s = clamp((x − a) b, 0, last)
   std::int32_t lobes[4];                             // explicit lobes, residual (0/1), first N_p layer, first M_p layer
-  std::int32_t flags[4];                             // θd cos-spaced (1) or uniform (0), 0, 0, 0
+  std::int32_t flags[4];                             // θd cos-spaced (1) or uniform (0); grazing factors: the explicit
+                                                     // lobes' cos powers (2 bits per lobe), the residual's, its absorption term (1)
   std::int32_t rows0[4];                             // sampling rows' offsets: gq, gcum, gguide, z
   std::int32_t rows1[4];                             // nbar, ncum, nguide; nq (step 1's θi nodes)
   float rows2[4];                                    // hq (their step), θi of the first, 0, 0
+  float grazing_x[4];                                // the residual's grazing factor: x per channel (held at 1e9), f
+  float grazing_bcde[4];                             // and its b, c, d, e
 };
-static_assert(sizeof(GpuMaterial) == 144, "HairlutMaterial is 144 bytes in std140");
+static_assert(sizeof(GpuMaterial) == 176, "HairlutMaterial is 176 bytes in std140");
 
 struct MaterialTextures {
   int np_width = 0, np_height = 0, np_layers = 0;  // φ, θd, layers
@@ -126,6 +129,21 @@ void MaterialTextures::add(const hairlut::sampler::MaterialTables<T>& t) {
   detail::locate(t.theta_d, g.theta_d), detail::locate(t.phi, g.phi), detail::locate(t.theta_i, g.theta_i), detail::locate(t.theta_r, g.theta_r);
   g.lobes[0] = t.lobes, g.lobes[1] = res ? 1 : 0, g.lobes[2] = np_layers, g.lobes[3] = mp_layers;
   g.flags[0] = t.theta_d.spacing == Spacing::cos ? 1 : 0;
+  // The grazing factors the tables were divided by (material_scattering.hpp). x is held at 1e9 so
+  // that x³ stays within float: there (σa ≳ 8) the residual's factor is below 1e-9 and its energy,
+  // e^{−τσa(P−1)}, has long underflowed.
+  for (int p = 0; p < t.lobes; ++p) {
+    if (t.grazing[p].x_scale != 0.0) throw std::invalid_argument("lobe " + std::to_string(p) + ": an explicit lobe's grazing factor must be a power of cos theta_d");
+    g.flags[1] |= std::min(std::max(t.grazing[p].cos_power, 0), 2) << (2 * p);
+  }
+  if (res) {
+    const GrazingFactor& f = t.residual_grazing;
+    g.flags[2] = std::min(std::max(f.cos_power, 0), 2), g.flags[3] = f.x_scale != 0.0 ? 1 : 0;
+    for (int c = 0; c < 3; ++c) g.grazing_x[c] = static_cast<float>(std::min(f.x_of(std::max(0.0, t.sigma_a[c])), 1e9));
+    g.grazing_x[3] = static_cast<float>(f.f);
+    g.grazing_bcde[0] = static_cast<float>(f.b), g.grazing_bcde[1] = static_cast<float>(f.c), g.grazing_bcde[2] = static_cast<float>(f.d),
+    g.grazing_bcde[3] = static_cast<float>(f.e);
+  }
   // The sampling rows as the C++ runtime builds them.
   const MaterialScattering<T> ms(t);
   if (!ms.valid()) throw std::invalid_argument("material " + std::to_string(materials.size()) + ": the runtime cannot sample its tables");

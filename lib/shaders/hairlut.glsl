@@ -73,7 +73,7 @@ layout(set = HAIRLUT_SET, binding = HAIRLUT_BINDING + 1) uniform sampler2DArray 
 #define HAIRLUT_MP_TEXTURE hairlut_mp_texture
 #endif
 
-// One material (std140 and std430 alike: 144 bytes). Each axis maps its argument x to the node
+// One material (std140 and std430 alike: 176 bytes). Each axis maps its argument x to the node
 // coordinate s = clamp((x − a) b, 0, last): vec4(a, b, last, 1 / count). x is θ for θi and θr, |φ|
 // folded into [0, π] for φ, and |θd| (uniform θd axis) or 1 − cos θd (cos-spaced: the nodes are
 // uniform in cos θd, and 1 − cos θd keeps its precision near θd = 0).
@@ -83,10 +83,13 @@ struct HairlutMaterial {
   vec4 theta_i;
   vec4 theta_r;
   ivec4 lobes;  // explicit lobes P, residual (1) or not (0), first N_p layer, first M_p layer
-  ivec4 flags;  // x: θd axis cos-spaced (1) or uniform (0); yzw: 0
+  ivec4 flags;  // x: θd axis cos-spaced (1) or uniform (0); the grazing factors (below): y the explicit
+                // lobes' cos powers, 2 bits per lobe; z the residual's; w its absorption term (1) or not
   ivec4 rows0;  // sampling only: offsets in HAIRLUT_ROWS of gq, gcum, gguide, z
   ivec4 rows1;  // sampling only: offsets of nbar, ncum, nguide; nq (θi nodes of step 1's rows)
   vec4 rows2;   // sampling only: hq (their step), θi of the first, 0, 0
+  vec4 grazing_x;     // the residual's grazing factor: x per channel, f
+  vec4 grazing_bcde;  // and its b, c, d, e
 };
 
 const float HAIRLUT_PI = 3.14159265358979;
@@ -120,6 +123,25 @@ float hairlut_atan2_upper(float y, float x) {
   return x < 0.0 ? 3.14159265358979 - r : r;
 }
 
+// Where the θd axis reaches 90° the tables store N_p divided by its lobe's grazing factor g_p
+// (hairlut::sampler::GrazingFactor; docs/table-format.md): cos^n θd for an explicit lobe, and for
+// the residual u^n · u (u² + b x u + e x²) / (u³ + c x u² + d x² u + f x³) per channel, u = cos θd.
+// A lookup multiplies it back after filtering; 1 where the tables store N_p as is.
+vec3 hairlut_grazing(HairlutMaterial m, int p, float u) {
+  u = max(u, 0.0);
+  int n = p < m.lobes.x ? (m.flags.y >> (2 * p)) & 3 : m.flags.z;
+  float g = n == 0 ? 1.0 : n == 1 ? u : u * u;
+  if (p < m.lobes.x || m.flags.w == 0) return vec3(g);
+  vec3 x = m.grazing_x.xyz;
+  float b = m.grazing_bcde.x, c = m.grazing_bcde.y, d = m.grazing_bcde.z, e = m.grazing_bcde.w, f = m.grazing_x.w;
+  vec3 den = ((u + c * x) * u + d * x * x) * u + f * x * x * x;
+  vec3 r = g * u * ((u + b * x) * u + e * x * x) / max(den, vec3(1e-37));
+  return mix(vec3(0.0), r, greaterThan(den, vec3(0.0)));
+}
+// cos θd = cos((θo − θi)/2) from both inclinations' sines and cosines: half the length of the sum
+// of (sin θ, cos θ), whose cosine part keeps its precision near grazing (1 − (1 − cos θd) would not).
+float hairlut_cos_theta_d(float so, float co, float si, float ci) { return 0.5 * length(vec2(so + si, co + ci)); }
+
 #if HAIRLUT_FILTER == HAIRLUT_FILTER_HARDWARE
 // Node i is the centre of texel i; the sampler's clamp holds the last node beyond it.
 #define HAIRLUT_DEFINE_BILINEAR(NAME, TEX)                                  \
@@ -146,8 +168,8 @@ float hairlut_atan2_upper(float y, float x) {
 HAIRLUT_DEFINE_BILINEAR(hairlut_np_bilinear, HAIRLUT_NP_TEXTURE)
 HAIRLUT_DEFINE_BILINEAR(hairlut_mp_bilinear, HAIRLUT_MP_TEXTURE)
 
-// S from θo, θi, 1 − cos θd (the cos-spaced axis) or |θd| (the uniform one) and |φ| ∈ [0, π].
-vec3 hairlut_eval_located(HairlutMaterial m, float theta_o, float theta_i, float theta_d_x, float phi_abs) {
+// S from θo, θi, 1 − cos θd (the cos-spaced axis) or |θd| (the uniform one), cos θd and |φ| ∈ [0, π].
+vec3 hairlut_eval_located(HairlutMaterial m, float theta_o, float theta_i, float theta_d_x, float u, float phi_abs) {
   vec2 sn = vec2(hairlut_node(m.phi, phi_abs), hairlut_node(m.theta_d, theta_d_x));
   vec2 sm = vec2(hairlut_node(m.theta_r, theta_o), hairlut_node(m.theta_i, theta_i));
   vec2 n_last = vec2(m.phi.z, m.theta_d.z), n_inv = vec2(m.phi.w, m.theta_d.w);
@@ -156,7 +178,8 @@ vec3 hairlut_eval_located(HairlutMaterial m, float theta_o, float theta_i, float
   vec3 s = vec3(0.0);
   for (int k = 0; 4 * k < lobes; ++k) {
     vec4 mp = hairlut_mp_bilinear(sm, m_last, m_inv, m.lobes.w + k);
-    for (int c = 0; c < 4 && 4 * k + c < lobes; ++c) s += mp[c] * hairlut_np_bilinear(sn, n_last, n_inv, m.lobes.z + 4 * k + c).rgb;
+    for (int c = 0; c < 4 && 4 * k + c < lobes; ++c)
+      s += mp[c] * hairlut_grazing(m, 4 * k + c, u) * hairlut_np_bilinear(sn, n_last, n_inv, m.lobes.z + 4 * k + c).rgb;
   }
   return s;
 }
@@ -169,7 +192,7 @@ vec3 hairlut_eval_angles(HairlutMaterial m, float theta_o, float theta_i, float 
   float x = m.flags.x != 0 ? sd * sd / (1.0 + cos(td)) : abs(td);
   float f = abs(phi);
   if (f > HAIRLUT_PI) f = abs(f - 2.0 * HAIRLUT_PI * floor(f / (2.0 * HAIRLUT_PI) + 0.5));
-  return hairlut_eval_located(m, theta_o, theta_i, x, f);
+  return hairlut_eval_located(m, theta_o, theta_i, x, cos(td), f);
 }
 
 // S per channel [1/sr] for unit vectors wo, wi in the fiber frame, as HairScattering::eval(fiber,
@@ -197,7 +220,7 @@ vec3 hairlut_eval(HairlutMaterial m, vec3 wo, vec3 wi) {
 #else
   float f = hairlut_atan2_upper(abs(cross_), dot_);
 #endif
-  return hairlut_eval_located(m, to, ti, x, f);
+  return hairlut_eval_located(m, to, ti, x, hairlut_cos_theta_d(so, co, si, ci), f);
 }
 
 #if HAIRLUT_SAMPLING

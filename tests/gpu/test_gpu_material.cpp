@@ -51,28 +51,6 @@ constexpr double kU = 0x1p-24;
 constexpr double kK = 32.0;
 constexpr double kTiny = 0x1p-126;  // float's smallest normal: a shader may flush anything smaller to 0
 
-// The material tables of group g ("materials/<name>") as the header-only runtime takes them.
-MaterialTables<float> material_tables(const hairlut::TableSet& set, const std::string& g) {
-  MaterialTables<float> m;
-  const auto& lobes = set.metadata.at("lobes");
-  auto get = [&](const std::string& path) -> const hairlut::Table& {
-    const hairlut::Table* t = set.find(path);
-    if (!t) throw std::runtime_error("table " + path + ": missing");
-    if (t->precision != hairlut::Precision::float32) throw std::runtime_error("table " + path + ": not float32");
-    return *t;
-  };
-  m.lobes = static_cast<int>(lobes.size());
-  for (int p = 0; p < m.lobes && p < m.kMaxLobes; ++p) {
-    const std::string lobe = lobes[static_cast<std::size_t>(p)].get<std::string>();
-    const hairlut::Table& n = get(g + "/np_" + lobe);
-    const hairlut::Table& mp = get(g + "/mp_" + lobe);
-    m.np[p] = n.f32.data(), m.mp[p] = mp.f32.data();
-    if (p == 0) m.theta_d = n.axes[1].view(), m.phi = n.axes[2].view(), m.theta_i = mp.axes[0].view(), m.theta_r = mp.axes[1].view();
-  }
-  if (set.find(g + "/np_residual")) m.np_residual = get(g + "/np_residual").f32.data(), m.mp_residual = get(g + "/mp_residual").f32.data();
-  return m;
-}
-
 std::vector<std::string> material_groups(const hairlut::TableSet& set) {
   std::vector<std::string> groups;
   for (const hairlut::Table& t : set.tables)
@@ -289,7 +267,7 @@ int main(int argc, char** argv) {
     if (groups.empty() || groups.size() > 4) throw std::runtime_error(args.tables + ": 1 to 4 materials needed (has " + std::to_string(groups.size()) + ")");
     for (const std::string& g : groups) {
       rts.push_back(hairlut::hair_scattering<float>(set, g));
-      const MaterialTables<float> mt = material_tables(set, g);
+      const MaterialTables<float> mt = hairlut::material_tables<float>(set, g);
       tex.add(mt);
       sampling.push_back({hairlut::sampler::MaterialScattering<float>(mt), mt.theta_r, mt.theta_i.lo});
     }

@@ -141,7 +141,10 @@ struct Bounder {
         white_factor = std::max(0.0, fv(x)) * l.factor.grazing(0.0, td);
       }
       fill(l.np, f.sigma_a);
-      const double n = std::max(0.0, nv(x)) * l.np.grazing(f.sigma_a, 0.5 * (tr - ti)) * factor;
+      // A material's N_p where its θd axis reaches 90°: stored over its grazing factor (none for
+      // the generic shapes, whose energy carries it).
+      const double gn = l.np.grazing(f.sigma_a, 0.5 * (tr - ti));
+      const double n = std::max(0.0, nv(x)) * gn * factor;
       double d;  // the validator's denominator for this N_p, bounded from the tables
       const bool has_phi = l.np.coords[l.np.dims - 1] == Coordinate::phi;
       const double eps = l.factor.data ? eps_n + eps_e * (1.0 + eps_n) : eps_n;
@@ -151,11 +154,11 @@ struct Bounder {
         continue;
       }
       np[p].blend(x, row);
-      const double peak_n = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * factor;
+      const double peak_n = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * gn * factor;
       fill(l.np, 0.0);
       if (l.np.coords[0] == Coordinate::channel) x[0] = f.channel;  // per-material: white is not in the table
       np[p].blend(x, row);
-      const double peak_white = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * white_factor;
+      const double peak_white = peak(np[p], l.np.axes[l.np.dims - 1].count, 0.0, kPi) * gn * white_factor;
       d = std::max(peak_n, 1e-3 * peak_white) / (1.0 - eps);
       b += eps_m * peak_m * n + (m + eps_m * peak_m) * eps * d;
     }
@@ -272,7 +275,9 @@ int main(int argc, char** argv) {
         const hairlut::Table* np0 = set.find(g + "/np_R");
         if (!np0) throw hairlut::DomainError(g + "/np_R: missing");
         const auto sig = np0->attributes.at("sigma_a").get<std::vector<double>>();
-        for (int c = 0; c < 3; ++c) l.sigma_a[c] = sig.at(static_cast<std::size_t>(c)), l.fiber[c] = FiberCoordinates{0.0, 0.0, static_cast<double>(c)};
+        // The material's σa rides along for its residual's grazing factor (its tables have no σa axis).
+        for (int c = 0; c < 3; ++c)
+          l.sigma_a[c] = sig.at(static_cast<std::size_t>(c)), l.fiber[c] = FiberCoordinates{0.0, l.sigma_a[c], static_cast<double>(c)};
         looks.push_back(l);
       }
     }

@@ -2,6 +2,7 @@
 // with the material's RGB σa and its own β per lobe, the lobe energies and the residual over
 // (channel, θd): the shape renderers precompute per material (material_np.hpp).
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -26,6 +27,18 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
   const std::vector<double> thetas = theta_axis.nodes(), phis = phi_axis.nodes();
   const GridAxis channel = channel_axis({"R", "G", "B"}, "colour channel (linear sRGB primaries)");
   const std::size_t nt = thetas.size(), nphi = phis.size();
+  // Where θd reaches 90° every table stores its quantity divided by its lobe's grazing factor
+  // (docs/table-format.md, "Energies at grazing"; the residual last), which lookups multiply back:
+  // N_p of the lobes p ≥ 1 vanishes as cos²θd there, and a linear cell ending at 0 would miss it by
+  // the whole value. Divided in double before the values are rounded to the table's precision.
+  std::vector<sampler::GrazingFactor> factor;
+  for (int p = 0; p < lobe_set.size(); ++p) factor.push_back(grazing_factor_of(c, theta_axis, p, p == s.lobes));
+  auto over_g = [&](int p, double sigma, std::size_t it, double v) {
+    const sampler::GrazingFactor& g = factor[static_cast<std::size_t>(p)];
+    if (g.none()) return v;
+    const double f = g.of_cos(sigma, std::cos(thetas[it]));
+    return f > 0.0 ? v / f : 0.0;  // f underflows only where the value has
+  };
   // Each material's tables, filled by one parallel loop below.
   struct Pending {
     std::size_t first, energy_first, residual_index;
@@ -56,6 +69,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
                            {channel, theta_axis, phi_axis}, precision);
       t.attributes = {{"lobe", lobe_name(p)}, {"p", p}, {"material", m.name}, {"beta", m.beta_n[static_cast<std::size_t>(p)]},
                       {"sigma_a", m.sigma_a}};
+      t.set_grazing_factor(factor[static_cast<std::size_t>(p)]);
       set.tables.push_back(std::move(t));
     }
     const std::size_t energy_first = set.tables.size();
@@ -63,7 +77,8 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
       const std::string lobe = p == s.lobes ? "residual" : lobe_name(p);
       Table t = make_table(group, "energy_" + lobe, "energy", "1", "energy of lobe " + lobe + " for material " + m.name,
                            {channel, theta_axis}, precision);
-      t.attributes = {{"lobe", lobe}, {"p", p}, {"material", m.name}};
+      t.attributes = {{"lobe", lobe}, {"p", p}, {"material", m.name}, {"sigma_a", m.sigma_a}};
+      t.set_grazing_factor(factor[static_cast<std::size_t>(p)]);
       set.tables.push_back(std::move(t));
     }
     std::size_t residual_index = 0;
@@ -71,7 +86,8 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
       Table t = make_table(group, "np_residual", "N_p", "1/rad",
                            "residual lobes p >= " + std::to_string(s.lobes) + " for material " + m.name + ", uniform in phi",
                            {channel, theta_axis}, precision);
-      t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"material", m.name}};
+      t.attributes = {{"lobe", "residual"}, {"p_from", s.lobes}, {"material", m.name}, {"sigma_a", m.sigma_a}};
+      t.set_grazing_factor(factor.back());
       residual_index = set.tables.size();
       set.tables.push_back(std::move(t));
     }
@@ -91,7 +107,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
           {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
            [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules, {}},
           opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
-            set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, v);
+            set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, over_g(p, channel_sigmas[ic], it, v));
           });
     }
     report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
@@ -115,8 +131,9 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
     }
     for (std::size_t ic = 0; ic < w.sigmas.size(); ++ic) {
       const double* ep = e->data() + (channel0 + ic) * E;
-      for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, ep[p]);
-      if (c.residual) set.tables[w.residual_index].set(ic * nt + it, ep[E - 1] / kTwoPi);
+      const double sigma = w.sigmas[ic];
+      for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, over_g(static_cast<int>(p), sigma, it, ep[p]));
+      if (c.residual) set.tables[w.residual_index].set(ic * nt + it, over_g(static_cast<int>(E - 1), sigma, it, ep[E - 1] / kTwoPi));
     }
   };
   // One parallel loop over every (group, θd), or (material, θd) for the per-entry methods: N_p of
@@ -142,8 +159,10 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
         for (std::size_t ic = 0; ic < w.sigmas.size(); ++ic) {
           const double* src = v.data() + (static_cast<std::size_t>(p) * K + w.channel0 + ic) * nphi;
           const std::size_t dst = (ic * nt + it) * nphi;
-          if (t.precision == Precision::float32) std::transform(src, src + nphi, t.f32.data() + dst, [](double x) { return static_cast<float>(x); });
-          else std::copy(src, src + nphi, t.f64.data() + dst);
+          const double sigma = w.sigmas[ic];
+          auto stored = [&](double x) { return over_g(p, sigma, it, x); };
+          if (t.precision == Precision::float32) std::transform(src, src + nphi, t.f32.data() + dst, [&](double x) { return static_cast<float>(stored(x)); });
+          else std::transform(src, src + nphi, t.f64.data() + dst, stored);
         }
       }
       store_energies(w, it, c.residual ? nullptr : &e, w.channel0);

@@ -237,6 +237,28 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.denominator = kEnergyWords;
     return tr;
   }
+  if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && dims == std::vector<std::string>{"channel", "theta_d"} &&
+      t.attributes.contains("sigma_a")) {
+    // A material's energies and residual: σa per channel from the table's attribute.
+    const auto sig = t.attributes["sigma_a"].get<std::vector<double>>();
+    if (sig.empty()) return std::nullopt;
+    const bool res = is_residual;
+    const double scale = t.quantity == "N_p" ? 1.0 / kTwoPi : 1.0;
+    auto build = [=](bool white) {
+      return [=](const std::vector<double>&) {
+        return PointFunction([=](const std::vector<double>& y) {
+          const auto c = static_cast<std::size_t>(std::clamp<long>(std::lround(y[0]), 0, static_cast<long>(sig.size()) - 1));
+          return scale * energy_of(y[1], white ? 0.0 : sig[c], res ? 0 : p, res);
+        });
+      };
+    };
+    TableTruth tr;
+    tr.make = build(false);
+    tr.make_white = build(true);
+    tr.white_floor = kWhiteFloor, tr.absolute_floor = kEnergyFloor * scale;
+    tr.denominator = kEnergyWords;
+    return tr;
+  }
   if (t.quantity == "M_p" && (dims == std::vector<std::string>{"beta", "theta_i", "theta_r"} || dims == std::vector<std::string>{"theta_i", "theta_r"})) {
     const double alpha = t.attributes.value("alpha", 0.0);
     const bool with_beta = dims.size() == 3;

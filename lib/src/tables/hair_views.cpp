@@ -188,10 +188,9 @@ template sampler::HairScattering<float> hair_scattering<float>(const TableSet&);
 template sampler::HairScattering<double> hair_scattering<double>(const TableSet&);
 
 template <class T>
-sampler::HairScattering<T> hair_scattering(const TableSet& set, std::string_view group) {
-  if (group.empty() || group == "np" || group == "mp") return hair_scattering<T>(set);
+sampler::MaterialTables<T> material_tables(const TableSet& set, std::string_view group) {
   const std::string g(group);
-  if (g.rfind("materials/", 0) != 0) throw DomainError("table group " + g + ": not a material (materials/<name>) or the generic tables (\"\")");
+  if (g.rfind("materials/", 0) != 0) throw DomainError("table group " + g + ": not a material (materials/<name>)");
   const auto& lobes = set.metadata.at("lobes");
   sampler::MaterialTables<T> m;
   if (lobes.empty() || lobes.size() > static_cast<std::size_t>(m.kMaxLobes))
@@ -202,28 +201,57 @@ sampler::HairScattering<T> hair_scattering(const TableSet& set, std::string_view
     for (std::size_t d = 0; d < t.axes.size(); ++d)
       if (!same_axis(t.axes[d], first.axes[d])) throw DomainError("table " + t.path() + ": axis " + t.axes[d].name + " differs from " + first.path() + "'s");
   };
+  auto channels = [](const Table& n) {
+    if (n.axes[0].count != 3) throw DomainError("table " + n.path() + ": " + std::to_string(n.axes[0].count) + " channels, the runtime reads 3");
+  };
   const Table* n0 = nullptr;
   const Table* m0 = nullptr;
   for (int p = 0; p < m.lobes; ++p) {
     const std::string lobe = lobes[static_cast<std::size_t>(p)].get<std::string>();
     const Table& n = require<T>(set, g + "/np_" + lobe, {"channel", "theta_d", "phi"});
     const Table& mt = require<T>(set, g + "/mp_" + lobe, {"theta_i", "theta_r"});
-    if (n.axes[0].count != 3) throw DomainError("table " + n.path() + ": " + std::to_string(n.axes[0].count) + " channels, the runtime reads 3");
+    channels(n);
     if (!n0) n0 = &n, m0 = &mt;
     same(n, *n0), same(mt, *m0);
     m.np[p] = values<T>(n), m.mp[p] = values<T>(mt);
+    m.grazing[p] = n.grazing_factor();
+    if (m.grazing[p].x_scale != 0.0) throw DomainError("table " + n.path() + ": an explicit lobe's grazing factor must be a power of cos theta_d alone");
   }
   m.theta_d = n0->axes[1].view(), m.phi = n0->axes[2].view();
   m.theta_i = m0->axes[0].view(), m.theta_r = m0->axes[1].view();
   if (set.find(g + "/np_residual")) {
     const Table& n = require<T>(set, g + "/np_residual", {"channel", "theta_d"});
     const Table& mt = require<T>(set, g + "/mp_residual", {"theta_i", "theta_r"});
-    if (n.axes[0].count != 3) throw DomainError("table " + n.path() + ": " + std::to_string(n.axes[0].count) + " channels, the runtime reads 3");
+    channels(n);
     if (!same_axis(n.axes[1], n0->axes[1])) throw DomainError("table " + n.path() + ": axis theta_d differs from " + n0->path() + "'s");
     same(mt, *m0);
     m.np_residual = values<T>(n), m.mp_residual = values<T>(mt);
+    m.residual_grazing = n.grazing_factor();
+    if (!m.residual_grazing.none()) {
+      // Its factor reads the material's σa, which the table records per channel.
+      const auto sa = n.attributes.find("sigma_a");
+      if (sa == n.attributes.end() || !sa->is_array() || sa->size() != 3)
+        throw DomainError("table " + n.path() + ": divided by a grazing factor but without the material's sigma_a (3 channels)");
+      for (int c = 0; c < 3; ++c) {
+        const auto& v = (*sa)[static_cast<std::size_t>(c)];
+        if (!v.is_number() || !(v.get<double>() >= 0.0) || !(v.get<double>() <= 1e6))
+          throw DomainError("table " + n.path() + ": attribute sigma_a must hold 3 numbers in [0, 1e6]");
+        m.sigma_a[c] = v.get<double>();
+      }
+    }
   }
-  sampler::HairScattering<T> r(m);
+  return m;
+}
+
+template sampler::MaterialTables<float> material_tables<float>(const TableSet&, std::string_view);
+template sampler::MaterialTables<double> material_tables<double>(const TableSet&, std::string_view);
+
+template <class T>
+sampler::HairScattering<T> hair_scattering(const TableSet& set, std::string_view group) {
+  if (group.empty() || group == "np" || group == "mp") return hair_scattering<T>(set);
+  const std::string g(group);
+  if (g.rfind("materials/", 0) != 0) throw DomainError("table group " + g + ": not a material (materials/<name>) or the generic tables (\"\")");
+  sampler::HairScattering<T> r(material_tables<T>(set, g));
   if (!r.valid())
     throw DomainError("table group " + g + ": the runtime reads linear, edge-placed axes with theta_i over [-90, 90] deg, phi over [0, 180] deg and theta_d within [0, 90] deg");
   return r;

@@ -1,6 +1,7 @@
 #include "hairlut/tables/tables.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 // half's conversions inline (bit shifts, the same values as libImath's table): this layer links no
 // OpenEXR or Imath library.
@@ -39,6 +40,13 @@ double Table::sample(const std::vector<double>& x) const {
   for (std::size_t k = 0; k < axes.size(); ++k) {
     if (axes[k].name == "sigma_a") sigma_a = x[k];
     if (axes[k].name == "theta_d") theta_d = x[k];
+    // A material's table: σa per channel from its attribute (the node the channel coordinate rounds to).
+    if (axes[k].name == "channel") {
+      const auto a = attributes.find("sigma_a");
+      const double c = std::round(x[k]);
+      if (a != attributes.end() && a->is_array() && c >= 0.0 && c < static_cast<double>(a->size()) && (*a)[static_cast<std::size_t>(c)].is_number())
+        sigma_a = std::max(0.0, (*a)[static_cast<std::size_t>(c)].get<double>());
+    }
   }
   return clamped * g(sigma_a, theta_d);
 }

@@ -35,15 +35,21 @@ struct GrazingFactor {
   template <class R>
   R of_cos(R sigma_a, R cos_theta_d) const {
     if (none()) return R(1);
-    const double u = cos_theta_d < R(0) ? 0.0 : static_cast<double>(cos_theta_d);
+    return static_cast<R>(of_cos_x(x_of(static_cast<double>(sigma_a)), static_cast<double>(cos_theta_d)));
+  }
+  /// x = x_scale · expm1(τ σa), the absorption term's argument (0 without one), for a caller that
+  /// holds σa fixed (a material) and passes x to of_cos_x.
+  double x_of(double sigma_a) const { return x_scale != 0.0 ? x_scale * std::expm1(tau * sigma_a) : 0.0; }
+  /// g from x (x_of) and u = cos θd.
+  double of_cos_x(double x, double u) const {
+    if (!(u > 0.0)) u = 0.0;
     double g = 1.0;
     for (int i = 0; i < cos_power && i < kMaxCosPower; ++i) g *= u;
     if (x_scale != 0.0) {
-      const double x = x_scale * std::expm1(tau * static_cast<double>(sigma_a));
       const double den = ((u + c * x) * u + d * x * x) * u + f * x * x * x;
       g = den > 0.0 && den < HUGE_VAL ? g * u * ((u + b * x) * u + e * x * x) / den : 0.0;
     }
-    return static_cast<R>(g);
+    return g;
   }
 };
 

@@ -15,6 +15,12 @@
 //      k, k + 1, so this density is the mixture of the two rows with weights (1 − w_t) Z_q[k] and
 //      w_t Z_q[k+1], each row piecewise linear in φ (even: |φ| from the row, the sign by halves).
 //      The residual is uniform in φ.
+// Where the θd axis reaches 90° the tables store N_p divided by its grazing factor g_p(σa, cos θd)
+// (grazing_factor.hpp: cos²θd for the lobes p ≥ 1, the residual's own form; docs/table-format.md),
+// which every lookup multiplies back after interpolating: N_p(θd, φ) = g_p(cos θd) · Ñ_p(θd, φ).
+// A factor common to the channels leaves step 3's rows as they are (it scales both rows of the
+// mixture alike) and enters Z_p, and so steps 1 and 2, as g_p Z̃_p; the residual's factor differs
+// by channel, so its Z is 2π times the channels' mean of g_c Ñ_c.
 // The pdf per unit solid angle is then
 //   pdf(θi, φ) = q(θi) / cos θi · S̄(θi, φ) / S̄_φ(θi),   S̄ = Σ_q M_q N̄_q, S̄_φ = Σ_q M_q Z_q,
 // so that for a white fiber the weight S / pdf = S̄_φ cos θi / q(θi): the exact θi marginal over
@@ -30,6 +36,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "hairlut/sampler/grazing_factor.hpp"
 #include "hairlut/sampler/sampler.hpp"
 
 namespace hairlut {
@@ -48,6 +55,10 @@ struct MaterialTables {
   const T* mp_residual = nullptr;  ///< [θi][θr]
   Axis theta_d, phi;               ///< N_p's axes after the channel
   Axis theta_i, theta_r;           ///< M_p's axes
+  /// What np[p] and np_residual were divided by (Table::grazing_factor; none where the θd axis
+  /// stops short of 90°). An explicit lobe's factor must be a power of cos θd alone.
+  GrazingFactor grazing[kMaxLobes], residual_grazing;
+  double sigma_a[3] = {0.0, 0.0, 0.0};  ///< the material's σa per channel, which the residual's factor reads
 };
 
 template <class T>
@@ -86,7 +97,14 @@ class MaterialScattering {
     L_ = P_ + (res_ ? 1 : 0);
     if (P_ < 1 || P_ > MaterialTables<T>::kMaxLobes || !supported(t)) return;
     for (int p = 0; p < P_; ++p)
-      if (!t.np[p] || !t.mp[p]) return;
+      if (!t.np[p] || !t.mp[p] || t.grazing[p].x_scale != 0.0) return;
+    for (int p = 0; p < P_; ++p) gpow_[p] = t.grazing[p].none() ? 0 : std::min(std::max(t.grazing[p].cos_power, 0), GrazingFactor::kMaxCosPower);
+    if (res_) {
+      gres_ = t.residual_grazing;
+      for (int c = 0; c < 3; ++c) gx_[c] = gres_.x_of(std::max(0.0, t.sigma_a[c]));
+    }
+    graze_ = !gres_.none();
+    for (int p = 0; p < P_; ++p) graze_ = graze_ || gpow_[p] > 0;
     nt_ = t.theta_d.count, nf_ = t.phi.count, ni_ = t.theta_i.count, nr_ = t.theta_r.count;
     td_ = Located(t.theta_d), ph_ = Located(t.phi), ti_ = Located(t.theta_i), tr_ = Located(t.theta_r);
     P4_ = (P_ + 3) / 4 * 4, SM_ = (L_ + 3) / 4 * 4, SN_ = 3 * P4_;
@@ -151,14 +169,17 @@ class MaterialScattering {
       const double tr = node(t.theta_r, static_cast<int>(r));
       for (std::size_t i = 0; i < nq; ++i) {
         const double ti = i + 1 == nq ? t.theta_i.hi : t.theta_i.lo + static_cast<double>(i) * hq_;
-        const Cell d = td_.at(std::fabs(0.5 * (tr - ti)));
+        const double half = std::fabs(0.5 * (tr - ti));
+        const Cell d = td_.at(half);
+        Factors g;
+        factors(std::cos(half), g);
         const std::size_t a = std::min(i / kSplit, ni - 2);
         const double f = static_cast<double>(i - a * kSplit) / static_cast<double>(kSplit), c = std::max(0.0, std::cos(ti));
         const float* m0 = &mp_[(r * ni + a) * static_cast<std::size_t>(SM_)];
         for (int p = 0; p < L_; ++p) {
           const std::size_t o = i * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p);
           mq[o] = (1.0 - f) * m0[p] + f * m0[SM_ + p];
-          zc[o] = lerp(z_, d, p) * c;
+          zc[o] = lobe_z(d, g, p) * c;
         }
       }
       double* cum = &gcum_[r * nq];
@@ -190,8 +211,10 @@ class MaterialScattering {
   /// examples/gpu/material_textures.hpp). With nr θr nodes, nt θd nodes, nf φ nodes, P explicit
   /// lobes: step 1's rows, per θr node r, gq [r][cell][3] (A, B, C on each of nq − 1 cells of step
   /// hq from θi = −π/2) and gcum [r][nq] (prefix masses), gguide [r][64]; step 2's lobe energies
-  /// z [θd node][lobes_padded]; step 3's rows nbar, ncum [lobe][θd node][φ node], nguide
-  /// [lobe][θd node][32]. Valid while this object lives.
+  /// z [θd node][lobes_padded], each over its lobe's grazing factor as the tables are (a reader
+  /// multiplies it back; the residual's Z it takes from the residual's N, whose factor differs by
+  /// channel); step 3's rows nbar, ncum [lobe][θd node][φ node], nguide [lobe][θd node][32]. Valid
+  /// while this object lives.
   struct Rows {
     const double *gq = nullptr, *gcum = nullptr, *z = nullptr, *nbar = nullptr, *ncum = nullptr;
     const std::uint16_t *gguide = nullptr, *nguide = nullptr;
@@ -254,7 +277,7 @@ class MaterialScattering {
     Terms s;
     locate(pt.o, i, 0.0, s);
     double share[8], norm = 0.0;
-    for (int p = 0; p < L_; ++p) norm += share[p] = s.m[p] * lerp(z_, s.cd, p);
+    for (int p = 0; p < L_; ++p) norm += share[p] = s.m[p] * lobe_z(s.cd, s.g, p);
     if (!(norm > 0.0) || !(norm < HUGE_VAL)) return d;
     u0 *= norm;
     int q = -1;
@@ -321,9 +344,17 @@ class MaterialScattering {
       return c;
     }
   };
-  // One evaluation: the cells of θi, θo, θd and φ, M_p of every lobe, then S per channel and S̄_φ.
+  // The grazing factors at one cos θd: each explicit lobe's (common to the channels) and the
+  // residual's per channel; all 1 where the tables store N_p as is.
+  struct Factors {
+    double lobe[8] = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+    double res[3] = {1.0, 1.0, 1.0};
+  };
+  // One evaluation: the cells of θi, θo, θd and φ, the grazing factors, M_p of every lobe, then S
+  // per channel and S̄_φ.
   struct Terms {
     Cell ci, co, cd, cf;
+    Factors g;
     double m[8] = {};
     double rgb[3] = {0.0, 0.0, 0.0};
     double s_phi = 0.0;  // Σ_q M_q Z_q
@@ -351,6 +382,22 @@ class MaterialScattering {
     const std::size_t o = static_cast<std::size_t>(c.i) * static_cast<std::size_t>(SM_) + static_cast<std::size_t>(p);
     return (1.0 - c.w) * a[o] + c.w * a[o + static_cast<std::size_t>(SM_)];
   }
+  // The factors at u = cos θd.
+  void factors(double u, Factors& g) const {
+    if (!graze_) return;
+    u = u > 0.0 ? u : 0.0;
+    for (int p = 0; p < P_; ++p) g.lobe[p] = gpow_[p] == 0 ? 1.0 : gpow_[p] == 1 ? u : u * u;
+    if (!gres_.none())
+      for (int c = 0; c < 3; ++c) g.res[c] = gres_.of_cos_x(gx_[c], u);
+  }
+  // Z_p = ∫ N̄_p dφ in θd cell d with the factors there; the residual's from its channels.
+  double lobe_z(const Cell& d, const Factors& g, int p) const {
+    if (p < P_) return g.lobe[p] * lerp(z_, d, p);
+    const float* r = &nres_[static_cast<std::size_t>(d.i) * 4];
+    double z = 0.0;
+    for (int c = 0; c < 3; ++c) z += g.res[c] * ((1.0 - d.w) * r[c] + d.w * r[4 + c]);
+    return 2.0 * 3.14159265358979323846 * z / 3.0;
+  }
   // M_p of every lobe at (θi cell, θr cell), bilinear; over the whole padded block (its padding
   // holds zeros), with the block's size known at compile time where it is 4 or 8 so that the loop
   // becomes vector operations.
@@ -375,8 +422,15 @@ class MaterialScattering {
     double f = std::fabs(phi);
     if (f > pi) f = std::fabs(f - 2.0 * pi * std::floor(f / (2.0 * pi) + 0.5));
     s.ci = ti_.at(i.theta), s.co = tr_.at(o.theta), s.cf = ph_.at(f);
-    s.cd = td_.spacing == Spacing::cos ? td_.at_t(std::sqrt(std::max(0.0, 0.5 * (1.0 + o.cos * i.cos + o.sin * i.sin))))
-                                       : td_.at(std::fabs(0.5 * (o.theta - i.theta)));
+    if (td_.spacing == Spacing::cos) {
+      const double u = std::sqrt(std::max(0.0, 0.5 * (1.0 + o.cos * i.cos + o.sin * i.sin)));
+      s.cd = td_.at_t(u);
+      factors(u, s.g);
+    } else {
+      const double half = std::fabs(0.5 * (o.theta - i.theta));
+      s.cd = td_.at(half);
+      if (graze_) factors(std::cos(half), s.g);
+    }
     mp_at(s.ci, s.co, s.m);
   }
   // S per channel and S̄_φ from the located cells (the lobe block's size fixed where it is 4).
@@ -392,24 +446,30 @@ class MaterialScattering {
     const float* a = &np_[(static_cast<std::size_t>(cd.i) * nf + static_cast<std::size_t>(cf.i)) * S];
     const float* b = a + nf * S;
     const double w00 = (1.0 - cd.w) * (1.0 - cf.w), w01 = (1.0 - cd.w) * cf.w, w10 = cd.w * (1.0 - cf.w), w11 = cd.w * cf.w;
+    double mg[8];
+    for (int p = 0; p < 8; ++p) mg[p] = s.m[p] * s.g.lobe[p];
     for (int c = 0; c < 3; ++c) {
       double v = 0.0;
       for (int p = 0; p < n; ++p) {
         const int k = c * n + p;
-        v += s.m[p] * (w00 * a[k] + w01 * a[S + k] + w10 * b[k] + w11 * b[S + k]);
+        v += mg[p] * (w00 * a[k] + w01 * a[S + k] + w10 * b[k] + w11 * b[S + k]);
       }
       s.rgb[c] = v;
     }
+    double res_phi = 0.0;
     if (res_) {
       const float* r = &nres_[static_cast<std::size_t>(cd.i) * 4];
-      for (int c = 0; c < 3; ++c) s.rgb[c] += s.m[P_] * ((1.0 - cd.w) * r[c] + cd.w * r[4 + c]);
+      for (int c = 0; c < 3; ++c) {
+        const double v = s.m[P_] * s.g.res[c] * ((1.0 - cd.w) * r[c] + cd.w * r[4 + c]);
+        s.rgb[c] += v, res_phi += v;
+      }
     }
     if (!with_phi) return;
     const double* z0 = &z_[static_cast<std::size_t>(cd.i) * static_cast<std::size_t>(SM_)];
     const double* z1 = z0 + SM_;
     double sp = 0.0;
-    for (int p = 0; p < L_; ++p) sp += s.m[p] * ((1.0 - cd.w) * z0[p] + cd.w * z1[p]);
-    s.s_phi = sp;
+    for (int p = 0; p < P_; ++p) sp += mg[p] * ((1.0 - cd.w) * z0[p] + cd.w * z1[p]);
+    s.s_phi = sp + 2.0 * 3.14159265358979323846 * res_phi / 3.0;
   }
   void terms(const Incl& o, const Incl& i, double phi, Terms& s) const {
     locate(o, i, phi, s);
@@ -484,6 +544,10 @@ class MaterialScattering {
   static constexpr std::size_t kSplit = 4;
 
   bool valid_ = false, res_ = false;
+  bool graze_ = false;                  // some lobe's tables are divided by a grazing factor
+  int gpow_[8] = {};                    // the explicit lobes' factors: cos^n θd
+  GrazingFactor gres_;                  // the residual's
+  double gx_[3] = {0.0, 0.0, 0.0};      // and its x per channel (GrazingFactor::x_of)
   int nq_ = 0;       // θi nodes of step 1's rows
   double hq_ = 0.0;  // and their step
   int P_ = 0, L_ = 0, P4_ = 0, SM_ = 0, SN_ = 0;

@@ -29,6 +29,13 @@ sampler::HairTables<T, R> hair_tables(const TableSet& set);
 /// table's sampled axis is one the runtime cannot invert.
 template <class T>
 sampler::HairScattering<T> hair_scattering(const TableSet& set);
+/// The tables of one material of a per-material bake (group "materials/<name>") as the header-only
+/// runtime and the GPU texture builder take them: pointers into `set` (which must outlive the
+/// result), the grazing factors the values were divided by and the material's σa. Throws
+/// DomainError naming the table that is missing, not stored as T or on other axes than the first
+/// lobe's.
+template <class T>
+sampler::MaterialTables<T> material_tables(const TableSet& set, std::string_view group);
 /// The runtime over one table group: "" for the generic tables (as above) or "materials/<name>",
 /// whose tables fix σa and β (the runtime copies them; `set` need not outlive it). Throws
 /// DomainError naming the table that is missing, on other axes, or on axes the runtime cannot
