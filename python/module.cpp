@@ -28,6 +28,7 @@
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/tables/tables.hpp>
 #include <hairlut/tables/hair_views.hpp>
+#include <hairlut/tables/fourier_tables.hpp>
 #include <memory>
 #include <hairlut/util/version.hpp>
 #include <string>
@@ -467,16 +468,30 @@ PYBIND11_MODULE(_core, m) {
            [](const hairlut::TableSet& set, const std::string& path, const Rows& x) {
              const hairlut::Table* t = set.find(path);
              if (!t) throw hairlut::DomainError("no table " + path);
-             const auto dims = static_cast<py::ssize_t>(t->axes.size());
+             // A Fourier table stands for N_p over its domain (beta, sigma_a, theta_d, phi; the
+             // residual's sigma_a, theta_d), read through the runtime's series evaluation.
+             const bool fourier = hairlut::is_fourier_table(*t);
+             const auto dims = static_cast<py::ssize_t>(fourier ? hairlut::fourier_domain(*t).size() : t->axes.size());
              if (x.ndim() != 2 || x.shape(1) != dims) throw py::value_error("points must have shape (n, " + std::to_string(dims) + ") for " + path);
+             const std::function<double(const std::vector<double>&)> series = fourier ? hairlut::fourier_point_function(*t) : nullptr;
              py::array_t<double> out(x.shape(0));
              std::vector<double> at(static_cast<std::size_t>(dims));
              for (py::ssize_t i = 0; i < x.shape(0); ++i) {
                std::copy(x.data(i, 0), x.data(i, 0) + dims, at.begin());
                bool nan = false;
                for (const double v : at) nan = nan || std::isnan(v);
-               out.mutable_data()[i] = nan ? std::nan("") : set.sample_value(*t, at);
+               out.mutable_data()[i] = nan ? std::nan("") : fourier ? series(at) : set.sample_value(*t, at);
              }
+             return out;
+           })
+      .def("domain",
+           [](const hairlut::TableSet& set, const std::string& path) {
+             // The axes sample() takes for table `path`: its own, or a Fourier table's domain.
+             const hairlut::Table* t = set.find(path);
+             if (!t) throw hairlut::DomainError("no table " + path);
+             const std::vector<hairlut::GridAxis> axes = hairlut::is_fourier_table(*t) ? hairlut::fourier_domain(*t) : t->axes;
+             py::list out;
+             for (const hairlut::GridAxis& a : axes) out.append(py::str(a.to_json().dump()));
              return out;
            })
       .def("scattering", [](const std::shared_ptr<hairlut::TableSet>& set, const std::string& group) {

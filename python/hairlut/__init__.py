@@ -288,11 +288,25 @@ class TableSet(dict):
             group = "materials/" + group
         return Scattering(self._tables().scattering(group), group)
 
+    def domain(self, path):
+        """The axes over which sample() reads table `path`, as the table's JSON axis descriptions
+        (name, units, range, spacing, values, ...): the table's own, or, for a Fourier table
+        (group np_fourier), the domain of N_p it stands for (beta, sigma_a, theta_d, phi; the
+        residual's sigma_a, theta_d)."""
+        return [json.loads(a) for a in self._tables().domain(path)]
+
+    def domain_dims(self, path):
+        """The axis names sample() takes for table `path` (domain())."""
+        if self[path].group != "np_fourier":
+            return self[path].dims
+        return tuple(a["name"] for a in self.domain(path))
+
     def sample(self, path, **coords):
         """The quantity of table `path` at points, interpolated as the file declares (each axis's
         mapping and interpolation, and the factor table of N_p stored as a shape), as a renderer
-        reads it. coords: one array per axis name (self[path].dims), broadcast; radians. NaN gives NaN."""
-        dims = self[path].dims
+        reads it; a Fourier table (np_fourier/<lobe>) gives N_p from its series. coords: one array
+        per axis name (domain_dims(path)), broadcast; radians. NaN gives NaN."""
+        dims = self.domain_dims(path)
         missing = [d for d in dims if d not in coords]
         extra = [k for k in coords if k not in dims]
         if missing or extra:

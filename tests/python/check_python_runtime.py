@@ -2,7 +2,7 @@
 """The Python module reads baked tables as a renderer does, raises its own exceptions, and maps NaN
 to NaN.
 
-    check_python_runtime.py DEFAULT_H5 SHOW_CONFIG WORK
+    check_python_runtime.py DEFAULT_H5 SHOW_CONFIG WORK FOURIER_H5
 
 - Exceptions: hairlut.DomainError / ConfigError are ValueErrors and hairlut.IoError an OSError,
   importable from hairlut itself, and raised for a bad argument, a bad config and a missing file.
@@ -12,6 +12,9 @@ to NaN.
   physics (azimuthal_np, longitudinal_mp) at random points between the nodes: within twice the
   default tables' validate threshold accuracy_max_rel (1e-2; twice because N_p is stored as shape
   times energy, each interpolated), relative to the peak of the slice, as the validator measures.
+  A Fourier set (tests/configs/valid/fourier.json) read the same way, over the N_p domain its
+  coefficient tables stand for (TableSet.domain_dims): within that config's 1e-3, the residual
+  relative to its value.
 - TableSet.scattering (HairScattering<float>): for a white fiber every sample's weight S / pdf is
   the albedo at wo up to the energy tables' interpolation (the default tables' accuracy_max_rel), weight x pdf is eval at the drawn direction, and pdf() gives
   the sample's pdf; the same over one material of a per-material bake, written and loaded back.
@@ -25,7 +28,7 @@ import numpy as np
 
 import hairlut
 
-h5, show_config, work = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+h5, show_config, work, fourier_h5 = sys.argv[1], sys.argv[2], Path(sys.argv[3]), sys.argv[4]
 work.mkdir(parents=True, exist_ok=True)
 failures = []
 
@@ -93,6 +96,29 @@ mp_err = np.max(np.abs(mp_table - mp_direct)) / mp_direct.max()
 print(f"mp/R against direct evaluation: {mp_err:.3g}")
 check(mp_err <= 1e-2, f"mp/R read through TableSet.sample within 1e-2 of its peak (got {mp_err:.3g})")
 check(np.isnan(tables.sample("mp/R", beta=rad(10), theta_i=np.nan, theta_r=0.0)), "TableSet.sample: NaN in, NaN out")
+
+# A Fourier set: np_fourier/<lobe> holds coefficients over (theta_d, sigma_a, n); sample() reads N_p.
+fourier = hairlut.load_tables(fourier_h5)
+check(fourier.domain_dims("np_fourier/TT") == ("beta", "sigma_a", "theta_d", "phi"), "Fourier N_p sampled over (beta, sigma_a, theta_d, phi)")
+check(fourier.domain_dims("np_fourier/residual") == ("sigma_a", "theta_d"), "the Fourier residual over (sigma_a, theta_d)")
+f_worst = 0.0
+for lobe in ("R", "TT", "TRT", "TRRT"):
+    d = {a["name"]: a["range"] for a in fourier.domain(f"np_fourier/{lobe}")}
+    for _ in range(4):
+        beta = math.exp(rng.uniform(math.log(d["beta"][0]), math.log(d["beta"][1])))
+        sigma_a, theta_d = rng.uniform(*d["sigma_a"]), rng.uniform(*d["theta_d"])
+        phi = np.linspace(0.0, math.pi, 181)
+        table = fourier.sample(f"np_fourier/{lobe}", beta=beta, sigma_a=sigma_a, theta_d=theta_d, phi=phi)
+        direct = hairlut.azimuthal_np(lobe, phi, theta_d=theta_d, sigma_a=sigma_a, beta=beta)
+        white_peak = hairlut.azimuthal_np(lobe, phi, theta_d=theta_d, sigma_a=0.0, beta=beta).max()
+        f_worst = max(f_worst, np.max(np.abs(table - direct)) / max(direct.max(), 1e-3 * white_peak))
+d = {a["name"]: a["range"] for a in fourier.domain("np_fourier/residual")}
+sigma_a, theta_d = rng.uniform(*d["sigma_a"], 32), rng.uniform(*d["theta_d"], 32)
+residual = fourier.sample("np_fourier/residual", sigma_a=sigma_a, theta_d=theta_d)
+exact = hairlut.lobe_energies(theta_d, sigma_a, lobes=4, residual=True)[:, -1]
+f_res = np.max(np.abs(residual * 2.0 * math.pi - exact) / np.maximum(exact, 1e-6))
+print(f"Fourier N_p against direct evaluation, worst relative to the slice peak: {f_worst:.3g}; residual {f_res:.3g}")
+check(f_worst <= 1e-3 and f_res <= 1e-3, f"Fourier tables read through TableSet.sample within 1e-3 (got {f_worst:.3g}, residual {f_res:.3g})")
 
 
 def runtime_checks(hair, fiber, label, white):

@@ -2,9 +2,11 @@
 """Independent worst-point search over baked hairlut tables: a search by other means than the
 validator's should find nothing worse than 1.5x what the validator reports for the same file.
 
-What it checks. Every N_p table (np/R, TT, TRT, TRRT), every energy table (np/energy_*, and the
-residual np/residual) and every M_p table (mp/*) of a file, read as a renderer reads it
-(TableSet.sample: each axis's mapping and interpolation, N_p as shape x energy), against direct
+What it checks. Every N_p table (np/R, TT, TRT, TRRT, or their Fourier series np_fourier/*), every
+energy table (np/energy_*, and the residual np/residual or np_fourier/residual) and every M_p table
+(mp/*) of a file, read as a renderer reads it (TableSet.sample: each axis's mapping and
+interpolation, N_p as shape x energy; a Fourier table's series over the domain it stands for,
+TableSet.domain), against direct
 evaluation (hairlut.azimuthal_np, lobe_energies, longitudinal_mp) over each table's whole declared
 domain. The error is the validator's measure (the 'denominator' of each table in report.json),
 recomputed here by this script's own code:
@@ -127,7 +129,7 @@ class Target:
     def __init__(self, tables, path):
         table, meta = tables[path], tables.metadata
         self.tables, self.path = tables, path
-        self.axes = [Axis(a, table.coords[a["name"]]) for a in table.description["axes"]]
+        self.axes = [Axis(a, a["values"]) for a in tables.domain(path)]
         self.dims = tuple(a.name for a in self.axes)
         self.kind = DIMS[self.dims]
         self.outer, self.inner = self.axes[:-1], self.axes[-1]
@@ -138,7 +140,8 @@ class Target:
         lobes = list(meta.get("lobes", ["R", "TT", "TRT", "TRRT"]))
         self.n_lobes = int(meta.get("residual_from_p", len(lobes)))
         self.column = self.n_lobes if self.lobe == "residual" else (lobes.index(self.lobe) if self.lobe in lobes else None)
-        self.scale = 1.0 / (2.0 * math.pi) if table.quantity == "N_p" else 1.0  # np/residual: energy / 2 pi
+        # np/residual and np_fourier/residual: N of the residual, its energy / 2 pi.
+        self.scale = 1.0 / (2.0 * math.pi) if table.quantity == "N_p" or table.group == "np_fourier" else 1.0
         self.peaks = {}
         self.points = {name: 0 for name, _ in SHARES}
         self.exact_evaluations = 0
@@ -357,7 +360,7 @@ def main():
     tables = hairlut.load_tables(args.tables)
     with open(args.report) as f:
         validator = {a["path"]: a for a in json.load(f)["accuracy"]}
-    paths = [p for p in validator if p in tables and tuple(tables[p].dims) in DIMS and (not args.only or re.search(args.only, p))]
+    paths = [p for p in validator if p in tables and tables.domain_dims(p) in DIMS and (not args.only or re.search(args.only, p))]
     skipped = [p for p in validator if p not in paths and (not args.only or re.search(args.only, p))]
     targets = [Target(tables, p) for p in paths]
     weight = sum(KIND_WEIGHT[t.kind] for t in targets)
