@@ -250,11 +250,13 @@ std::size_t bake_np_grid(const NpGridRequest& r, const BakeOptions& opt, const s
 
 namespace detail {
 
-// Whether a θd axis has its last node at 90°, where the energies of the lobes p ≥ 1 and of the
-// residual vanish (Fresnel transmission 1 − F ~ cos θd at grazing).
+// Whether a θd axis's range ends at 90°, where the energies of the lobes p ≥ 1 and of the residual
+// vanish (Fresnel transmission 1 − F ~ cos θd at grazing): its last node there, or, texel-centred,
+// half a cell short of it, beyond which a lookup holds the last stored value and the factor
+// multiplied back still gives the limit.
 bool reaches_grazing(const GridAxis& theta_d) {
   const std::vector<double> n = theta_d.nodes();
-  return !n.empty() && std::abs(n.back() - 0.5 * kPi) <= 1e-12;
+  return !n.empty() && theta_d.spacing != Spacing::explicit_values && std::abs(theta_d.hi - 0.5 * kPi) <= 1e-12;
 }
 
 // The factor g(σa, θd) by which an energy table reaching 90° divides its values, so that what it
