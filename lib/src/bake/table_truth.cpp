@@ -222,33 +222,20 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
                      "channel's sigma_a, floored at 1e-3 x that peak of the white fiber (sigma_a = 0) at the same theta_d";
     return tr;
   }
-  if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && dims == std::vector<std::string>{"sigma_a", "theta_d"}) {
-    const bool res = is_residual;
-    const double scale = t.quantity == "N_p" ? 1.0 / kTwoPi : 1.0;
-    auto build = [=](bool white) {
-      return [=](const std::vector<double>&) {
-        return PointFunction([=](const std::vector<double>& y) { return scale * energy_of(y[1], white ? 0.0 : y[0], res ? 0 : p, res); });
-      };
-    };
-    TableTruth tr;
-    tr.make = build(false);
-    tr.make_white = build(true);
-    tr.white_floor = kWhiteFloor, tr.absolute_floor = kEnergyFloor * scale;
-    tr.denominator = kEnergyWords;
-    return tr;
-  }
-  if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && dims == std::vector<std::string>{"channel", "theta_d"} &&
-      t.attributes.contains("sigma_a")) {
-    // A material's energies and residual: σa per channel from the table's attribute.
-    const auto sig = t.attributes["sigma_a"].get<std::vector<double>>();
-    if (sig.empty()) return std::nullopt;
+  // Energies and the residual over (σa, θd), or a material's over (channel, θd) with σa per
+  // channel from the table's attribute.
+  const bool per_material = dims == std::vector<std::string>{"channel", "theta_d"} && t.attributes.contains("sigma_a");
+  if ((t.quantity == "energy" || (t.quantity == "N_p" && is_residual)) && (dims == std::vector<std::string>{"sigma_a", "theta_d"} || per_material)) {
+    const std::vector<double> sig = per_material ? t.attributes["sigma_a"].get<std::vector<double>>() : std::vector<double>();
+    if (per_material && sig.empty()) return std::nullopt;
     const bool res = is_residual;
     const double scale = t.quantity == "N_p" ? 1.0 / kTwoPi : 1.0;
     auto build = [=](bool white) {
       return [=](const std::vector<double>&) {
         return PointFunction([=](const std::vector<double>& y) {
-          const auto c = static_cast<std::size_t>(std::clamp<long>(std::lround(y[0]), 0, static_cast<long>(sig.size()) - 1));
-          return scale * energy_of(y[1], white ? 0.0 : sig[c], res ? 0 : p, res);
+          const double sigma =
+              per_material ? sig[static_cast<std::size_t>(std::clamp<long>(std::lround(y[0]), 0, static_cast<long>(sig.size()) - 1))] : y[0];
+          return scale * energy_of(y[1], white ? 0.0 : sigma, res ? 0 : p, res);
         });
       };
     };
