@@ -17,6 +17,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -76,13 +77,24 @@ std::vector<std::pair<double, double>> grid(std::vector<double> ms, std::vector<
     for (double n : ns) g.emplace_back(m, n);
   return g;
 }
+// The baked materials; each one's runtime is built when asked for, one at a time (the runtimes of
+// all 25 at once would hold about 0.8 GB of sampling rows).
 struct MaterialSet {
   TableSet set;
-  std::map<std::pair<double, double>, Runtime> rt;
-  MaterialSet(const std::vector<std::pair<double, double>>& pairs, double sigma_a, bool tilted) : set(bake_materials(pairs, sigma_a, tilted)) {
-    for (const auto& p : pairs) rt.emplace(p, hair_scattering<float>(set, "materials/" + name_of(p.first, p.second)));
+  std::vector<std::pair<double, double>> pairs;
+  MaterialSet(const std::vector<std::pair<double, double>>& p, double sigma_a, bool tilted) : set(bake_materials(p, sigma_a, tilted)), pairs(p) {}
+  const Runtime& operator()(double bm, double bn) const {
+    if (!rt_ || key_ != std::make_pair(bm, bn)) {
+      rt_.reset();
+      rt_.emplace(hair_scattering<float>(set, "materials/" + name_of(bm, bn)));
+      key_ = {bm, bn};
+    }
+    return *rt_;
   }
-  const Runtime& operator()(double bm, double bn) const { return rt.at({bm, bn}); }
+
+ private:
+  mutable std::pair<double, double> key_{-1.0, -1.0};
+  mutable std::optional<Runtime> rt_;
 };
 // pbrt's WhiteFurnace and WhiteFurnaceSampled grid (β_m, β_n = 0.1 … 0.9 step 0.2).
 const MaterialSet& pbrt_white() {
@@ -258,7 +270,7 @@ TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingWeights, every sample's weig
   const MaterialSet m(grid({0.1, 0.3, 0.5, 0.7, 0.9}, {0.4, 0.6, 0.8}), 0.0, false);
   Rng rng(13);
   peer::WeightSpread r;
-  for (const auto& [key, rt] : m.rt) peer::sampling_weights(rt, sampler::Fiber(), rng, 10000, false, r);
+  for (const auto& [bm, bn] : m.pairs) peer::sampling_weights(m(bm, bn), sampler::Fiber(), rng, 10000, false, r);
   INFO(r.total << " samples, weights in [" << r.lo << ", " << r.hi << "]");
   CHECK(r.total == 150000);
   CHECK(r.outside == 0);
@@ -267,10 +279,10 @@ TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingWeights, every sample's weig
 TEST_CASE("MaterialScattering: pbrt-v4 Hair.SamplingConsistency, importance and uniform estimates agree", "[scattering][material]") {
   const MaterialSet m(grid({0.2, 0.4, 0.6, 0.8}, {0.4, 0.6, 0.8}), 0.25, false);
   Rng rng(17);
-  for (const auto& [key, rt] : m.rt) {
+  for (const auto& key : m.pairs) {
     double wo[3];
     uniform_sphere(rng(), rng(), wo);
-    const auto [importance, uniform] = peer::sampling_consistency(rt, sampler::Fiber(), wo, rng, 64 * 1024);
+    const auto [importance, uniform] = peer::sampling_consistency(m(key.first, key.second), sampler::Fiber(), wo, rng, 64 * 1024);
     INFO("pbrt beta_m " << key.first << " beta_n " << key.second << ": importance " << importance << " uniform " << uniform);
     CHECK(std::fabs(importance - uniform) / uniform < 0.05);
   }
