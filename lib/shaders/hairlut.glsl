@@ -127,20 +127,46 @@ float hairlut_atan2_upper(float y, float x) {
 // (hairlut::sampler::GrazingFactor; docs/table-format.md): cos^n θd for an explicit lobe, and for
 // the residual u^n · u (u² + b x u + e x²) / (u³ + c x u² + d x² u + f x³) per channel, u = cos θd.
 // A lookup multiplies it back after filtering; 1 where the tables store N_p as is.
-vec3 hairlut_grazing(HairlutMaterial m, int p, float u) {
-  u = max(u, 0.0);
-  int n = p < m.lobes.x ? (m.flags.y >> (2 * p)) & 3 : m.flags.z;
-  float g = n == 0 ? 1.0 : n == 1 ? u : u * u;
-  if (p < m.lobes.x || m.flags.w == 0) return vec3(g);
-  vec3 x = m.grazing_x.xyz;
-  float b = m.grazing_bcde.x, c = m.grazing_bcde.y, d = m.grazing_bcde.z, e = m.grazing_bcde.w, f = m.grazing_x.w;
-  vec3 den = ((u + c * x) * u + d * x * x) * u + f * x * x * x;
-  vec3 r = g * u * ((u + b * x) * u + e * x * x) / max(den, vec3(1e-37));
-  return mix(vec3(0.0), r, greaterThan(den, vec3(0.0)));
+// The factors at one lookup, computed once: u and u² for the explicit lobes' cos powers, and the
+// residual's per channel.
+struct HairlutGrazing {
+  float u, u2;
+  vec3 res;
+};
+HairlutGrazing hairlut_grazing_at(HairlutMaterial m, float u) {
+  HairlutGrazing g;
+  g.u = max(u, 0.0);
+  g.u2 = g.u * g.u;
+  g.res = vec3(m.flags.z == 0 ? 1.0 : m.flags.z == 1 ? g.u : g.u2);
+  if (m.flags.w != 0) {
+    vec3 x = m.grazing_x.xyz;
+    float b = m.grazing_bcde.x, c = m.grazing_bcde.y, d = m.grazing_bcde.z, e = m.grazing_bcde.w, f = m.grazing_x.w;
+    vec3 den = ((g.u + c * x) * g.u + d * x * x) * g.u + f * x * x * x;
+    vec3 r = g.res * g.u * ((g.u + b * x) * g.u + e * x * x) / max(den, vec3(1e-37));
+    g.res = mix(vec3(0.0), r, greaterThan(den, vec3(0.0)));
+  }
+  return g;
+}
+// Lobe p's factor (the residual is lobe lobes.x).
+vec3 hairlut_grazing(HairlutMaterial m, HairlutGrazing g, int p) {
+  if (p >= m.lobes.x) return g.res;
+  int n = (m.flags.y >> (2 * p)) & 3;
+  return vec3(n == 0 ? 1.0 : n == 1 ? g.u : g.u2);
 }
 // cos θd = cos((θo − θi)/2) from both inclinations' sines and cosines: half the length of the sum
 // of (sin θ, cos θ), whose cosine part keeps its precision near grazing (1 − (1 − cos θd) would not).
 float hairlut_cos_theta_d(float so, float co, float si, float ci) { return 0.5 * length(vec2(so + si, co + ci)); }
+// 1 − cos θd, the cos-spaced θd axis's argument, from the same: up to 45° as sin²θd / (1 + cos θd)
+// with sin θd from the chord between (sin θo, cos θo) and (sin θi, cos θi); beyond, as 1 − cos θd
+// (each form keeps its precision where the other loses it: near 90° sin²θd ≈ 1 leaves cos θd only
+// to the square root of float's rounding).
+float hairlut_one_minus_cos_theta_d(float so, float co, float si, float ci) {
+  float u = hairlut_cos_theta_d(so, co, si, ci);
+  if (u < 0.70710678) return 1.0 - u;
+  float ds = so - si, dc = co - ci;
+  float s2 = 0.25 * (ds * ds + dc * dc);  // sin²θd
+  return s2 / (1.0 + sqrt(max(0.0, 1.0 - s2)));
+}
 
 #if HAIRLUT_FILTER == HAIRLUT_FILTER_HARDWARE
 // Node i is the centre of texel i; the sampler's clamp holds the last node beyond it.
@@ -175,11 +201,12 @@ vec3 hairlut_eval_located(HairlutMaterial m, float theta_o, float theta_i, float
   vec2 n_last = vec2(m.phi.z, m.theta_d.z), n_inv = vec2(m.phi.w, m.theta_d.w);
   vec2 m_last = vec2(m.theta_r.z, m.theta_i.z), m_inv = vec2(m.theta_r.w, m.theta_i.w);
   int lobes = m.lobes.x + m.lobes.y;
+  HairlutGrazing g = hairlut_grazing_at(m, u);
   vec3 s = vec3(0.0);
   for (int k = 0; 4 * k < lobes; ++k) {
     vec4 mp = hairlut_mp_bilinear(sm, m_last, m_inv, m.lobes.w + k);
     for (int c = 0; c < 4 && 4 * k + c < lobes; ++c)
-      s += mp[c] * hairlut_grazing(m, 4 * k + c, u) * hairlut_np_bilinear(sn, n_last, n_inv, m.lobes.z + 4 * k + c).rgb;
+      s += mp[c] * hairlut_grazing(m, g, 4 * k + c) * hairlut_np_bilinear(sn, n_last, n_inv, m.lobes.z + 4 * k + c).rgb;
   }
   return s;
 }
@@ -206,14 +233,7 @@ vec3 hairlut_eval(HairlutMaterial m, vec3 wo, vec3 wi) {
 #else
   float to = hairlut_asin(so), ti = hairlut_asin(si);
 #endif
-  float x;
-  if (m.flags.x != 0) {
-    float ds = so - si, dc = co - ci;
-    float s2 = 0.25 * (ds * ds + dc * dc);  // sin²θd
-    x = s2 / (1.0 + sqrt(max(0.0, 1.0 - s2)));
-  } else {
-    x = abs(0.5 * (to - ti));
-  }
+  float x = m.flags.x != 0 ? hairlut_one_minus_cos_theta_d(so, co, si, ci) : abs(0.5 * (to - ti));
   float cross_ = wo.y * wi.z - wo.z * wi.y, dot_ = wo.y * wi.y + wo.z * wi.z;
 #if HAIRLUT_BUILTIN_INVERSE_TRIG
   float f = cross_ == 0.0 && dot_ == 0.0 ? 0.0 : atan(abs(cross_), dot_);

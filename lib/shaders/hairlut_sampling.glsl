@@ -41,37 +41,34 @@ void hairlut_mp_all(HairlutMaterial m, float theta_o, float theta_i, out float m
 
 // The θd axis's argument from both inclinations (1 − cos θd or |θd|, as hairlut_eval).
 float hairlut_theta_d_arg(HairlutMaterial m, float so, float co, float to, float si, float ci, float ti) {
-  if (m.flags.x == 0) return abs(0.5 * (to - ti));
-  float ds = so - si, dc = co - ci;
-  float s2 = 0.25 * (ds * ds + dc * dc);
-  return s2 / (1.0 + sqrt(max(0.0, 1.0 - s2)));
+  return m.flags.x != 0 ? hairlut_one_minus_cos_theta_d(so, co, si, ci) : abs(0.5 * (to - ti));
 }
 
 // Lobe p's energy Z_p = ∫ N̄_p dφ at θd node coordinate sd and u = cos θd: an explicit lobe's
 // interpolated linearly (in stored units) times its grazing factor; the residual's, uniform in φ,
 // 2π times the channels' mean of its N.
-float hairlut_z(HairlutMaterial m, float sd, float u, int p) {
+float hairlut_z(HairlutMaterial m, float sd, HairlutGrazing g, int p) {
   if (p == m.lobes.x) {
     vec2 n_last = vec2(m.phi.z, m.theta_d.z), n_inv = vec2(m.phi.w, m.theta_d.w);
-    vec3 n = hairlut_grazing(m, p, u) * hairlut_np_bilinear(vec2(0.0, sd), n_last, n_inv, m.lobes.z + p).rgb;
+    vec3 n = g.res * hairlut_np_bilinear(vec2(0.0, sd), n_last, n_inv, m.lobes.z + p).rgb;
     return 2.0 * HAIRLUT_PI * (n.r + n.g + n.b) / 3.0;
   }
   int sm = (m.lobes.x + m.lobes.y + 3) / 4 * 4;
   float k = min(floor(sd), m.theta_d.z - 1.0), w = sd - k;
   int o = m.rows0.w + int(k) * sm + p;
-  return hairlut_grazing(m, p, u).x * ((1.0 - w) * HAIRLUT_ROWS[o] + w * HAIRLUT_ROWS[o + sm]);
+  return hairlut_grazing(m, g, p).x * ((1.0 - w) * HAIRLUT_ROWS[o] + w * HAIRLUT_ROWS[o + sm]);
 }
 
 // S per channel from every lobe's M_p at node coordinates sn = (φ, θd) and u = cos θd, and
 // S̄_φ = Σ_q M_q Z_q.
-vec3 hairlut_sum(HairlutMaterial m, float mp[8], vec2 sn, float u, out float s_phi) {
+vec3 hairlut_sum(HairlutMaterial m, float mp[8], vec2 sn, HairlutGrazing g, out float s_phi) {
   vec2 n_last = vec2(m.phi.z, m.theta_d.z), n_inv = vec2(m.phi.w, m.theta_d.w);
   vec3 s = vec3(0.0);
   s_phi = 0.0;
   for (int p = 0; p < m.lobes.x + m.lobes.y; ++p) {
-    vec3 v = mp[p] * hairlut_grazing(m, p, u) * hairlut_np_bilinear(sn, n_last, n_inv, m.lobes.z + p).rgb;
+    vec3 v = mp[p] * hairlut_grazing(m, g, p) * hairlut_np_bilinear(sn, n_last, n_inv, m.lobes.z + p).rgb;
     s += v;
-    s_phi += p == m.lobes.x ? 2.0 * HAIRLUT_PI * (v.r + v.g + v.b) / 3.0 : mp[p] * hairlut_z(m, sn.y, u, p);
+    s_phi += p == m.lobes.x ? 2.0 * HAIRLUT_PI * (v.r + v.g + v.b) / 3.0 : mp[p] * hairlut_z(m, sn.y, g, p);
   }
   return s;
 }
@@ -157,8 +154,8 @@ float hairlut_pdf(HairlutMaterial m, HairlutPoint pt, vec3 wi) {
   float mp[8];
   hairlut_mp_all(m, pt.theta_o, ti, mp);
   float x = hairlut_theta_d_arg(m, pt.sin_o, pt.cos_o, pt.theta_o, si, ci, ti), s_phi;
-  float u = hairlut_cos_theta_d(pt.sin_o, pt.cos_o, si, ci);
-  vec3 s = hairlut_sum(m, mp, vec2(hairlut_node(m.phi, phi), hairlut_node(m.theta_d, x)), u, s_phi);
+  HairlutGrazing g = hairlut_grazing_at(m, hairlut_cos_theta_d(pt.sin_o, pt.cos_o, si, ci));
+  vec3 s = hairlut_sum(m, mp, vec2(hairlut_node(m.phi, phi), hairlut_node(m.theta_d, x)), g, s_phi);
   return hairlut_density(m, pt, ti, ci, s, s_phi);
 }
 
@@ -187,11 +184,11 @@ HairlutSample hairlut_sample(HairlutMaterial m, HairlutPoint pt, vec3 u) {
   float mp[8], share[8];
   hairlut_mp_all(m, pt.theta_o, ti, mp);
   float sd = hairlut_node(m.theta_d, hairlut_theta_d_arg(m, pt.sin_o, pt.cos_o, pt.theta_o, si, ci, ti));
-  float ud = hairlut_cos_theta_d(pt.sin_o, pt.cos_o, si, ci);
+  HairlutGrazing gd = hairlut_grazing_at(m, hairlut_cos_theta_d(pt.sin_o, pt.cos_o, si, ci));
   int lobes = m.lobes.x + m.lobes.y;
   float norm = 0.0;
   for (int p = 0; p < lobes; ++p) {
-    share[p] = mp[p] * hairlut_z(m, sd, ud, p);
+    share[p] = mp[p] * hairlut_z(m, sd, gd, p);
     norm += share[p];
   }
   if (!(norm > 0.0) || isinf(norm)) return d;
@@ -219,7 +216,7 @@ HairlutSample hairlut_sample(HairlutMaterial m, HairlutPoint pt, vec3 u) {
     if (u.z < 0.5) phi = -phi;
   }
   float s_phi;
-  vec3 s = hairlut_sum(m, mp, vec2(hairlut_node(m.phi, abs(phi)), sd), ud, s_phi);
+  vec3 s = hairlut_sum(m, mp, vec2(hairlut_node(m.phi, abs(phi)), sd), gd, s_phi);
   d.pdf = hairlut_density(m, pt, ti, ci, s, s_phi);
   if (!(d.pdf > 0.0) || isinf(d.pdf)) {
     d.pdf = 0.0;
