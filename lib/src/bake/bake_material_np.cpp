@@ -33,12 +33,13 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
   // the whole value. Divided in double before the values are rounded to the table's precision.
   std::vector<sampler::GrazingFactor> factor;
   for (int p = 0; p < lobe_set.size(); ++p) factor.push_back(grazing_factor_of(c, theta_axis, p, p == s.lobes));
-  auto over_g = [&](int p, double sigma, std::size_t it, double v) {
+  // g of lobe p at θd node it for σa (1 where the lobe's tables store their quantity as is), and a
+  // value over it (g underflows only where the value has).
+  auto factor_at = [&](int p, double sigma, std::size_t it) {
     const sampler::GrazingFactor& g = factor[static_cast<std::size_t>(p)];
-    if (g.none()) return v;
-    const double f = g.of_cos(sigma, std::cos(thetas[it]));
-    return f > 0.0 ? v / f : 0.0;  // f underflows only where the value has
+    return g.none() ? 1.0 : g.of_cos(sigma, std::cos(thetas[it]));
   };
+  auto over = [](double g, double v) { return g > 0.0 ? v / g : 0.0; };
   // Each material's tables, filled by one parallel loop below.
   struct Pending {
     std::size_t first, energy_first, residual_index;
@@ -107,7 +108,7 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
           {c.eta, c.path, c.quadrature, s.lobes, channel_sigmas, thetas, phis,
            [&](int p) { return std::vector<double>{m.beta_n[static_cast<std::size_t>(p)]}; }, rules, {}},
           opt, "N_p " + m.name, [&](int p, std::size_t ic, std::size_t it, std::size_t, std::size_t ip, double v) {
-            set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, over_g(p, channel_sigmas[ic], it, v));
+            set.tables[first + static_cast<std::size_t>(p)].set((ic * nt + it) * nphi + ip, over(factor_at(p, channel_sigmas[ic], it), v));
           });
     }
     report.entries += 3 * nt * (nphi * static_cast<std::size_t>(s.lobes) + static_cast<std::size_t>(lobe_set.size()));
@@ -132,8 +133,8 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
     for (std::size_t ic = 0; ic < w.sigmas.size(); ++ic) {
       const double* ep = e->data() + (channel0 + ic) * E;
       const double sigma = w.sigmas[ic];
-      for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, over_g(static_cast<int>(p), sigma, it, ep[p]));
-      if (c.residual) set.tables[w.residual_index].set(ic * nt + it, over_g(static_cast<int>(E - 1), sigma, it, ep[E - 1] / kTwoPi));
+      for (std::size_t p = 0; p < E; ++p) set.tables[w.energy_first + p].set(ic * nt + it, over(factor_at(static_cast<int>(p), sigma, it), ep[p]));
+      if (c.residual) set.tables[w.residual_index].set(ic * nt + it, over(factor_at(static_cast<int>(E - 1), sigma, it), ep[E - 1] / kTwoPi));
     }
   };
   // One parallel loop over every (group, θd), or (material, θd) for the per-entry methods: N_p of
@@ -159,8 +160,8 @@ void bake_material_np(BakeRun& run, const NpPlan& plan, TableSet& set, BakeRepor
         for (std::size_t ic = 0; ic < w.sigmas.size(); ++ic) {
           const double* src = v.data() + (static_cast<std::size_t>(p) * K + w.channel0 + ic) * nphi;
           const std::size_t dst = (ic * nt + it) * nphi;
-          const double sigma = w.sigmas[ic];
-          auto stored = [&](double x) { return over_g(p, sigma, it, x); };
+          const double gp = factor_at(p, w.sigmas[ic], it);  // once per row
+          auto stored = [&](double x) { return over(gp, x); };
           if (t.precision == Precision::float32) std::transform(src, src + nphi, t.f32.data() + dst, [&](double x) { return static_cast<float>(stored(x)); });
           else std::transform(src, src + nphi, t.f64.data() + dst, stored);
         }

@@ -255,8 +255,7 @@ namespace detail {
 // half a cell short of it, beyond which a lookup holds the last stored value and the factor
 // multiplied back still gives the limit.
 bool reaches_grazing(const GridAxis& theta_d) {
-  const std::vector<double> n = theta_d.nodes();
-  return !n.empty() && theta_d.spacing != Spacing::explicit_values && std::abs(theta_d.hi - 0.5 * kPi) <= 1e-12;
+  return theta_d.count > 0 && theta_d.spacing != Spacing::explicit_values && std::abs(theta_d.hi - 0.5 * kPi) <= 1e-12;
 }
 
 // The factor g(σa, θd) by which an energy table reaching 90° divides its values, so that what it
