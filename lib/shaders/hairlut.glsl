@@ -32,15 +32,14 @@
 //       float rounding, on any GPU and for float32 textures that cannot be filtered);
 //   HAIRLUT_WEIGHT_BITS  with the explicit filter, rounds the weights to this many fractional bits
 //       (8 emulates the fixed-point weights of common GPU filter units); 0 (default) keeps them.
-//   HAIRLUT_BUILTIN_INVERSE_TRIG  1: the direction interface takes θ and φ from GLSL's asin and
-//       atan, whose precision the specification leaves loose; 0 (default): from this file's own.
+//   HAIRLUT_BUILTIN_INVERSE_TRIG  1: the direction interface takes θ and φ from GLSL's atan, whose precision the specification leaves loose; 0 (default): from this file's own.
 //   HAIRLUT_SAMPLING  1: also hairlut_at, hairlut_sample and hairlut_pdf (hairlut_sampling.glsl),
 //       which read the material's sampling rows from the float array HAIRLUT_ROWS (declared at
 //       (HAIRLUT_SET, HAIRLUT_BINDING + 2) unless the shader names its own).
 //
 // Directions are unit vectors in the fiber frame (x along the fiber, root to tip), wo the held one
 // (towards the viewer), wi the sampled one (towards the light), as HairScattering::eval takes them;
-// angles [rad] θ = asin(w.x), φ = φo − φi. Arguments must be finite.
+// angles [rad] θ = asin(w.x) (read as atan2(w.x, |w.yz|)), φ = φo − φi. Arguments must be finite.
 #ifndef HAIRLUT_GLSL
 #define HAIRLUT_GLSL
 
@@ -96,18 +95,9 @@ const float HAIRLUT_PI = 3.14159265358979;
 
 float hairlut_node(vec4 axis, float x) { return clamp((x - axis.x) * axis.y, 0.0, axis.z); }
 
-// asin and atan2 to a few float ulp. GLSL's built-ins need not be close (the Vulkan environment
-// allows atan 4096 ulp; lavapipe's asin errs by up to 4e-4 rad, a tenth of a 0.3° node), and a
-// direction's angles place it on the θ and φ axes. Cephes' single-precision polynomials.
-float hairlut_asin(float x) {
-  float a = abs(x);
-  bool big = a > 0.5;
-  float z = big ? 0.5 * (1.0 - a) : a * a;
-  float r = big ? sqrt(z) : a;
-  float p = ((((4.2163199048e-2 * z + 2.4181311049e-2) * z + 4.5470025998e-2) * z + 7.4953002686e-2) * z + 1.6666752422e-1) * z * r + r;
-  if (big) p = 1.5707963267948966 - 2.0 * p;
-  return x < 0.0 ? -p : p;
-}
+// atan2 to a few float ulp: GLSL's built-in need not be close (the Vulkan environment allows atan
+// 4096 ulp), and a direction's angles place it on the θ and φ axes. Cephes' single-precision
+// polynomial.
 // The angle of (x, y) for y ≥ 0, in [0, π]; 0 at the origin.
 float hairlut_atan2_upper(float y, float x) {
   float ax = abs(x), hi = max(ax, y), lo = min(ax, y);
@@ -121,6 +111,25 @@ float hairlut_atan2_upper(float y, float x) {
   float r = base + (((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1) * z * t + t;
   if (y > ax) r = 1.5707963267948966 - r;
   return x < 0.0 ? 3.14159265358979 - r : r;
+}
+
+// A direction's inclination: sin θ = w.x, cos θ = |w.yz| and θ = atan2(w.x, |w.yz|). Near a pole the
+// normal-plane part keeps the precision that 1 − w.x² loses: a float w.x rounded to 1 would put
+// a direction up to 3.5e-4 rad off the pole onto it, where S varies fastest (opposite grazing).
+struct HairlutIncl {
+  float theta, s, c;
+};
+HairlutIncl hairlut_inclination(vec3 w) {
+  HairlutIncl r;
+  r.s = clamp(w.x, -1.0, 1.0);
+  r.c = length(w.yz);
+#if HAIRLUT_BUILTIN_INVERSE_TRIG
+  r.theta = r.s == 0.0 && r.c == 0.0 ? 0.0 : atan(r.s, r.c);
+#else
+  float a = hairlut_atan2_upper(abs(r.s), r.c);
+  r.theta = r.s < 0.0 ? -a : a;
+#endif
+  return r;
 }
 
 // Where the θd axis reaches 90° the tables store N_p divided by its lobe's grazing factor g_p
@@ -223,24 +232,18 @@ vec3 hairlut_eval_angles(HairlutMaterial m, float theta_o, float theta_i, float 
 }
 
 // S per channel [1/sr] for unit vectors wo, wi in the fiber frame, as HairScattering::eval(fiber,
-// wo, wi, rgb): θ from the component along the fiber, |φ| the angle between the projections on the
-// normal plane, 1 − cos θd from the chord between (sin θo, cos θo) and (sin θi, cos θi).
+// wo, wi, rgb): θ from hairlut_inclination, |φ| the angle between the projections on the normal
+// plane, 1 − cos θd from the chord between (sin θo, cos θo) and (sin θi, cos θi).
 vec3 hairlut_eval(HairlutMaterial m, vec3 wo, vec3 wi) {
-  float so = clamp(wo.x, -1.0, 1.0), si = clamp(wi.x, -1.0, 1.0);
-  float co = sqrt((1.0 - so) * (1.0 + so)), ci = sqrt((1.0 - si) * (1.0 + si));
-#if HAIRLUT_BUILTIN_INVERSE_TRIG
-  float to = asin(so), ti = asin(si);
-#else
-  float to = hairlut_asin(so), ti = hairlut_asin(si);
-#endif
-  float x = m.flags.x != 0 ? hairlut_one_minus_cos_theta_d(so, co, si, ci) : abs(0.5 * (to - ti));
+  HairlutIncl o = hairlut_inclination(wo), i = hairlut_inclination(wi);
+  float x = m.flags.x != 0 ? hairlut_one_minus_cos_theta_d(o.s, o.c, i.s, i.c) : abs(0.5 * (o.theta - i.theta));
   float cross_ = wo.y * wi.z - wo.z * wi.y, dot_ = wo.y * wi.y + wo.z * wi.z;
 #if HAIRLUT_BUILTIN_INVERSE_TRIG
   float f = cross_ == 0.0 && dot_ == 0.0 ? 0.0 : atan(abs(cross_), dot_);
 #else
   float f = hairlut_atan2_upper(abs(cross_), dot_);
 #endif
-  return hairlut_eval_located(m, to, ti, x, hairlut_cos_theta_d(so, co, si, ci), f);
+  return hairlut_eval_located(m, o.theta, i.theta, x, hairlut_cos_theta_d(o.s, o.c, i.s, i.c), f);
 }
 
 #if HAIRLUT_SAMPLING

@@ -129,11 +129,9 @@ float hairlut_density(HairlutMaterial m, HairlutPoint pt, float theta_i, float c
 // The shading point seen from wo (unit, fiber frame), as HairScattering::at.
 HairlutPoint hairlut_at(HairlutMaterial m, vec3 wo) {
   HairlutPoint pt;
-  pt.sin_o = clamp(wo.x, -1.0, 1.0);
-  pt.cos_o = sqrt((1.0 - pt.sin_o) * (1.0 + pt.sin_o));
-  pt.theta_o = hairlut_asin(pt.sin_o);
-  float r = length(wo.yz);
-  pt.phi_o = r > 0.0 ? wo.yz / r : vec2(1.0, 0.0);
+  HairlutIncl o = hairlut_inclination(wo);
+  pt.sin_o = o.s, pt.cos_o = o.c, pt.theta_o = o.theta;
+  pt.phi_o = o.c > 0.0 ? wo.yz / o.c : vec2(1.0, 0.0);
   float sr = hairlut_node(m.theta_r, pt.theta_o);
   float cell = min(floor(sr), m.theta_r.z - 1.0);
   pt.r = int(cell), pt.w = sr - cell;
@@ -150,7 +148,8 @@ float hairlut_pdf(HairlutMaterial m, HairlutPoint pt, vec3 wi) {
   if (!pt.ok) return 0.0;
   float cross_ = pt.phi_o.x * wi.z - pt.phi_o.y * wi.y, dot_ = pt.phi_o.x * wi.y + pt.phi_o.y * wi.z;
   float phi = hairlut_atan2_upper(abs(cross_), dot_);
-  float si = clamp(wi.x, -1.0, 1.0), ci = sqrt((1.0 - si) * (1.0 + si)), ti = hairlut_asin(si);
+  HairlutIncl i = hairlut_inclination(wi);
+  float si = i.s, ci = i.c, ti = i.theta;
   float mp[8];
   hairlut_mp_all(m, pt.theta_o, ti, mp);
   float x = hairlut_theta_d_arg(m, pt.sin_o, pt.cos_o, pt.theta_o, si, ci, ti), s_phi;

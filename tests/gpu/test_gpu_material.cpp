@@ -9,7 +9,7 @@
 //   |S_gpu − S_cpp| ≤ K u (S + π Σ_x |∂S/∂x|),  u = 2⁻²⁴, K = 32, x ∈ {θo, θi, φ}:
 // S is a sum of products of nonnegative bilinear interpolants (about 20 rounded operations per
 // value, no cancellation: ≤ 20 u S), and each node coordinate comes from an angle through a few
-// rounded operations and one sin, cos, asin or atan (a few ulp each), so each argument is located
+// rounded operations and one sin, cos or atan (a few ulp each), so each argument is located
 // to within about 8 u π [rad]; K = 32 leaves a factor of 1.5 to 4 on both. ∂S/∂x is the C++
 // runtime's one-sided difference quotient (the larger side); plus K · 2⁻¹²⁶ for products a shader
 // may flush below float's normal range. The same check must reject the reconstruction with θi
@@ -86,6 +86,21 @@ void slopes(const HairScattering<float>& rt, double to, double ti, double phi, d
   }
 }
 
+// A float direction as the double unit vector it points along: the shader reads a direction's
+// inclination as atan2(w.x, |w.yz|), which does not depend on its length, and the C++ runtime takes
+// unit vectors.
+void unit(const float* w, double* out) {
+  const double x = w[0], y = w[1], z = w[2], r = std::sqrt(x * x + y * y + z * z);
+  out[0] = x / r, out[1] = y / r, out[2] = z / r;
+}
+
+// θo, θi and φ = φo − φi of float directions, in double (as the shader reads them).
+void angles_of(const float* wo, const float* wi, double& to, double& ti, double& phi) {
+  to = std::atan2(double(wo[0]), std::hypot(double(wo[1]), double(wo[2]))), ti = std::atan2(double(wi[0]), std::hypot(double(wi[1]), double(wi[2])));
+  const double cr = double(wo[1]) * wi[2] - double(wo[2]) * wi[1], dt = double(wo[1]) * wi[1] + double(wo[2]) * wi[2];
+  phi = std::atan2(std::fabs(cr), dt + 0.0);
+}
+
 Points make_points(const std::vector<HairScattering<float>>& rts, std::size_t n, bool angles) {
   std::mt19937_64 g(angles ? 20261206u : 1206u);
   Points p;
@@ -93,13 +108,16 @@ Points make_points(const std::vector<HairScattering<float>>& rts, std::size_t n,
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t mat = i % materials;
     float a[4], b[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    double s[3], d[3] = {0.0, 0.0, 0.0};
-    const hairlut::sampler::Fiber f{};
     if (angles) {
       a[0] = static_cast<float>((uniform(g) - 0.5) * kPi), a[1] = static_cast<float>((uniform(g) - 0.5) * kPi);
       a[2] = static_cast<float>((uniform(g) - 0.5) * 4.0 * kPi);
-      rts[mat].eval(f, a[0], a[1], a[2], s);
-      slopes(rts[mat], a[0], a[1], a[2], d);
+      if (i % 8 == 7) {
+        // Every eighth point at opposite grazing: θo and −θi within 1.5° of the same pole, where θd
+        // nears 90° and the tables' grazing factors cos^n θd vary fastest.
+        const double pole = uniform(g) < 0.5 ? -0.5 * kPi : 0.5 * kPi, band = 1.5 * kPi / 180.0;
+        a[0] = static_cast<float>(pole - std::copysign(band * uniform(g), pole));
+        a[1] = static_cast<float>(-pole + std::copysign(band * uniform(g), pole));
+      }
     } else {
       // Uniform on the sphere, plus the frame's special pairs first: wi = wo, wi = −wo, along the fiber.
       double w[2][3];
@@ -107,20 +125,39 @@ Points make_points(const std::vector<HairScattering<float>>& rts, std::size_t n,
         const double z = 2.0 * uniform(g) - 1.0, ph = 2.0 * kPi * uniform(g), r = std::sqrt(std::max(0.0, 1.0 - z * z));
         v[0] = z, v[1] = r * std::cos(ph), v[2] = r * std::sin(ph);
       }
+      if (i % 8 == 7) {
+        // As for the angles: every eighth pair at opposite grazing.
+        const double pole = uniform(g) < 0.5 ? -1.0 : 1.0, band = 1.5 * kPi / 180.0;
+        for (int k = 0; k < 2; ++k) {
+          const double t = (0.5 * kPi - band * uniform(g)) * (k == 0 ? pole : -pole), c = std::cos(t), ph = std::atan2(w[k][2], w[k][1]);
+          w[k][0] = std::sin(t), w[k][1] = c * std::cos(ph), w[k][2] = c * std::sin(ph);
+        }
+      }
       if (i < 2) w[1][0] = w[0][0], w[1][1] = w[0][1], w[1][2] = w[0][2];
       else if (i < 4) w[1][0] = -w[0][0], w[1][1] = -w[0][1], w[1][2] = -w[0][2];
       else if (i < 6) w[1][0] = 1.0, w[1][1] = w[1][2] = 0.0;
-      double wo[3], wi[3];
-      for (int k = 0; k < 3; ++k) a[k] = static_cast<float>(w[0][k]), b[k] = static_cast<float>(w[1][k]), wo[k] = a[k], wi[k] = b[k];
-      rts[mat].eval(f, wo, wi, s);
-      double to, ti;
-      to = std::asin(std::clamp(wo[0], -1.0, 1.0)), ti = std::asin(std::clamp(wi[0], -1.0, 1.0));
-      const double cr = wo[1] * wi[2] - wo[2] * wi[1], dt = wo[1] * wi[1] + wo[2] * wi[2];
-      slopes(rts[mat], to, ti, std::atan2(std::fabs(cr), dt), d);
+      for (int k = 0; k < 3; ++k) a[k] = static_cast<float>(w[0][k]), b[k] = static_cast<float>(w[1][k]);
     }
     a[3] = static_cast<float>(mat);
     p.gpu.insert(p.gpu.end(), a, a + 4);
     p.gpu.insert(p.gpu.end(), b, b + 4);
+    // The C++ runtime at the floats the shader reads, read back from the buffer: when this loop
+    // converted a[] and b[] to double in place, Debian's GCC 12.2 at -O3 (its SLP vectorizer) used
+    // the doubles they were rounded from instead, so the reference was not at the shader's point.
+    const float* q = &p.gpu[p.gpu.size() - 8];
+    const hairlut::sampler::Fiber f{};
+    double s[3], d[3] = {0.0, 0.0, 0.0};
+    if (angles) {
+      rts[mat].eval(f, q[0], q[1], q[2], s);
+      slopes(rts[mat], q[0], q[1], q[2], d);
+    } else {
+      double wo[3], wi[3];
+      unit(q, wo), unit(q + 4, wi);
+      rts[mat].eval(f, wo, wi, s);
+      double to, ti, phi;
+      angles_of(q, q + 4, to, ti, phi);
+      slopes(rts[mat], to, ti, phi, d);
+    }
     for (int c = 0; c < 3; ++c) {
       p.s.push_back(s[c]);
       p.tol.push_back(kK * kU * (s[c] + kPi * d[c]) + kK * kTiny);
@@ -174,7 +211,10 @@ Stats compare(const Points& p, const std::vector<float>& out) {
 // The pdf's bound: |pdf_gpu − pdf_cpp| ≤ K u (pdf · ‖q‖ / q + π Σ_x |∂pdf/∂x|). q(θi), step 1's
 // density, is a quadratic A + B x + C x² per cell whose terms may cancel, so its rounding is
 // relative to ‖q‖ = |A| + |B| x + |C| x² (blended as q is), not to q; the rest are products and
-// quotients of nonnegative terms (S̄, S̄_φ, the row masses).
+// quotients of nonnegative terms (S̄, S̄_φ, the row masses). Plus K u π pdf |q'| / q: the pdf is
+// q(θi) / cos θi, both falling to 0 at a pole, and the shader takes cos θi from the direction's
+// normal-plane part but q at θi as located (8 u π), so near a pole, where the pdf itself is flat,
+// q's argument error is a relative error of q that ∂pdf/∂θi does not see.
 struct MaterialSampling {
   hairlut::sampler::MaterialScattering<float> ms;
   hairlut::sampler::Axis theta_r;
@@ -208,14 +248,8 @@ double pdf_tolerance(const HairScattering<float>& rt, const MaterialSampling& m,
     }
     slope += side;
   }
-  return kK * kU * (pdf * (q > 0.0 ? qa / q : 1.0) + kPi * slope) + kK * kTiny;
-}
-
-// θo, θi and φ = φo − φi of float directions, in double (as the C++ runtime takes them).
-void angles_of(const float* wo, const float* wi, double& to, double& ti, double& phi) {
-  to = std::asin(std::clamp(double(wo[0]), -1.0, 1.0)), ti = std::asin(std::clamp(double(wi[0]), -1.0, 1.0));
-  const double cr = double(wo[1]) * wi[2] - double(wo[2]) * wi[1], dt = double(wo[1]) * wi[1] + double(wo[2]) * wi[2];
-  phi = std::atan2(std::fabs(cr), dt);
+  const double dq = ((1 - w) * std::fabs(g0[1] + 2.0 * x * g0[2]) + w * std::fabs(g1[1] + 2.0 * x * g1[2])) / rw.hq;  // |dq/dθi|
+  return kK * kU * (pdf * (q > 0.0 ? (qa + kPi * dq) / q : 1.0) + kPi * slope) + kK * kTiny;
 }
 
 struct Args {
@@ -303,6 +337,7 @@ int main(int argc, char** argv) {
       std::string name, filter, texture, interface;
       bool checked;
       Stats st;
+      const Points* points = nullptr;  // whose point i is the runs' point i (none for the sampled directions)
     };
     std::vector<Run> runs;
     auto run = [&](const std::string& name, const std::string& filter, bool half, bool angles, bool checked) {
@@ -311,7 +346,7 @@ int main(int argc, char** argv) {
       vk.run(pipelines.at(filter), half ? np16 : np32, half ? mp16 : mp32, linear, ubo, in, out, rows, static_cast<std::uint32_t>(n), angles ? 1u : 0u);
       std::vector<float> values(n * 4);
       std::memcpy(values.data(), out.map, values.size() * 4);
-      runs.push_back({name, filter, half ? "half" : "float32", angles ? "angles" : "directions", checked, compare(p, values)});
+      runs.push_back({name, filter, half ? "half" : "float32", angles ? "angles" : "directions", checked, compare(p, values), &p});
       return runs.back().st;
     };
     set_materials(tex.materials);
@@ -321,7 +356,7 @@ int main(int argc, char** argv) {
     if (f32_filter) run("float32, hardware filter", "hardware", false, false, false);
     run("half, hardware filter", "hardware", true, false, false);
     run("float32, 8-bit weights (emulated)", "explicit-8bit", false, false, false);
-    run("float32, explicit filter, GLSL's asin and atan", "explicit-builtin-trig", false, false, false);
+    run("float32, explicit filter, GLSL's atan", "explicit-builtin-trig", false, false, false);
     // The bound must see a mapping error: θi located half a node off.
     std::vector<hairlut_gpu::GpuMaterial> shifted = tex.materials;
     for (auto& m : shifted) m.theta_i[0] -= 0.5f / m.theta_i[1];
@@ -341,13 +376,14 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < n; ++i) {
       const float* p = &dirs.gpu[i * 8];
       const std::size_t mat = static_cast<std::size_t>(p[3]);
-      const double wo[3] = {p[0], p[1], p[2]}, wi[3] = {p[4], p[5], p[6]};
+      double wo[3], wi[3];
+      unit(p, wo), unit(p + 4, wi);
       double to, ti, phi;
       angles_of(p, p + 4, to, ti, phi);
       want.push_back(rts[mat].pdf(fiber, wo, wi)), got.push_back(res[i * 8]);
       tol.push_back(pdf_tolerance(rts[mat], sampling[mat], to, ti, phi, want.back()));
     }
-    runs.push_back({"pdf, float32, explicit filter", "explicit", "float32", "directions", true, compare(want, got, tol, 1)});
+    runs.push_back({"pdf, float32, explicit filter", "explicit", "float32", "directions", true, compare(want, got, tol, 1), &dirs});
     std::vector<float> us(n * 8, 0.0f);
     std::mt19937_64 gu(77);
     for (std::size_t i = 0; i < n; ++i) {
@@ -364,7 +400,9 @@ int main(int argc, char** argv) {
       const float* p = &us[i * 8];
       const float* r = &res[i * 8];
       const std::size_t mat = static_cast<std::size_t>(p[3]);
-      const double wo[3] = {p[0], p[1], p[2]}, u[3] = {p[4], p[5], p[6]}, wi[3] = {r[0], r[1], r[2]};
+      const double u[3] = {p[4], p[5], p[6]};
+      double wo[3], wi[3];
+      unit(p, wo), unit(r, wi);
       const auto sp = rts[mat].at(fiber, wo);
       const hairlut::sampler::ScatteringSample cs = sp.sample(u);
       if ((r[3] > 0.0f) != (cs.pdf > 0.0)) ++drawn_mismatch;
@@ -400,9 +438,16 @@ int main(int argc, char** argv) {
     for (const Run& r : runs)
       if (r.checked && r.st.over_bound > 0) {
         ok = false;
-        char line[400];
-        std::snprintf(line, sizeof line, "%s: %zu of %zu values beyond the float32 bound (worst: point %.0f channel %.0f, GPU %.9g, C++ %.9g, %.3g x the bound)",
-                      r.name.c_str(), r.st.over_bound, r.st.values, r.st.worst[0], r.st.worst[1], r.st.worst[2], r.st.worst[3], r.st.max_over_bound);
+        char line[640];
+        int len = std::snprintf(line, sizeof line, "%s: %zu of %zu values beyond the float32 bound (worst: point %.0f channel %.0f, GPU %.9g, C++ %.9g, %.3g x the bound",
+                                r.name.c_str(), r.st.over_bound, r.st.values, r.st.worst[0], r.st.worst[1], r.st.worst[2], r.st.worst[3], r.st.max_over_bound);
+        if (r.points && static_cast<std::size_t>(r.st.worst[0]) < r.points->count()) {
+          // The point as the shader read it, exactly (hexadecimal floats).
+          const float* q = &r.points->gpu[8 * static_cast<std::size_t>(r.st.worst[0])];
+          len += std::snprintf(line + len, sizeof line - static_cast<std::size_t>(len), "; point %a %a %a, %a %a %a", double(q[0]), double(q[1]), double(q[2]),
+                               double(q[4]), double(q[5]), double(q[6]));
+        }
+        std::snprintf(line + len, sizeof line - static_cast<std::size_t>(len), ")");
         failures.push_back(line);
       }
     if (wrong.over_bound == 0) {
