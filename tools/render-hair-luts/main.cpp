@@ -6,11 +6,10 @@
 // the residual), and writes both beside their difference as PNG. Thin: the physics and the table
 // reading live in the library.
 //
-// The picture: fibers run down the image, waving in the image plane and leaning towards and away
-// from the camera, which looks along −z
-// (orthographic). Each fiber is shaded by its far-field scattering function, so a fiber's colour
-// depends on its tangent only: L = L_sun · S(wo = view, wi = light) + L_env · ∫ S(wo = view, wi) dωi,
-// the environment's radiance scattered towards the viewer (the runtime holds wo, the tables' θr).
+// The picture (patch.hpp, shared with the GLSL runtime's renderer): fibers run down the image,
+// each shaded by its far-field scattering function, L = L_sun · S(wo = view, wi = light) +
+// L_env · ∫ S(wo = view, wi) dωi, the environment's radiance scattered towards the viewer (the
+// runtime holds wo, the tables' θr).
 // The tables' image estimates that integral from samples drawn by the tables' sampler; the direct
 // image uses the same directions with the physics' S, so sampling noise cancels in the difference
 // and what remains is interpolation error.
@@ -21,8 +20,6 @@
 // config, twice for N_p stored as shape × energy: shape and energy each carry it) and d_p the
 // validator's denominator for N_p (peak over φ of the slice, floored at 1e-3 of the white fiber's),
 // both estimated from the tables (their peak divided by 1 − ε bounds the exact peak).
-#include <png.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -45,6 +42,7 @@
 #include <vector>
 
 #include "bound_tables.hpp"
+#include "patch.hpp"
 #include "common/cli.hpp"
 
 namespace {
@@ -55,15 +53,6 @@ using hairlut::sampler::AxisSampler;
 using render::Coordinate;
 using render::FiberCoordinates;
 constexpr double kPi = 3.14159265358979323846;
-
-struct Vec {
-  double x, y, z;
-};
-Vec operator-(Vec a, Vec b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Vec operator*(double s, Vec a) { return {s * a.x, s * a.y, s * a.z}; }
-double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec cross(Vec a, Vec b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-Vec normalized(Vec a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
 
 // One look: the lobes of a table group and, per channel, the fiber coordinates and physics.
 struct Look {
@@ -166,35 +155,6 @@ struct Bounder {
   }
 };
 
-void write_png(const fs::path& file, int w, int h, const std::vector<unsigned char>& rgb) {
-  const fs::path tmp = file.string() + ".tmp";
-  FILE* out = std::fopen(tmp.c_str(), "wb");
-  if (!out) throw hairlut::IoError(file.string() + ": cannot write");
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(out);
-    fs::remove(tmp);
-    throw hairlut::IoError(file.string() + ": libpng failed");
-  }
-  png_init_io(png, out);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(w), static_cast<png_uint_32>(h), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int y = 0; y < h; ++y) png_write_row(png, rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w) * 3);
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  if (std::fclose(out) != 0) throw hairlut::IoError(file.string() + ": cannot write");
-  fs::rename(tmp, file);
-}
-
-unsigned char srgb8(double v) {
-  v = std::clamp(v, 0.0, 1.0);
-  const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-  return static_cast<unsigned char>(std::lround(255.0 * e));
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -285,8 +245,8 @@ int main(int argc, char** argv) {
     fs::create_directories(out_dir);
     nlohmann::ordered_json summary = {{"tables", tables.empty() ? config : tables}, {"size", width}, {"fibers", fibers},
                                       {"env_samples", env_samples}, {"accuracy_max_rel", eps}, {"images", nlohmann::ordered_json::array()}};
-    const Vec light = normalized({-0.3, 0.65, 0.7}), view = {0.0, 0.0, 1.0};
-    const double l_sun = 1.5, l_env = 0.15, exposure = 1.0;
+    const render::Lighting lit;
+    const double l_sun = lit.l_sun, l_env = lit.l_env;
     bool within = true;
     for (Look& look : looks) {
       const render::BoundTables h = render::bound_tables(set, look.group);
@@ -320,23 +280,8 @@ int main(int argc, char** argv) {
         std::uniform_real_distribution<double> u(0.0, 1.0);
         for (int i = 0; i < fibers; ++i)
           for (int y = 0; y < height; ++y) {
-            // In-plane wave a and inclination b towards the viewer: the highlight (R) and the
-            // transmitted glow move along each fiber as θv and φ change.
-            const double a = 0.3 * std::sin(2.0 * kPi * (1.1 * y / height + 0.37 * i)) + 0.06 * (i % 3 - 1);
-            const double b = 0.7 * std::sin(2.0 * kPi * (0.8 * y / height + 0.13 * i));
-            const Vec t = normalized({std::sin(a) * std::cos(b), -std::cos(a) * std::cos(b), std::sin(b)});  // root (top) to tip
-            auto angles = [&](Vec d, double* theta, double* phi_of) {
-              const double s = std::clamp(dot(d, t), -1.0, 1.0);
-              *theta = std::asin(s);
-              const Vec perp = d - s * t;
-              const Vec w = normalized(view - dot(view, t) * t), v = cross(t, w);
-              *phi_of = std::atan2(dot(perp, v), dot(perp, w));
-            };
-            double tl, pl, tv, pv;
-            angles(light, &tl, &pl);
-            angles(view, &tv, &pv);
-            double phi = pv - pl;
-            phi = std::remainder(phi, 2.0 * kPi);
+            const render::PatchAngles pa = render::patch_angles(lit, i, y, height);
+            const double tl = pa.theta_light, tv = pa.theta_view, phi = pa.phi;
             const FiberCoordinates& f = look.fiber[c];
             double lt = 0.0, ld = l_sun * direct_s(look, c, eta, path, tl, tv, phi);
             double lb = l_sun * bound(f, tl, tv, phi, row);
@@ -360,9 +305,7 @@ int main(int argc, char** argv) {
             table_px[at] = lt, direct_px[at] = ld, bound_px[at] = lb;
           }
       }
-      // Compose: tables | direct | |difference| × gain; gaps between fibers are black.
-      const int w3 = 3 * width;
-      std::vector<unsigned char> rgb(static_cast<std::size_t>(w3 * height * 3), 0);
+      // Compose: tables | direct | |difference| × gain.
       double max_diff = 0.0, max_ratio = 0.0, max_value = 0.0, sum2 = 0.0;
       int count = 0;
       for (int i = 0; i < fibers; ++i)
@@ -376,22 +319,8 @@ int main(int argc, char** argv) {
             else if (d > 0.0) max_ratio = std::max(max_ratio, 1e300);
             sum2 += d * d, ++count;
           }
-      for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-          const double fx = (x + 0.5) * fibers / width;
-          const int i = std::min(fibers - 1, static_cast<int>(fx));
-          const double hoff = 2.0 * (fx - i) - 1.0;  // offset across the fiber
-          if (std::fabs(hoff) > 0.85) continue;
-          for (int c = 0; c < 3; ++c) {
-            const std::size_t at = static_cast<std::size_t>((i * height + y) * 3 + c);
-            const std::size_t row0 = static_cast<std::size_t>(y * w3 * 3);
-            rgb[row0 + static_cast<std::size_t>(x * 3 + c)] = srgb8(exposure * table_px[at]);
-            rgb[row0 + static_cast<std::size_t>((x + width) * 3 + c)] = srgb8(exposure * direct_px[at]);
-            rgb[row0 + static_cast<std::size_t>((x + 2 * width) * 3 + c)] = srgb8(exposure * gain * std::fabs(table_px[at] - direct_px[at]));
-          }
-        }
       const std::string file = "render-" + look.name + ".png";
-      write_png(fs::path(out_dir) / file, w3, height, rgb);
+      render::write_png(fs::path(out_dir) / file, 3 * width, height, render::compose_panels(width, height, fibers, table_px, direct_px, gain));
       const double rms = std::sqrt(sum2 / std::max(1, count));
       std::printf("%s: max |tables - direct| %.3g (%.3g of the brightest pixel), rms %.3g, max difference / bound %.3g -> %s\n",
                   look.name.c_str(), max_diff, max_diff / std::max(max_value, 1e-300), rms, max_ratio, file.c_str());
