@@ -103,6 +103,29 @@ EdgeChecks h_on_the_edge(const hairlut::sampler::HairScattering<T>& rt, const ha
       const double p = rt.pdf(f, dirs[i], dirs[j]);
       if (!(std::isfinite(p) && p >= 0.0)) r.fail("pdf " + pair + " = " + std::to_string(p));
     }
+  // A direction along the fiber has no azimuth: the signs of its zero components must change
+  // neither S nor the pdf, held or sampled.
+  for (const double x : {1.0, -1.0})
+    for (int i = 0; i < 2; ++i) {
+      const double plain[3] = {x, 0.0, 0.0};
+      double want[3], want_back[3];
+      rt.eval(f, dirs[i], plain, want);
+      rt.eval(f, plain, dirs[i], want_back);
+      const double want_pdf = rt.pdf(f, dirs[i], plain), want_pdf_back = rt.pdf(f, plain, dirs[i]);
+      for (const double y : {0.0, -0.0})
+        for (const double z : {0.0, -0.0}) {
+          const double signed_zeros[3] = {x, y, z};
+          double got[3], got_back[3];
+          rt.eval(f, dirs[i], signed_zeros, got);
+          rt.eval(f, signed_zeros, dirs[i], got_back);
+          const std::string what = std::string(names[i]) + " and (" + std::to_string(x) + ", " + (std::signbit(y) ? "-0" : "0") + ", " +
+                                   (std::signbit(z) ? "-0" : "0") + ")";
+          for (int c = 0; c < 3; ++c)
+            if (got[c] != want[c] || got_back[c] != want_back[c]) r.fail("eval of " + what + " depends on the signs of zeros");
+          if (rt.pdf(f, dirs[i], signed_zeros) != want_pdf || rt.pdf(f, signed_zeros, dirs[i]) != want_pdf_back)
+            r.fail("pdf of " + what + " depends on the signs of zeros");
+        }
+    }
   return r;
 }
 

@@ -67,10 +67,11 @@ struct ScatteringSample {
 };
 
 /// The inclination θ = asin(w_x) and azimuth φ = atan2(w_z, w_y) of a unit vector in the fiber frame
-/// (NaN in, NaN out).
+/// (NaN in, NaN out). A direction along the fiber has φ = 0 whatever the signs of its zero
+/// components (+ 0.0 turns −0 into +0, so atan2 never reads a −0 as the angle π).
 inline void fiber_direction_angles(const double* w, double& theta, double& phi) {
   theta = w[0] == w[0] ? std::asin(std::max(-1.0, std::min(1.0, w[0]))) : w[0];
-  phi = std::atan2(w[2], w[1]);
+  phi = std::atan2(w[2] + 0.0, w[1] + 0.0);
 }
 
 /// N_p of a set baked in the Fourier representation (fourier_np.hpp): each explicit lobe's view,
@@ -199,8 +200,9 @@ class HairScattering {
   void eval(const Fiber& f, const double* wo, const double* wi, double* rgb) const {
     if (material_ && valid_ && wo[0] == wo[0] && wi[0] == wi[0]) {
       // The sines are the directions' components along the fiber, and |φ| (all the tables need:
-      // N_p is even in φ) is the angle between their projections on the normal plane.
-      const double cross = wo[1] * wi[2] - wo[2] * wi[1], dot = wo[1] * wi[1] + wo[2] * wi[2];
+      // N_p is even in φ) is the angle between their projections on the normal plane (0 where one
+      // is along the fiber: + 0.0 keeps a −0 dot from reading as π, as the GLSL runtime reads it).
+      const double cross = wo[1] * wi[2] - wo[2] * wi[1], dot = wo[1] * wi[1] + wo[2] * wi[2] + 0.0;
       const double phi = std::atan2(std::fabs(cross), dot);
       if (phi == phi) {
         mat_.eval(Mat::incl_of_sin(wo[0]), Mat::incl_of_sin(wi[0]), phi, rgb);
@@ -376,7 +378,7 @@ class HairScattering {
     // |φ| between wo and wi: the angle between their projections on the normal plane, from wo's
     // unit projection (cos φo, sin φo).
     double azimuth(const double* wi) const {
-      const double cross = cpo_ * wi[2] - spo_ * wi[1], dot = cpo_ * wi[1] + spo_ * wi[2];
+      const double cross = cpo_ * wi[2] - spo_ * wi[1], dot = cpo_ * wi[1] + spo_ * wi[2] + 0.0;  // as in eval
       return std::atan2(std::fabs(cross), dot);
     }
 
@@ -446,128 +448,13 @@ class HairScattering {
       e += p < explicit_ ? np[p].energy(f.sigma_a[c], theta_d) : 2.0 * 3.14159265358979323846 * t_.np_residual(f.sigma_a[c], theta_d);
     return e / 3.0;
   }
-  bool at_theta_o(const Fiber& f, double theta_o, Point& pt) const {
-    pt.theta_o = theta_o;
-    double sum = 0.0;
-    std::vector<double> ebar;
-    // Where θd falls on the energy table's axis at each θi node: the same for every lobe whose
-    // energy and M_p axes match the previous lobe's (all of them, in a baked set), so located once.
-    std::vector<Lerp> at_node;
-    std::vector<char> located;
-    const Shaping* located_for = nullptr;
-    const CosineMoments* located_mom = nullptr;
-    for (int p = 0; p < lobes_; ++p) {
-      const double x[2] = {f.beta_m, held(f, p, theta_o)};
-      m_axis_[p].blend(x, pt.m[p], false);
-      pt.c[p] = 0.0;
-      if (!pt.m[p].ok) continue;
-      const CosineMoments& mom = mom_[p];
-      const Shaping& sh = shaping_[p];
-      // Ê is bilinear in (σa, θd) on the energy table's nodes, averaged over the channels: the
-      // channels' mean at σa is taken once on each θd node (a linear map), so that each θi node
-      // below reads one θd interpolation.
-      if (sh.valid) {
-        const std::size_t nt = static_cast<std::size_t>(sh.theta.axis.count);
-        ebar.assign(nt, 0.0);
-        for (int c = 0; c < 3; ++c) {
-          const Lerp ls = sh.sigma.locate(f.sigma_a[c]);
-          const double* r0 = &sh.e[static_cast<std::size_t>(ls.i0) * nt];
-          const double* r1 = &sh.e[static_cast<std::size_t>(ls.i1) * nt];
-          const double w0 = (1.0 - ls.w) / 3.0, w1 = ls.w / 3.0;
-          for (std::size_t j = 0; j < nt; ++j) ebar[j] += w0 * r0[j] + w1 * r1[j];
-        }
-      }
-      if (sh.valid && !(located_for && same_axis(located_for->theta.axis, sh.theta.axis) && located_mom->lo() == mom.lo() &&
-                        located_mom->h() == mom.h() && located_mom->cells() == mom.cells())) {
-        located_for = &sh, located_mom = &mom;
-        at_node.resize(static_cast<std::size_t>(mom.cells()) + 1);
-        located.assign(static_cast<std::size_t>(mom.cells()) + 1, 0);
-      }
-      pt.g[p].prepare(mom, pt.m[p].coef.data(), [&](int k) {
-        if (!sh.valid) return 1.0;
-        Lerp& lt = at_node[static_cast<std::size_t>(k)];
-        if (!located[static_cast<std::size_t>(k)]) {
-          lt = sh.theta.locate(std::fabs(0.5 * (theta_o - (mom.lo() + k * mom.h()))));
-          located[static_cast<std::size_t>(k)] = 1;
-        }
-        return (1.0 - lt.w) * ebar[static_cast<std::size_t>(lt.i0)] + lt.w * ebar[static_cast<std::size_t>(lt.i1)];
-      });
-      pt.c[p] = pt.g[p].total();
-      sum += pt.c[p];
-    }
-    if (!(sum > 0.0) || !(sum < HUGE_VAL)) return false;
-    pt.total = sum;
-    for (int p = 0; p < lobes_; ++p) pt.c[p] /= sum;
-    return true;
-  }
+  bool at_theta_o(const Fiber& f, double theta_o, Point& pt) const;
   // Each lobe's M_p table copied with θi as its last axis, its sampler along θi, and the energies
   // that shape step 1 (prepare_shaping). False when a table is missing or cannot be sampled.
-  bool prepare_mp() {
-    bool ok = true;
-    for (int p = 0; p < lobes_; ++p) {
-      const MpLobe<T, double>& m = p < explicit_ ? t_.mp[p] : t_.mp_residual;
-      ok = ok && m.valid();
-      if (!m.valid()) continue;
-      const FixedView<T, 3, double>& v = m.table();
-      const Axis a[3] = {v.axis(0).axis(), v.axis(1).axis(), v.axis(2).axis()};
-      const std::size_t nb = static_cast<std::size_t>(a[0].count), ni = static_cast<std::size_t>(a[1].count), nr = static_cast<std::size_t>(a[2].count);
-      std::vector<T>& out = mt_[p];
-      out.resize(nb * ni * nr);
-      for (std::size_t b = 0; b < nb; ++b)
-        for (std::size_t i = 0; i < ni; ++i)
-          for (std::size_t r = 0; r < nr; ++r) out[(b * nr + r) * ni + i] = v.data()[(b * ni + i) * nr + r];
-      mt_axes_[p][0] = a[0], mt_axes_[p][1] = a[2], mt_axes_[p][2] = a[1];
-      // Rows blended per shading point only (at_theta_o): no mixture data, which would take a
-      // pass over the table and more memory than the table itself.
-      m_axis_[p] = AxisSampler<T>(out.data(), mt_axes_[p], 3, Measure::cosine, typename AxisSampler<T>::BlendOnly());
-      ok = ok && m_axis_[p].supported();
-      mom_[p] = CosineMoments(a[1].lo, (a[1].hi - a[1].lo) / (a[1].count - 1), a[1].count - 1);
-      if (p == 0) mp_shared_ = true;
-      else
-        for (int d = 0; d < 3; ++d) mp_shared_ = mp_shared_ && same_axis(a[d], mt_axes_[0][d == 1 ? 2 : d == 2 ? 1 : 0]);
-      prepare_shaping(p);
-    }
-    return ok;
-  }
+  bool prepare_mp();
   // The shaping table of lobe p: its energy factor table (explicit lobes stored as shape × energy),
   // 2π N of the residual at its nodes; none (Ê = 1) for a lobe whose table stores N_p itself.
-  void prepare_shaping(int p) {
-    Shaping& sh = shaping_[p];
-    if (fourier_) {
-      // c_0 F on the coefficients' own nodes (the residual's table is its energy too).
-      const FourierNp<T, double>& v = p < explicit_ ? fs_.np[p] : fs_.residual;
-      const Axis sa = fs_.sigma_a, td = fs_.theta_d;
-      sh.sigma = PreparedAxis(clamped(sa)), sh.theta = PreparedAxis(clamped(td));
-      sh.e.resize(static_cast<std::size_t>(sa.count) * static_cast<std::size_t>(td.count));
-      for (int i = 0; i < sa.count; ++i)
-        for (int j = 0; j < td.count; ++j)
-          sh.e[static_cast<std::size_t>(i) * static_cast<std::size_t>(td.count) + static_cast<std::size_t>(j)] = std::max(0.0, v.energy(node(sa, i), node(td, j)));
-    } else if (p < explicit_) {
-      const NpLobe<T, double>& n = t_.np[p];
-      if (!n.has_energy()) return;
-      const FixedView<T, 2, double>& v = n.energy();
-      sh.sigma = PreparedAxis(clamped(v.axis(0).axis())), sh.theta = PreparedAxis(clamped(v.axis(1).axis()));
-      const std::size_t count = static_cast<std::size_t>(sh.sigma.axis.count) * static_cast<std::size_t>(sh.theta.axis.count);
-      sh.e.assign(v.data(), v.data() + count);
-      // A table that stores E_p / g (reaching 90°): the energies themselves on the nodes.
-      if (!n.energy_factor().none())
-        for (int i = 0; i < sh.sigma.axis.count; ++i)
-          for (int j = 0; j < sh.theta.axis.count; ++j)
-            sh.e[static_cast<std::size_t>(i) * static_cast<std::size_t>(sh.theta.axis.count) + static_cast<std::size_t>(j)] *=
-                n.energy_factor()(node(sh.sigma.axis, i), node(sh.theta.axis, j));
-    } else {
-      if (!t_.np_residual.valid()) return;
-      const Axis sa = t_.np_residual.table().axis(0).axis(), td = t_.np_residual.table().axis(1).axis();
-      if (sa.count < 1 || td.count < 1) return;
-      sh.sigma = PreparedAxis(clamped(sa)), sh.theta = PreparedAxis(clamped(td));
-      sh.e.resize(static_cast<std::size_t>(sa.count) * static_cast<std::size_t>(td.count));
-      for (int i = 0; i < sa.count; ++i)
-        for (int j = 0; j < td.count; ++j)
-          sh.e[static_cast<std::size_t>(i) * static_cast<std::size_t>(td.count) + static_cast<std::size_t>(j)] =
-              2.0 * 3.14159265358979323846 * t_.np_residual(node(sa, i), node(td, j));
-    }
-    sh.valid = !sh.e.empty();
-  }
+  void prepare_shaping(int p);
   // m(θi) / cos θi = Σ_p M̃_p(θi) Ê_p(θi) / G: the θ factor of the pdf per unit solid angle (m, the
   // density of θi per radian, carries the cos θi of dω).
   double theta_density(const Point& pt, double theta_i) const {
@@ -579,44 +466,9 @@ class HairScattering {
   // The lobes' shares at θi, share_q = M̃_q(θi) Ē_q(θd) Z^φ_q, with each explicit lobe's φ density
   // n_q at (β_n, σ̄a, |θd|) (Z^φ_q its integral; 1 for the residual, uniform in φ). Returns Σ share
   // (0: no lobe has energy here). π_q = share_q / Σ share.
-  double phi_stage(const Fiber& f, const Point& pt, double theta_i, double* share, Density* n) const {
-    const double theta_d = 0.5 * (pt.theta_o - theta_i);
-    const int band = t_.band_of(f.beta_n);
-    const double x[3] = {f.beta_n, (f.sigma_a[0] + f.sigma_a[1] + f.sigma_a[2]) / 3.0, std::fabs(theta_d)};
-    double norm = 0.0;
-    for (int q = 0; q < lobes_; ++q) {
-      const double m = pt.c[q] > 0.0 ? m_axis_[q].value(pt.m[q], theta_i) : 0.0;
-      share[q] = m > 0.0 ? m * mean_energy(f, q, theta_d) : 0.0;
-      if (share[q] > 0.0 && q < explicit_ && fourier_) {
-        // The series at σ̄a, normalised by its own integral: Ē_q carries the energy.
-        std::vector<double>& a = n[q].series;
-        a.resize(static_cast<std::size_t>(std::max(0, fs_.np[q].params().terms)));
-        a.resize(static_cast<std::size_t>(fs_.np[q].series(f.beta_n, x[1], theta_d, a.data())));
-        n[q].total = a.empty() ? 0.0 : 2.0 * 3.14159265358979323846 * a[0];
-        if (!(n[q].total > 0.0)) share[q] = 0.0;
-      } else if (share[q] > 0.0 && q < explicit_) {
-        n[q].at(n_axis_[band][q], x);
-        share[q] *= n[q].total;
-      }
-      if (!(share[q] > 0.0) || !(share[q] < HUGE_VAL)) share[q] = 0.0;
-      norm += share[q];
-    }
-    return norm > 0.0 && norm < HUGE_VAL ? norm : 0.0;
-  }
+  double phi_stage(const Fiber& f, const Point& pt, double theta_i, double* share, Density* n) const;
   // Σ_q π_q n_q(φ) / Z^φ_q [1/rad].
-  double phi_sum(const Fiber& f, const double* share, const Density* n, double norm, double phi) const {
-    const int band = t_.band_of(f.beta_n);
-    const double pi = 3.14159265358979323846;
-    double s = 0.0;
-    for (int q = 0; q < lobes_; ++q) {
-      if (!(share[q] > 0.0)) continue;
-      double d = 1.0 / (2.0 * pi);
-      if (q < explicit_ && fourier_) d = std::max(0.0, fourier_cosine_sum(n[q].series.data(), static_cast<int>(n[q].series.size()), phi)) / n[q].total;
-      else if (q < explicit_) d = n[q].value(n_axis_[band][q], detail::fold_phi(phi, n_axes_[band][q][3])) / n[q].total;
-      s += share[q] * d;
-    }
-    return s / norm;
-  }
+  double phi_sum(const Fiber& f, const double* share, const Density* n, double norm, double phi) const;
   static bool same_axis(const Axis& a, const Axis& b) {
     return a.spacing == b.spacing && a.placement == b.placement && a.wrap == b.wrap && a.lo == b.lo && a.hi == b.hi && a.count == b.count &&
            a.values == b.values && a.interpolation == b.interpolation && a.lo_end == b.lo_end;
@@ -645,3 +497,6 @@ class HairScattering {
 
 }  // namespace sampler
 }  // namespace hairlut
+
+// The generic tables' path: step 1's θi densities, the shaping energies and the φ stage.
+#include "hairlut/sampler/hair_scattering_tables.hpp"
