@@ -11,7 +11,6 @@
 #include <cerrno>
 #include <condition_variable>
 #include <cstdlib>
-#include <sys/mman.h>
 #include <cstring>
 #include <deque>
 #include <fstream>
@@ -254,25 +253,12 @@ struct ImageBuffer {
   ~ImageBuffer() { std::free(data); }
   std::span<char> bytes() const { return {static_cast<char*>(data), size}; }
 };
-// Memory for the image: of 2 MiB or more, in 2 MiB-aligned blocks the kernel may back with
-// transparent huge pages (MADV_HUGEPAGE), so that the driver's zero-fill touches one page per
-// 2 MiB instead of 512. free() releases it.
-void* image_memory(std::size_t size) {
-  constexpr std::size_t kHuge = std::size_t{2} << 20;
-  if (size < kHuge) return std::malloc(size);
-  void* p = std::aligned_alloc(kHuge, (size + kHuge - 1) / kHuge * kHuge);
-#ifdef MADV_HUGEPAGE
-  if (p) ::madvise(p, (size + kHuge - 1) / kHuge * kHuge, MADV_HUGEPAGE);  // advice only: failure changes nothing
-#endif
-  return p;
-}
-
 H5FD_file_image_callbacks_t keep_image_callbacks(ImageBuffer* kept) {
   H5FD_file_image_callbacks_t c{};
-  c.image_malloc = [](std::size_t size, H5FD_file_image_op_t, void* udata) { return static_cast<ImageBuffer*>(udata)->live = image_memory(size); };
+  c.image_malloc = [](std::size_t size, H5FD_file_image_op_t, void* udata) { return static_cast<ImageBuffer*>(udata)->live = std::malloc(size); };
   c.image_memcpy = [](void* dest, const void* src, std::size_t size, H5FD_file_image_op_t, void*) { return std::memcpy(dest, src, size); };
   c.image_realloc = [](void* ptr, std::size_t size, H5FD_file_image_op_t, void* udata) {
-    return static_cast<ImageBuffer*>(udata)->live = ptr ? std::realloc(ptr, size) : image_memory(size);
+    return static_cast<ImageBuffer*>(udata)->live = ptr ? std::realloc(ptr, size) : std::malloc(size);
   };
   c.image_free = [](void* ptr, H5FD_file_image_op_t op, void* udata) -> herr_t {
     auto* k = static_cast<ImageBuffer*>(udata);
