@@ -32,7 +32,8 @@
 //       float rounding, on any GPU and for float32 textures that cannot be filtered);
 //   HAIRLUT_WEIGHT_BITS  with the explicit filter, rounds the weights to this many fractional bits
 //       (8 emulates the fixed-point weights of common GPU filter units); 0 (default) keeps them.
-//   HAIRLUT_BUILTIN_INVERSE_TRIG  1: the direction interface takes θ and φ from GLSL's atan, whose precision the specification leaves loose; 0 (default): from this file's own.
+//   HAIRLUT_BUILTIN_INVERSE_TRIG  1: the direction interface takes θ and φ from GLSL's atan,
+//       whose precision the specification leaves loose; 0 (default): from this file's own.
 //   HAIRLUT_SAMPLING  1: also hairlut_at, hairlut_sample and hairlut_pdf (hairlut_sampling.glsl),
 //       which read the material's sampling rows from the float array HAIRLUT_ROWS (declared at
 //       (HAIRLUT_SET, HAIRLUT_BINDING + 2) unless the shader names its own).
