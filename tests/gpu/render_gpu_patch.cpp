@@ -157,7 +157,6 @@ int main(int argc, char** argv) {
       std::vector<float> sun(pixels * 4);
       std::memcpy(sun.data(), out.map, sun.size() * 4);
       // The environment: per channel its own stream of u, as render-hair-luts draws them.
-      std::vector<double> us(draws * 3);
       std::vector<float> spts(draws * 8, 0.0f);
       for (int c = 0; c < 3; ++c) {
         std::mt19937_64 rng(12345u + static_cast<unsigned>(c));
@@ -165,10 +164,9 @@ int main(int argc, char** argv) {
         for (std::size_t p = 0; p < pixels; ++p)
           for (int k = 0; k < k_env; ++k) {
             const std::size_t d = (static_cast<std::size_t>(c) * pixels + p) * static_cast<std::size_t>(k_env) + static_cast<std::size_t>(k);
-            for (int j = 0; j < 3; ++j) us[d * 3 + static_cast<std::size_t>(j)] = u(rng);
-            const double tv = at[p].theta_view;
+            const double tv = at[p].theta_view, u0 = u(rng), u1 = u(rng), u2 = u(rng);
             const float q[8] = {static_cast<float>(std::sin(tv)), static_cast<float>(std::cos(tv)), 0.0f, static_cast<float>(m),
-                                static_cast<float>(us[d * 3]), static_cast<float>(us[d * 3 + 1]), static_cast<float>(us[d * 3 + 2]), 0.0f};
+                                static_cast<float>(u0), static_cast<float>(u1), static_cast<float>(u2), 0.0f};
             std::copy(q, q + 8, &spts[d * 8]);
           }
       }
@@ -177,17 +175,15 @@ int main(int argc, char** argv) {
       std::vector<float> env(draws * 8);
       std::memcpy(env.data(), out.map, env.size() * 4);
 
-      std::vector<double> cpu(pixels * 3), gpu(pixels * 3);
+      // The C++ runtime at the float arguments the shaders read, so that the difference is the
+      // shaders' arithmetic alone: S at each pixel once (all channels), then each channel's draws.
+      std::vector<double> cpu(pixels * 3), gpu(pixels * 3), sun_cpp(pixels * 3);
+      for (std::size_t p = 0; p < pixels; ++p) rts[m].eval(fiber, pts[p * 8], pts[p * 8 + 1], pts[p * 8 + 2], &sun_cpp[p * 3]);
       std::size_t drawn_mismatch = 0, nonfinite = 0, over = 0, other_lobe = 0, pixels_other_lobe = 0;
       double max_diff = 0.0, brightest = 0.0, sum2 = 0.0, max_rel = 0.0, max_rel_same = 0.0;
       for (int c = 0; c < 3; ++c)
         for (std::size_t p = 0; p < pixels; ++p) {
-          // The C++ runtime at the float arguments the shaders read (read back from their
-          // buffers), so that the difference is the shaders' arithmetic alone.
-          const float* e = &pts[p * 8];
-          double s[3];
-          rts[m].eval(fiber, e[0], e[1], e[2], s);
-          double lc = lit.l_sun * s[c], lg = lit.l_sun * sun[p * 4 + static_cast<std::size_t>(c)];
+          double lc = lit.l_sun * sun_cpp[p * 3 + static_cast<std::size_t>(c)], lg = lit.l_sun * sun[p * 4 + static_cast<std::size_t>(c)];
           const float* w = &spts[(static_cast<std::size_t>(c) * pixels + p) * static_cast<std::size_t>(k_env) * 8];
           const double wo[3] = {w[0], w[1], w[2]};
           const auto point = rts[m].at(fiber, wo);
