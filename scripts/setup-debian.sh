@@ -8,7 +8,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   libopenexr-dev libimath-dev openexr      # OpenEXR 3 (+ exrheader)
   libhdf5-dev hdf5-tools                   # HDF5 (+ h5dump)
   zlib1g-dev                               # deflate of HDF5 chunks on the baker's threads

@@ -35,10 +35,9 @@ std::string_view to_string(NpRepresentation r) { return r == NpRepresentation::f
 
 namespace {
 
-using nlohmann::json;
 using namespace detail::config_parse;
 
-BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir) {
+BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path& base_dir) {
   BakeConfig c;
   c.name = doc.at("name").get<std::string>();
   c.description = doc.value("description", std::string());
@@ -46,11 +45,11 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   if (c.model == "deon") c.model = "deon2011";  // short names (schema enum) → the recorded ones
   if (c.model == "marschner") c.model = "marschner2003";
 
-  const json fiber = doc.value("fiber", json::object());
+  const nlohmann::json fiber = doc.value("fiber", nlohmann::json::object());
   c.eta = get_number(fiber, "eta", 1.55);
   c.path = parse_absorption_path(fiber.value("absorption_path", std::string("chord")), "fiber.absorption_path");
 
-  const json lobes = doc.value("lobes", json::object());
+  const nlohmann::json lobes = doc.value("lobes", nlohmann::json::object());
   const auto names = lobes.value("explicit", c.model == "marschner2003" ? std::vector<std::string>{"R", "TT", "TRT"}
                                                                        : std::vector<std::string>{"R", "TT", "TRT", "TRRT"});
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -76,7 +75,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     }
   }
 
-  const json q = doc.value("quadrature", json::object());
+  const nlohmann::json q = doc.value("quadrature", nlohmann::json::object());
   const std::string method = q.value("method", std::string("fourier"));
   c.quadrature.method = method == "adaptive"         ? NpQuadratureConfig::Method::adaptive
                         : method == "gauss-legendre" ? NpQuadratureConfig::Method::gauss_legendre
@@ -86,7 +85,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   c.quadrature.tolerance = get_number(q, "tolerance", 1e-12);
   c.quadrature.energy_order = q.value("energy_order", 128);
 
-  const json tables = doc.value("tables", json::object());
+  const nlohmann::json tables = doc.value("tables", nlohmann::json::object());
   if (tables.contains("np")) parse_np_tables(doc, tables, c);
   if (tables.contains("mp")) parse_mp_tables(doc, tables, c);
   if (tables.contains("melanin")) parse_melanin_tables(tables, c);
@@ -102,20 +101,20 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   if (!c.np_axes && !c.np_fourier && !c.mp_axes && !c.melanin_axes && !c.dual_scattering && !c.engine)
     fail("tables", "must ask for at least one table (np, mp, melanin, dual_scattering or engine)");
 
-  if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", json::object());
+  if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", nlohmann::json::object());
   // A bake for a target error is judged by that target unless the config says otherwise: the
   // validator's accuracy_max_rel for the N_p tables is the target (target_error accepts the
   // bake by the validator's measure).
   if (c.np_target_error && !c.validate_thresholds.contains("accuracy_max_rel")) c.validate_thresholds["accuracy_max_rel"] = *c.np_target_error;
-  const json& out = doc.at("output");
+  const nlohmann::json& out = doc.at("output");
   std::filesystem::path dir = out.value("directory", std::string("."));
   c.output.directory = dir.is_absolute() ? dir : (base_dir / dir).lexically_normal();
   c.output.basename = out.at("basename").get<std::string>();
   for (const auto& f : out.at("formats")) (f == "hdf5" ? c.output.hdf5 : c.output.exr) = true;
-  const json h5 = out.value("hdf5", json::object());
+  const nlohmann::json h5 = out.value("hdf5", nlohmann::json::object());
   c.output.hdf5_double = h5.value("precision", std::string("float32")) == "float64";
   c.output.hdf5_deflate = h5.value("compression", 6);
-  const json exr = out.value("exr", json::object());
+  const nlohmann::json exr = out.value("exr", nlohmann::json::object());
   c.output.exr_half = exr.value("precision", std::string("float")) == "half";
   c.output.exr_compression = exr.value("compression", std::string("zip"));
   if (c.np_fourier && c.output.exr)
@@ -127,7 +126,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   }
 
   // Normalized form: every default filled in, angles in radians, keys sorted (nlohmann::json).
-  json n;
+  nlohmann::json n;
   n["name"] = c.name;
   n["description"] = c.description;
   n["model"] = c.model;
@@ -136,7 +135,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     n["lobes"] = {{"explicit", names}, {"residual", false}};
     n["marschner"] = marschner_json(*c.marschner);
   } else {
-    json tilt = json::object();
+    nlohmann::json tilt = nlohmann::json::object();
     for (int p = 0; p < c.lobe_count; ++p) tilt[lobe_name(p)] = c.tilt[static_cast<std::size_t>(p)];
     tilt["residual"] = c.residual_tilt;
     n["lobes"] = {{"explicit", names}, {"residual", c.residual}, {"fold_below", c.fold_below}, {"tilt", tilt}};
@@ -146,7 +145,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
                        {"tolerance", c.quadrature.tolerance},
                        {"energy_order", c.quadrature.energy_order}};
   }
-  json t = json::object();
+  nlohmann::json t = nlohmann::json::object();
   if (c.np_fourier) {
     const FourierNpConfig& f = *c.np_fourier;
     t["np"] = {{"representation", "fourier"},
@@ -172,9 +171,9 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
   if (c.engine) t["engine"] = engine_json(*c.engine);
   n["tables"] = t;
   if (c.scene) {
-    json mats = json::array();
+    nlohmann::json mats = nlohmann::json::array();
     for (const MaterialConfig& m : c.scene->materials) {
-      json mj = {{"name", m.name}, {"sigma_a", m.sigma_a}, {"beta_m", m.beta_m}, {"beta_n", m.beta_n},
+      nlohmann::json mj = {{"name", m.name}, {"sigma_a", m.sigma_a}, {"beta_m", m.beta_m}, {"beta_n", m.beta_n},
                  {"residual_beta_m", m.residual_beta_m}, {"residual_beta_n", m.residual_beta_n}};
       if (m.melanin) mj["melanin"] = {{"eumelanin", (*m.melanin)[0]}, {"pheomelanin", (*m.melanin)[1]}, {"model", m.melanin_model}};
       mats.push_back(mj);
@@ -182,7 +181,7 @@ BakeConfig parse_checked(const json& doc, const std::filesystem::path& base_dir)
     n["scene"] = {{"mode", c.scene->mode == SceneConfig::Mode::per_material ? "per-material" : "restrict-generic"},
                   {"materials", mats}};
   }
-  json formats = json::array();
+  nlohmann::json formats = nlohmann::json::array();
   if (c.output.hdf5) formats.push_back("hdf5");
   if (c.output.exr) formats.push_back("exr");
   n["output"] = {{"basename", c.output.basename},

@@ -10,12 +10,12 @@
 
 namespace hairlut::detail::config_parse {
 
-double get_number(const json& j, const char* key, double fallback) {
+double get_number(const nlohmann::json& j, const char* key, double fallback) {
   return j.contains(key) ? j.at(key).get<double>() : fallback;
 }
 
 // An angle or value axis of the config (schema-checked) to a GridAxis (semantics checked here).
-GridAxis make_axis(const json& j, const std::string& path, const std::string& name, bool angle, double domain_lo,
+GridAxis make_axis(const nlohmann::json& j, const std::string& path, const std::string& name, bool angle, double domain_lo,
                    double domain_hi, const std::string& units, const std::string& long_name) {
   GridAxis a;
   a.name = name;
@@ -42,9 +42,9 @@ GridAxis make_axis(const json& j, const std::string& path, const std::string& na
     a.count = j.at("count").get<int>();
     a.spacing = parse_spacing(j.value("spacing", std::string("uniform")), path + ".spacing");
     if (!(range[0] < range[1]) && !(a.count == 1 && range[0] == range[1]))
-      fail(rpath, "must be increasing, [low, high] with low < high (got [" + json(range[0]).dump() + ", " +
-                      json(range[1]).dump() + "])");
-    if (a.spacing == Spacing::log && !(a.lo > 0.0)) fail(rpath, "must be > 0 for log spacing (got " + json(range[0]).dump() + ")");
+      fail(rpath, "must be increasing, [low, high] with low < high (got [" + nlohmann::json(range[0]).dump() + ", " +
+                      nlohmann::json(range[1]).dump() + "])");
+    if (a.spacing == Spacing::log && !(a.lo > 0.0)) fail(rpath, "must be > 0 for log spacing (got " + nlohmann::json(range[0]).dump() + ")");
     if (a.placement == Placement::edges && a.count == 1 && a.lo != a.hi)
       fail(path + ".count", "must be >= 2 for edge-placed nodes spanning a range (got 1)");
   }
@@ -78,7 +78,7 @@ GridAxis make_axis(const json& j, const std::string& path, const std::string& na
   return a;
 }
 
-GridAxis make_phi_axis(const json& j, const std::string& path) {
+GridAxis make_phi_axis(const nlohmann::json& j, const std::string& path) {
   GridAxis a;
   a.name = "phi";
   a.units = "rad";
@@ -113,7 +113,7 @@ int lobe_index(const std::string& name, int lobe_count, const std::string& path)
 
 // Per-lobe values given for some lobes: lobes not listed take the nearest listed lower lobe's
 // value (else the nearest higher); the residual takes its own or the highest lobe's.
-void per_lobe_values(const json& j, const std::string& path, int lobe_count, double scale, std::vector<double>& out,
+void per_lobe_values(const nlohmann::json& j, const std::string& path, int lobe_count, double scale, std::vector<double>& out,
                      double& residual) {
   std::map<int, double> given;
   for (const auto& [key, value] : j.items()) given[lobe_index(key, lobe_count, path + "." + key)] = value.get<double>() * scale;
@@ -131,8 +131,8 @@ void per_lobe_values(const json& j, const std::string& path, int lobe_count, dou
   residual = given.count(-1) ? given[-1] : out.back();
 }
 
-json axes_json(const std::vector<GridAxis>& axes) {
-  json a = json::object();
+nlohmann::json axes_json(const std::vector<GridAxis>& axes) {
+  nlohmann::json a = nlohmann::json::object();
   for (const GridAxis& g : axes)
     if (g.count > 0) a[g.name] = g.to_json();
   return a;

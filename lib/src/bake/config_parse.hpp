@@ -12,8 +12,6 @@
 
 namespace hairlut::detail::config_parse {
 
-using nlohmann::json;
-
 // Thrown inside the parser with a key path; turned into "<source>: <path>: <reason>".
 struct KeyError {
   std::string path, reason;
@@ -33,29 +31,29 @@ void checked(F&& f) {
   }
 }
 
-double get_number(const json& j, const char* key, double fallback);
+double get_number(const nlohmann::json& j, const char* key, double fallback);
 
 // An angle or value axis of the config (schema-checked) to a GridAxis (semantics checked here).
-GridAxis make_axis(const json& j, const std::string& path, const std::string& name, bool angle, double domain_lo,
+GridAxis make_axis(const nlohmann::json& j, const std::string& path, const std::string& name, bool angle, double domain_lo,
                    double domain_hi, const std::string& units, const std::string& long_name);
-GridAxis make_phi_axis(const json& j, const std::string& path);
+GridAxis make_phi_axis(const nlohmann::json& j, const std::string& path);
 // Lobe names → p, with the residual as -1.
 int lobe_index(const std::string& name, int lobe_count, const std::string& path);
 // Per-lobe values given for some lobes: lobes not listed take the nearest listed lower lobe's
 // value (else the nearest higher); the residual takes its own or the highest lobe's.
-void per_lobe_values(const json& j, const std::string& path, int lobe_count, double scale, std::vector<double>& out,
+void per_lobe_values(const nlohmann::json& j, const std::string& path, int lobe_count, double scale, std::vector<double>& out,
                      double& residual_out);
-json axes_json(const std::vector<GridAxis>& axes);
+nlohmann::json axes_json(const std::vector<GridAxis>& axes);
 
 // Table kinds: each reads its part of the document into c (doc: the whole document, tables: its "tables").
-void parse_np_tables(const json& doc, const json& tables, BakeConfig& c);
-void parse_mp_tables(const json& doc, const json& tables, BakeConfig& c);
-void parse_melanin_tables(const json& tables, BakeConfig& c);
-void parse_scene(const json& doc, BakeConfig& c);
-MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeConfig& c);
-DualScatteringTablesConfig parse_dual_scattering(const json& j, int lobe_count, bool residual);
-EngineConfig parse_engine(const json& j, const std::vector<std::string>& lobe_names);
-json dual_scattering_json(const DualScatteringTablesConfig& d);
-json engine_json(const EngineConfig& e);
+void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
+void parse_mp_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
+void parse_melanin_tables(const nlohmann::json& tables, BakeConfig& c);
+void parse_scene(const nlohmann::json& doc, BakeConfig& c);
+MarschnerConfig parse_marschner(const nlohmann::json& doc, const nlohmann::json& lobes, const BakeConfig& c);
+DualScatteringTablesConfig parse_dual_scattering(const nlohmann::json& j, int lobe_count, bool residual);
+EngineConfig parse_engine(const nlohmann::json& j, const std::vector<std::string>& lobe_names);
+nlohmann::json dual_scattering_json(const DualScatteringTablesConfig& d);
+nlohmann::json engine_json(const EngineConfig& e);
 
 }  // namespace hairlut::detail::config_parse

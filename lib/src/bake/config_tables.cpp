@@ -17,7 +17,7 @@ namespace {
 
 // tables.np.energy_axes: sigma_a and theta_d of the energy and residual tables (each defaults to the
 // N_p axis), covering the N_p axes' ranges.
-std::vector<GridAxis> energy_axes(const json& ea, const GridAxis& sigma, const GridAxis& theta) {
+std::vector<GridAxis> energy_axes(const nlohmann::json& ea, const GridAxis& sigma, const GridAxis& theta) {
   const std::string eq = "tables.np.energy_axes.";
   GridAxis es = sigma, et = theta;
   if (ea.contains("sigma_a"))
@@ -34,8 +34,8 @@ std::vector<GridAxis> energy_axes(const json& ea, const GridAxis& sigma, const G
 
 // tables.np with representation "fourier": the β range (no nodes: β is exact), the σa and θd axes
 // of the coefficients, the truncation tolerance; no φ axis (φ is exact), no bands or shape.
-void parse_fourier_np(const json& doc, const json& np, BakeConfig& c) {
-  const json& ax = np.at("axes");
+void parse_fourier_np(const nlohmann::json& doc, const nlohmann::json& np, BakeConfig& c) {
+  const nlohmann::json& ax = np.at("axes");
   const std::string p = "tables.np.axes.";
   const std::string r = "tables.np.representation";
   if (c.marschner) fail(r, "fourier applies to model deon2011 only");
@@ -49,10 +49,10 @@ void parse_fourier_np(const json& doc, const json& np, BakeConfig& c) {
     fail("quadrature.method", "must be fourier for tables.np.representation fourier (its coefficients are the Fourier method's C_n)");
   FourierNpConfig f;
   // β: a range only; its lower end fixes the terms stored, the range is what the tables are validated over.
-  const json& b = ax.at("beta");
+  const nlohmann::json& b = ax.at("beta");
   const bool deg = b.contains("range_deg");
   const auto range = b.at(deg ? "range_deg" : "range").get<std::vector<double>>();
-  json bj = {{deg ? "range_deg" : "range", range}, {"count", range[0] == range[1] ? 1 : 2}, {"spacing", "log"}};
+  nlohmann::json bj = {{deg ? "range_deg" : "range", range}, {"count", range[0] == range[1] ? 1 : 2}, {"spacing", "log"}};
   const GridAxis beta = make_axis(bj, p + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)");
   f.beta_lo = beta.lo, f.beta_hi = beta.hi;
   const GridAxis sigma = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius");
@@ -64,17 +64,17 @@ void parse_fourier_np(const json& doc, const json& np, BakeConfig& c) {
     fail(p + (sigma.interpolation == Interpolation::geometric ? "sigma_a" : "theta_d") + ".interpolation",
          "must be linear or cubic for representation fourier (the coefficients change sign)");
   f.axes = {theta, sigma};
-  const json fj = np.value("fourier", json::object());
+  const nlohmann::json fj = np.value("fourier", nlohmann::json::object());
   f.tolerance = get_number(fj, "tolerance", 1e-4);
-  if (!(f.tolerance > 0.0 && f.tolerance <= 0.1)) fail("tables.np.fourier.tolerance", "must lie in (0, 0.1] (got " + json(f.tolerance).dump() + ")");
+  if (!(f.tolerance > 0.0 && f.tolerance <= 0.1)) fail("tables.np.fourier.tolerance", "must lie in (0, 0.1] (got " + nlohmann::json(f.tolerance).dump() + ")");
   c.np_fourier = f;
   if (np.contains("energy_axes")) c.np_energy_axes = energy_axes(np.at("energy_axes"), sigma, theta);
 }
 
 }  // namespace
 
-void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
-  const json& np_json = tables.at("np");
+void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c) {
+  const nlohmann::json& np_json = tables.at("np");
   if (np_json.contains("representation"))
     c.np_representation = np_json.at("representation").get<std::string>() == "fourier" ? NpRepresentation::fourier : NpRepresentation::tensor;
   if (np_json.contains("fourier") && c.np_representation != NpRepresentation::fourier)
@@ -90,7 +90,7 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
     c.np_target_points = static_cast<std::size_t>(n);
   }
   if (c.np_representation == NpRepresentation::fourier) return parse_fourier_np(doc, np_json, c);
-  const json& ax = tables.at("np").at("axes");
+  const nlohmann::json& ax = tables.at("np").at("axes");
   const std::string p = "tables.np.axes.";
   // Per-material scenes take sigma_a and beta from their materials; generic tables need them.
   const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
@@ -117,7 +117,7 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
     if (ax.contains("phi_h") && !eccentric)
       fail(p + "phi_h", "applies to an eccentric fiber only (marschner.eccentricity is 1)");
     if (eccentric) {
-      const json def = {{"count", 9}, {"range_deg", {0, 90}}};
+      const nlohmann::json def = {{"count", 9}, {"range_deg", {0, 90}}};
       GridAxis ph = make_axis(ax.contains("phi_h") ? ax.at("phi_h") : def, p + "phi_h", "phi_h", true, 0.0, kHalfPi, "rad",
                               "azimuthal half angle phi_h = (phi_i + phi_r)/2 from the axis where eta* = eta1* (period pi, even)");
       ph.wrap = Wrap::reflect;
@@ -130,7 +130,7 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
     c.np_axes = std::vector<GridAxis>{beta_axis, sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
   }
   checked([&] { validate_interpolation(*c.np_axes, "tables.np"); });
-  const json& np = tables.at("np");
+  const nlohmann::json& np = tables.at("np");
   if (np.value("normalize", std::string("none")) == "energy") {
     if (c.marschner) fail("tables.np.normalize", "applies to model deon2011 only");
     if (per_material) fail("tables.np.normalize", "applies to generic N_p tables (not to a per-material scene)");
@@ -144,7 +144,7 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
     if (c.marschner || doc.contains("scene") || c.np_target_error)
       fail("tables.np.beta_bands", "applies to generic deon2011 N_p tables without a scene or target_error");
     checked([&] {
-      c.np_beta_bands = parse_beta_bands(np.at("beta_bands"), ax, [&](const json& bx, const std::string& bp) {
+      c.np_beta_bands = parse_beta_bands(np.at("beta_bands"), ax, [&](const nlohmann::json& bx, const std::string& bp) {
         std::vector<GridAxis> b{make_axis(bx.at("beta"), bp + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)"),
                                 make_axis(bx.at("sigma_a"), bp + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius"),
                                 make_axis(bx.at("theta_d"), bp + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad", "longitudinal difference angle theta_d = (theta_r - theta_i)/2"),
@@ -159,8 +159,8 @@ void parse_np_tables(const json& doc, const json& tables, BakeConfig& c) {
   }
 }
 
-void parse_mp_tables(const json& doc, const json& tables, BakeConfig& c) {
-  const json& ax = tables.at("mp").at("axes");
+void parse_mp_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c) {
+  const nlohmann::json& ax = tables.at("mp").at("axes");
   const std::string p = "tables.mp.axes.";
   const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
   if (!ax.contains("beta") && !per_material)
@@ -179,8 +179,8 @@ void parse_mp_tables(const json& doc, const json& tables, BakeConfig& c) {
   checked([&] { validate_interpolation(*c.mp_axes, "tables.mp"); });
 }
 
-void parse_melanin_tables(const json& tables, BakeConfig& c) {
-  const json& m = tables.at("melanin");
+void parse_melanin_tables(const nlohmann::json& tables, BakeConfig& c) {
+  const nlohmann::json& m = tables.at("melanin");
   const std::string p = "tables.melanin.axes.";
   c.melanin_axes = std::vector<GridAxis>{
       make_axis(m.at("axes").at("eumelanin"), p + "eumelanin", "eumelanin", false, 0.0, 100.0, "1",
@@ -191,12 +191,12 @@ void parse_melanin_tables(const json& tables, BakeConfig& c) {
   // Outside this range the spectral fit's cross sections overflow (a file its loader refuses) or
   // every transmittance rounds to 0 or 1.
   if (!(c.melanin_path_length >= 1e-3 && c.melanin_path_length <= 1e3))
-    fail("tables.melanin.path_length", "must lie in [0.001, 1000] fiber radii (got " + json(c.melanin_path_length).dump() + ")");
+    fail("tables.melanin.path_length", "must lie in [0.001, 1000] fiber radii (got " + nlohmann::json(c.melanin_path_length).dump() + ")");
 }
 
 
-void parse_scene(const json& doc, BakeConfig& c) {
-  const json& s = doc.at("scene");
+void parse_scene(const nlohmann::json& doc, BakeConfig& c) {
+  const nlohmann::json& s = doc.at("scene");
   SceneConfig scene;
   scene.mode = s.value("mode", std::string("per-material")) == "restrict-generic" ? SceneConfig::Mode::restrict_generic
                                                                                : SceneConfig::Mode::per_material;
@@ -204,13 +204,13 @@ void parse_scene(const json& doc, BakeConfig& c) {
   std::set<std::string> seen;
   std::optional<SpectralMelanin> spectral;
   for (std::size_t i = 0; i < s.at("materials").size(); ++i) {
-    const json& mj = s.at("materials")[i];
+    const nlohmann::json& mj = s.at("materials")[i];
     const std::string path = "scene.materials[" + std::to_string(i) + "]";
     MaterialConfig m;
     m.name = mj.at("name").get<std::string>();
     if (!seen.insert(m.name).second) fail(path + ".name", "duplicates the name of an earlier material (\"" + m.name + "\")");
     if (mj.contains("melanin")) {
-      const json& mel = mj.at("melanin");
+      const nlohmann::json& mel = mj.at("melanin");
       const double ce = mel.at("eumelanin").get<double>(), cp = get_number(mel, "pheomelanin", 0.0);
       m.melanin = std::array<double, 2>{ce, cp};
       m.melanin_model = mel.value("model", std::string("rgb"));
@@ -228,7 +228,7 @@ void parse_scene(const json& doc, BakeConfig& c) {
     }
     if (c.marschner) {
       // Gaussian widths: R given, TT and TRT given or from Table 1 (β_R/2, 2β_R).
-      const json& b = mj.at("beta_deg");
+      const nlohmann::json& b = mj.at("beta_deg");
       if (!b.contains("R")) fail(path + ".beta_deg", "must give R for model marschner2003 (TT and TRT default to Table 1's beta_R/2 and 2 beta_R)");
       if (b.contains("residual")) fail(path + ".beta_deg.residual", "model marschner2003 has no residual lobe");
       if (mj.contains("beta_n_deg")) fail(path + ".beta_n_deg", "applies to model deon2011 only (marschner2003 has no azimuthal roughness)");
@@ -252,7 +252,7 @@ void parse_scene(const json& doc, BakeConfig& c) {
 
 
 // The settings of model marschner2003, and the keys of the d'Eon model it has no use for.
-MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeConfig& c) {
+MarschnerConfig parse_marschner(const nlohmann::json& doc, const nlohmann::json& lobes, const BakeConfig& c) {
   if (c.lobe_count > 3)
     fail("lobes.explicit", "model marschner2003 has the lobes R, TT and TRT only (got " + std::to_string(c.lobe_count) + " lobes)");
   if (lobes.contains("residual") && lobes.at("residual").get<bool>())
@@ -261,23 +261,23 @@ MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeCo
     fail("lobes.tilt_deg", "does not apply to model marschner2003: its lobes are shifted by marschner.longitudinal.alpha_R_deg with Table 1's relations");
   if (lobes.contains("fold_below")) fail("lobes.fold_below", "applies to model deon2011 only");
   if (doc.contains("quadrature")) fail("quadrature", "applies to model deon2011 only (marschner2003 solves for the smooth fiber's paths)");
-  const json mj = doc.value("marschner", json::object());
+  const nlohmann::json mj = doc.value("marschner", nlohmann::json::object());
   MarschnerConfig m;
   m.params.eta = c.eta;
   m.params.path = c.path;
   m.params.roots = parse_marschner_roots(mj.value("roots", std::string("exact")), "marschner.roots");
-  const json k = mj.value("caustic", json::object());
+  const nlohmann::json k = mj.value("caustic", nlohmann::json::object());
   m.params.caustic.k_G = get_number(k, "k_G", 0.5);
   m.params.caustic.w_c = radians(get_number(k, "w_c_deg", 15.0));
   // A caustic narrower than this is finer than any table's phi spacing, and the validator's
   // integration over it grows without bound as it narrows (1e-10 degrees: over ten minutes).
   if (!(m.params.caustic.w_c >= radians(0.5)))
-    fail("marschner.caustic.w_c_deg", "must be at least 0.5 degrees (got " + json(get_number(k, "w_c_deg", 15.0)).dump() + ")");
+    fail("marschner.caustic.w_c_deg", "must be at least 0.5 degrees (got " + nlohmann::json(get_number(k, "w_c_deg", 15.0)).dump() + ")");
   m.params.caustic.delta_eta_prime = get_number(k, "delta_eta_prime", 0.3);
   m.params.caustic.delta_h_max = get_number(k, "delta_h_max", 0.5);
   m.params.eccentricity = get_number(mj, "eccentricity", 1.0);
   m.params.eccentric_fresnel = parse_eccentric_fresnel(mj.value("eccentric_fresnel", std::string("eta")), "marschner.eccentric_fresnel");
-  const json l = mj.value("longitudinal", json::object());
+  const nlohmann::json l = mj.value("longitudinal", nlohmann::json::object());
   m.alpha_r = radians(get_number(l, "alpha_R_deg", -5.0));
   m.argument = l.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
   checked([&] {
@@ -293,9 +293,9 @@ MarschnerConfig parse_marschner(const json& doc, const json& lobes, const BakeCo
 // ---- tables.dual_scattering and tables.engine -------------------------------------------------
 
 // tables.dual_scattering: axes theta_i, beta, sigma_a; lobe_scale per lobe (lobes not listed: 1).
-DualScatteringTablesConfig parse_dual_scattering(const json& j, int lobe_count, bool residual) {
+DualScatteringTablesConfig parse_dual_scattering(const nlohmann::json& j, int lobe_count, bool residual) {
   DualScatteringTablesConfig d;
-  const json& ax = j.at("axes");
+  const nlohmann::json& ax = j.at("axes");
   const std::string p = "tables.dual_scattering.axes.";
   d.axes = {make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius", "absorption coefficient per unit fiber radius"),
             make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad",
@@ -313,14 +313,14 @@ DualScatteringTablesConfig parse_dual_scattering(const json& j, int lobe_count, 
 }
 
 // tables.engine: a preset of engine textures; the presets bake R, TT, TRT (and the residual).
-EngineConfig parse_engine(const json& j, const std::vector<std::string>& lobe_names) {
+EngineConfig parse_engine(const nlohmann::json& j, const std::vector<std::string>& lobe_names) {
   EngineConfig e;
   e.preset = j.at("preset").get<std::string>();
   if (j.contains("textures")) e.textures = j.at("textures").get<std::vector<std::string>>();
   e.density_factor = get_number(j, "density_factor", 0.7);
   if (j.contains("unity")) {
     if (e.preset != "unity-hdrp-hair") fail("tables.engine.unity", "applies to the unity-hdrp-hair preset only (preset is " + e.preset + ")");
-    const json& u = j.at("unity");
+    const nlohmann::json& u = j.at("unity");
     e.radial_smoothness = get_number(u, "radial_smoothness", e.radial_smoothness);
     e.cuticle_angle_deg = get_number(u, "cuticle_angle_deg", e.cuticle_angle_deg);
     e.attenuation_scale = get_number(u, "attenuation_scale", e.attenuation_scale);
@@ -342,12 +342,12 @@ EngineConfig parse_engine(const json& j, const std::vector<std::string>& lobe_na
   return e;
 }
 
-json dual_scattering_json(const DualScatteringTablesConfig& d) {
+nlohmann::json dual_scattering_json(const DualScatteringTablesConfig& d) {
   return {{"axes", axes_json(d.axes)}, {"lobe_scale", d.lobe_scale}, {"density_factor", d.density_factor}};
 }
 
-json engine_json(const EngineConfig& e) {
-  json j = {{"preset", e.preset}, {"textures", e.textures}, {"density_factor", e.density_factor}};
+nlohmann::json engine_json(const EngineConfig& e) {
+  nlohmann::json j = {{"preset", e.preset}, {"textures", e.textures}, {"density_factor", e.density_factor}};
   if (e.preset == "unity-hdrp-hair")
     j["unity"] = {{"radial_smoothness", e.radial_smoothness}, {"cuticle_angle_deg", e.cuticle_angle_deg}, {"attenuation_scale", e.attenuation_scale}};
   return j;

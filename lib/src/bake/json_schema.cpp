@@ -10,8 +10,6 @@
 namespace hairlut {
 namespace {
 
-using json = nlohmann::json;
-
 // std::regex's default (depth-first) matcher recurses once per input character, so a long string
 // overflows the stack. libstdc++'s breadth-first matcher (the __polynomial flag, a Thompson-style
 // simulation) keeps its recursion bounded by the pattern's size and its time linear in the input
@@ -38,34 +36,34 @@ std::string index_path(const std::string& path, std::size_t i) { return path + "
 std::string shown(const std::string& path) { return path.empty() ? "(root)" : path; }
 
 // A short rendering of a value for messages: strings quoted, long values elided.
-std::string brief(const json& v) {
+std::string brief(const nlohmann::json& v) {
   std::string s = v.dump();
   if (s.size() > 60) s = s.substr(0, 57) + "...";
   return s;
 }
 
-std::string kind_of(const json& v) {
+std::string kind_of(const nlohmann::json& v) {
   switch (v.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return "boolean " + v.dump();
-    case json::value_t::string: return "string " + brief(v);
-    case json::value_t::number_integer:
-    case json::value_t::number_unsigned:
-    case json::value_t::number_float: return "number " + v.dump();
-    case json::value_t::array: return "an array";
-    case json::value_t::object: return "an object";
+    case nlohmann::json::value_t::null: return "null";
+    case nlohmann::json::value_t::boolean: return "boolean " + v.dump();
+    case nlohmann::json::value_t::string: return "string " + brief(v);
+    case nlohmann::json::value_t::number_integer:
+    case nlohmann::json::value_t::number_unsigned:
+    case nlohmann::json::value_t::number_float: return "number " + v.dump();
+    case nlohmann::json::value_t::array: return "an array";
+    case nlohmann::json::value_t::object: return "an object";
     default: return "a value";
   }
 }
 
-bool is_integer(const json& v) {
+bool is_integer(const nlohmann::json& v) {
   if (v.is_number_integer() || v.is_number_unsigned()) return true;
   if (!v.is_number_float()) return false;
   const double d = v.get<double>();
   return std::isfinite(d) && d == std::floor(d);
 }
 
-bool has_type(const json& v, const std::string& t) {
+bool has_type(const nlohmann::json& v, const std::string& t) {
   if (t == "null") return v.is_null();
   if (t == "boolean") return v.is_boolean();
   if (t == "object") return v.is_object();
@@ -84,7 +82,7 @@ std::string article(const std::string& t) {
 
 // JSON equality with 1 == 1.0 (nlohmann compares numbers of different kinds by value already,
 // except inside containers; compare recursively to be sure).
-bool json_equal(const json& a, const json& b) {
+bool json_equal(const nlohmann::json& a, const nlohmann::json& b) {
   if (a.is_number() && b.is_number()) return a.get<double>() == b.get<double>();
   if (a.type() != b.type()) return false;
   if (a.is_array()) {
@@ -123,10 +121,10 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return prev[b.size()];
 }
 
-std::string number_text(const json& v) { return v.dump(); }
+std::string number_text(const nlohmann::json& v) { return v.dump(); }
 
 // Resolves a local reference "#", "#/a/b" (JSON pointer, ~0 ~1 and %xx escapes).
-const json* resolve(const json& root, const std::string& ref) {
+const nlohmann::json* resolve(const nlohmann::json& root, const std::string& ref) {
   if (ref == "#") return &root;
   if (ref.rfind("#/", 0) != 0) return nullptr;
   std::string pointer;
@@ -139,14 +137,14 @@ const json* resolve(const json& root, const std::string& ref) {
     }
   }
   try {
-    return &root.at(json::json_pointer(pointer));
-  } catch (const json::exception&) {
+    return &root.at(nlohmann::json::json_pointer(pointer));
+  } catch (const nlohmann::json::exception&) {
     return nullptr;
   }
 }
 
 // A one-phrase description of a subschema for "must match one of" messages.
-std::string describe_schema(const json& s) {
+std::string describe_schema(const nlohmann::json& s) {
   if (s.is_boolean()) return s.get<bool>() ? "anything" : "nothing";
   if (s.contains("title") && s["title"].is_string()) return s["title"].get<std::string>();
   if (s.contains("description") && s["description"].is_string()) {
@@ -161,11 +159,11 @@ std::string describe_schema(const json& s) {
 }
 
 struct Validator {
-  const json& root;
+  const nlohmann::json& root;
   const std::map<std::string, std::regex>& regexes;
 
   // Appends violations of `inst` against `s` to `out` (up to `max`); returns true if valid.
-  bool check(const json& s, const json& inst, const std::string& path, std::vector<SchemaViolation>& out, std::size_t max,
+  bool check(const nlohmann::json& s, const nlohmann::json& inst, const std::string& path, std::vector<SchemaViolation>& out, std::size_t max,
              int depth) const {
     if (depth > 64) {
       add(out, max, path, "schema nesting too deep (recursive $ref?)");
@@ -178,7 +176,7 @@ struct Validator {
     }
     bool ok = true;
     if (const auto r = s.find("$ref"); r != s.end()) {
-      const json* target = resolve(root, r->get<std::string>());
+      const nlohmann::json* target = resolve(root, r->get<std::string>());
       if (!target) {
         add(out, max, path, "schema error: cannot resolve $ref " + r->dump());
         return false;
@@ -195,7 +193,7 @@ struct Validator {
       }
     }
     if (const auto e = s.find("enum"); e != s.end()) {
-      if (std::none_of(e->begin(), e->end(), [&](const json& x) { return json_equal(x, inst); })) {
+      if (std::none_of(e->begin(), e->end(), [&](const nlohmann::json& x) { return json_equal(x, inst); })) {
         std::string list;
         for (std::size_t i = 0; i < e->size(); ++i) list += (i ? ", " : "") + brief((*e)[i]);
         add(out, max, path, "must be one of " + list + " (got " + brief(inst) + ")");
@@ -218,7 +216,7 @@ struct Validator {
     if (out.size() < max) out.push_back({path, shown(path) + ": " + reason});
   }
 
-  bool check_number(const json& s, const json& inst, const std::string& path, std::vector<SchemaViolation>& out,
+  bool check_number(const nlohmann::json& s, const nlohmann::json& inst, const std::string& path, std::vector<SchemaViolation>& out,
                     std::size_t max) const {
     bool ok = true;
     const double v = inst.get<double>();
@@ -243,7 +241,7 @@ struct Validator {
     return ok;
   }
 
-  bool check_string(const json& s, const json& inst, const std::string& path, std::vector<SchemaViolation>& out,
+  bool check_string(const nlohmann::json& s, const nlohmann::json& inst, const std::string& path, std::vector<SchemaViolation>& out,
                     std::size_t max) const {
     bool ok = true;
     const std::string& str = inst.get_ref<const std::string&>();
@@ -271,7 +269,7 @@ struct Validator {
     return ok;
   }
 
-  bool check_array(const json& s, const json& inst, const std::string& path, std::vector<SchemaViolation>& out,
+  bool check_array(const nlohmann::json& s, const nlohmann::json& inst, const std::string& path, std::vector<SchemaViolation>& out,
                    std::size_t max, int depth) const {
     bool ok = true;
     const std::size_t n = inst.size();
@@ -321,7 +319,7 @@ struct Validator {
     return ok;
   }
 
-  bool check_object(const json& s, const json& inst, const std::string& path, std::vector<SchemaViolation>& out,
+  bool check_object(const nlohmann::json& s, const nlohmann::json& inst, const std::string& path, std::vector<SchemaViolation>& out,
                     std::size_t max, int depth) const {
     bool ok = true;
     if (const auto r = s.find("required"); r != s.end())
@@ -389,7 +387,7 @@ struct Validator {
       }
       if (names != s.end()) {
         std::vector<SchemaViolation> tmp;
-        if (!check(*names, json(key), child, tmp, 1, depth + 1)) {
+        if (!check(*names, nlohmann::json(key), child, tmp, 1, depth + 1)) {
           std::string reason = tmp.empty() ? "is not allowed" : tmp.front().message.substr(tmp.front().message.find(": ") + 2);
           add(out, max, path, "key \"" + key + "\" is not a valid name: " + reason);
           ok = false;
@@ -400,11 +398,11 @@ struct Validator {
   }
 
   // Violations of each branch, collected silently.
-  std::vector<std::vector<SchemaViolation>> branches(const json& list, const json& inst, const std::string& path, int depth,
+  std::vector<std::vector<SchemaViolation>> branches(const nlohmann::json& list, const nlohmann::json& inst, const std::string& path, int depth,
                                                      std::vector<bool>& valid) const {
     std::vector<std::vector<SchemaViolation>> all;
     valid.clear();
-    for (const json& b : list) {
+    for (const nlohmann::json& b : list) {
       std::vector<SchemaViolation> tmp;
       valid.push_back(check(b, inst, path, tmp, 20, depth + 1));
       all.push_back(std::move(tmp));
@@ -432,12 +430,12 @@ struct Validator {
     return best;
   }
 
-  bool check_combinators(const json& s, const json& inst, const std::string& path, std::vector<SchemaViolation>& out,
+  bool check_combinators(const nlohmann::json& s, const nlohmann::json& inst, const std::string& path, std::vector<SchemaViolation>& out,
                          std::size_t max, int depth) const {
     bool ok = true;
     if (const auto a = s.find("allOf"); a != s.end())
-      for (const json& b : *a) ok &= check(b, inst, path, out, max, depth + 1);
-    auto choose = [&](const json& list, bool exactly_one) {
+      for (const nlohmann::json& b : *a) ok &= check(b, inst, path, out, max, depth + 1);
+    auto choose = [&](const nlohmann::json& list, bool exactly_one) {
       std::vector<bool> valid;
       const auto errs = branches(list, inst, path, depth, valid);
       const auto n_valid = static_cast<std::size_t>(std::count(valid.begin(), valid.end(), true));
@@ -482,7 +480,7 @@ struct Validator {
 };
 
 // Checks that a schema uses only supported keywords and local refs; compiles its patterns.
-void inspect(const json& s, const std::string& where, std::map<std::string, std::regex>& regexes) {
+void inspect(const nlohmann::json& s, const std::string& where, std::map<std::string, std::regex>& regexes) {
   if (s.is_boolean()) return;
   if (!s.is_object()) throw SchemaError("schema at " + where + " must be an object or a boolean");
   auto sub = [&](const char* key) {
@@ -503,7 +501,7 @@ void inspect(const json& s, const std::string& where, std::map<std::string, std:
     try {
       regexes.emplace(pattern, std::regex(pattern, kRegexFlags));
     } catch (const std::regex_error&) {
-      throw SchemaError("invalid regular expression " + json(pattern).dump() + " at " + where);
+      throw SchemaError("invalid regular expression " + nlohmann::json(pattern).dump() + " at " + where);
     }
   };
   for (auto it = s.begin(); it != s.end(); ++it)

@@ -3,8 +3,9 @@
 #include "hairlut/io/engine_texture.hpp"
 
 namespace hairlut {
-
+namespace {
 using json = nlohmann::ordered_json;
+}  // namespace
 
 json EngineTexture::describe() const {
   json j;
