@@ -1,6 +1,7 @@
 // validate-hair-luts: check a baked hairlut table file (HDF5 or OpenEXR), or the tables of a
 // config, and write report.html, report.json and report.md. Exit status 0 when every check
 // passes, 1 when a check fails, 2 for bad input. Thin: the checks live in hairlut/report/validate.hpp.
+#include <malloc.h>
 #include <unistd.h>
 
 #include "common/cli.hpp"
@@ -24,6 +25,11 @@
 #include "../common/cancel.hpp"
 
 int main(int argc, char** argv) {
+  // Tables of a set validated in parts are allocated and freed part after part. glibc's dynamic
+  // mmap threshold rises to the size of the first freed table and puts the next ones on the heap,
+  // which keeps what it frees: a fixed threshold returns them (peak RSS with parts of 36 MiB:
+  // 128 MiB, 72 MiB with it), so that --memory-budget holds.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   hairlut_tools::install_cancel_handlers("validate-hair-luts");
   CLI::App app{"validate-hair-luts: energy-conservation and accuracy report of hairlut tables"};
   app.footer(R"(Examples:
@@ -57,6 +63,11 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   auto* seed_option = app.add_option("--seed", seed, "seed of the accuracy measure's points (default: drawn afresh each run and recorded in "
                                                       "report.json's accuracy_search.seed; give it to repeat a run exactly)");
   app.add_flag("--no-search", no_search, "judge accuracy on the random points only, without the worst-point search (faster, finds less)");
+  double budget_mib = 0.0;
+  app.add_option("--memory-budget", budget_mib,
+                 "memory to stay within, in MiB (default: half of the machine's memory); an HDF5 set whose values need more is "
+                 "validated in parts: its N_p tables over beta a run of beta rows at a time")
+      ->check(CLI::Range(64.0, 1e12));
   app.add_flag("--quiet,-q", quiet, "print nothing but errors");
   if (const auto rc = hairlut::tools::parse_command_line(app, "validate-hair-luts", argc, argv)) return *rc;
   if (file.empty() == config_path.empty()) {
@@ -81,8 +92,23 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   options.search = !no_search;
   options.cancel = hairlut_tools::cancel_pointer();
   hairlut_tools::register_temp_dir(out_dir);
+  const auto physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+  if (budget_mib * 1048576.0 > static_cast<double>(physical)) {
+    std::fprintf(stderr, "validate-hair-luts: error: --memory-budget %.0f MiB is more than this machine's memory (%.0f MiB) (see --help)\n", budget_mib,
+                 static_cast<double>(physical) / 1048576.0);
+    return 2;
+  }
+  const std::uint64_t budget = budget_mib > 0.0 ? static_cast<std::uint64_t>(budget_mib * 1048576.0) : physical / 2;
+  // The thresholds a set was baked with travel in the config stored in its metadata.
+  auto stored_thresholds = [&](const nlohmann::ordered_json& metadata) {
+    if (!metadata.contains("config") || !metadata["config"].is_string()) return;
+    const auto stored = nlohmann::json::parse(metadata["config"].get<std::string>(), nullptr, false);
+    if (stored.is_object() && stored.contains("validate") && stored["validate"].contains("thresholds"))
+      for (const auto& [k, v] : stored["validate"]["thresholds"].items()) options.thresholds.set(k, v.get<double>());
+  };
   hairlut::TableSet set;
   std::string source;
+  std::string in_parts;  // an HDF5 file larger than the budget: validated in parts
   try {
     // Clear the previous report first: a failed run must not leave one behind as if it were new.
     std::error_code ignored;
@@ -94,7 +120,8 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
       const auto paths = hairlut::output_paths(config);
       if (hairlut::outputs_up_to_date(config)) {
         source = (config.output.hdf5 ? paths.hdf5 : paths.exr).string();
-        set = hairlut::load_tables(source);
+        if (config.output.hdf5 && hairlut::hdf5_values_bytes(source).value_or(0) > budget) in_parts = source;
+        else set = hairlut::load_tables(source);
       } else {
         source = config_path + " (baked in memory; outputs missing or out of date)";
         hairlut::BakeOptions bo;
@@ -110,12 +137,12 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
       return report["summary"]["status"] == "pass" ? 0 : 1;
     } else {
       source = file;
-      set = hairlut::load_tables(file);
-      // The thresholds the tables were baked with travel in the config stored in the file.
-      if (set.metadata.contains("config") && set.metadata["config"].is_string()) {
-        const auto stored = nlohmann::json::parse(set.metadata["config"].get<std::string>(), nullptr, false);
-        if (stored.is_object() && stored.contains("validate") && stored["validate"].contains("thresholds"))
-          for (const auto& [k, v] : stored["validate"]["thresholds"].items()) options.thresholds.set(k, v.get<double>());
+      if (hairlut::hdf5_values_bytes(file).value_or(0) > budget) {
+        in_parts = file;
+        stored_thresholds(hairlut::read_hdf5_outline(file, false).metadata);
+      } else {
+        set = hairlut::load_tables(file);
+        stored_thresholds(set.metadata);
       }
     }
     for (const std::string& t : thresholds) {
@@ -151,7 +178,8 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
   hairlut::tools::Progress progress(!quiet && ::isatty(STDERR_FILENO));
   options.progress = [&progress](std::string_view stage, std::size_t done, std::size_t total) { progress.update(stage, done, total); };
   try {
-    const auto report = hairlut::validate_tables(set, source, options);
+    const auto report = in_parts.empty() ? hairlut::validate_tables(set, source, options)
+                                         : hairlut::validate_tables_in_parts(in_parts, source, budget, options);
     progress.stage("writing", out_dir + "/report.html, .json, .md");
     hairlut::write_report(report, out_dir);
     progress.finish();
@@ -164,6 +192,9 @@ line (one line "validate-hair-luts: error: ..." on stderr), 130/143/129 interrup
     std::fprintf(stderr, "\nvalidate-hair-luts: interrupted; no report written\n");
     return hairlut_tools::cancel_exit_code();
   } catch (const hairlut::DomainError& e) {
+    std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
+    return 2;
+  } catch (const hairlut::IoError& e) {  // a set validated in parts is read here, as it goes
     std::fprintf(stderr, "validate-hair-luts: error: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {

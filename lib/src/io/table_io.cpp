@@ -465,6 +465,43 @@ TableSet load_tables(const fs::path& file) {
   return set;
 }
 
+namespace {
+// What tells a file from its replacement: device, inode, size and modification time.
+std::string file_identity(const fs::path& file) {
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0) return "missing";
+  return std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino) + ":" + std::to_string(st.st_size) + ":" + std::to_string(st.st_mtim.tv_sec) +
+         "." + std::to_string(st.st_mtim.tv_nsec);
+}
+}  // namespace
+
+struct TableSetParts::Lock {
+  std::shared_ptr<void> held;  // a DirectoryLock (a type of this file alone)
+};
+
+TableSetParts::TableSetParts(const fs::path& file, std::size_t run_bytes, const Hdf5RunVisitor& visit)
+    : lock_(new Lock{std::make_shared<DirectoryLock>(file.parent_path(), false)}), file_(file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw IoError(file.string() + ": not a regular file");  // a FIFO would block the read
+  std::ifstream in(file, std::ios::binary);
+  char head[8] = {};
+  if (in) in.read(head, 8);
+  if (!in || std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) != 0) throw IoError(file.string() + ": only an HDF5 table file can be read in parts");
+  identity_ = file_identity(file);
+  outline_ = read_hdf5_outline(file, true, run_bytes, visit);
+  check_against_sidecar(file);
+  if (file_identity(file) != identity_) throw IoError(file.string() + ": changed while its checksum was verified");
+}
+
+TableSet TableSetParts::rows(const Hdf5Rows& rows) const {
+  if (file_identity(file_) != identity_) throw IoError(file_.string() + ": changed after its checksum was verified (read in parts)");
+  TableSet part = read_hdf5_rows(file_, rows);
+  if (file_identity(file_) != identity_) throw IoError(file_.string() + ": changed while a part of it was read");
+  return part;
+}
+
+TableSetParts::~TableSetParts() = default;
+
 TableSet load_table_file(const fs::path& file) {
   // A FIFO or a device would block or never end: only a regular file (or a link to one) is read.
   std::error_code ec;

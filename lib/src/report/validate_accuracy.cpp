@@ -57,6 +57,22 @@ double cell_centre(const GridAxis& a, int i) {
 
 constexpr std::size_t kDualScatteringPoints = 256;
 
+// The description of table t (no values) with its leading axis narrowed to the part's range: the
+// domain its points are drawn over. The range's ends are nodes of t's (narrowed) axis.
+Table part_domain(const Table& t, const ValidationPart& part) {
+  Table d;
+  d.group = t.group, d.name = t.name, d.quantity = t.quantity, d.units = t.units, d.long_name = t.long_name;
+  d.attributes = t.attributes, d.precision = t.precision, d.axes = t.axes;
+  const auto nodes = t.axes[0].nodes();
+  auto nearest = [&](double x) {
+    return static_cast<int>(std::min_element(nodes.begin(), nodes.end(), [&](double a, double b) { return std::abs(a - x) < std::abs(b - x); }) -
+                            nodes.begin());
+  };
+  const int i0 = nearest(part.lo), i1 = nearest(part.hi);
+  d.axes[0] = narrowed_axis(t.axes[0], i0, i1 - i0 + 1, t.path() + "." + part.axis);
+  return d;
+}
+
 }  // namespace
 
 json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
@@ -83,8 +99,13 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
     std::string kind = accuracy_kind(t);
     // A Fourier table is judged as N_p over the (β, σa, θd, φ) it defines, read through its evaluator.
     const bool fourier = is_fourier_table(t);
-    const Table domain = fourier ? fourier_domain_table(t) : Table();
-    const Table& d = fourier ? domain : t;
+    // A set validated in parts: its tables over the part's axis are measured over the part's cells
+    // alone (their rows reach one node beyond, for the taps); the others in part 0.
+    const ValidationPart* part = opt.part ? &*opt.part : nullptr;
+    const bool in_part = part && !fourier && !t.axes.empty() && t.group == part->group && t.axes[0].name == part->axis;
+    if (part && part->index > 0 && !in_part) continue;
+    const Table domain = fourier ? fourier_domain_table(t) : in_part ? part_domain(t, *part) : Table();
+    const Table& d = fourier || in_part ? domain : t;
     auto truth = kind.empty() ? std::nullopt : table_truth(d, model, rule);
     if (!truth && (truth = dual_scattering_truth(set, t, ds_memo))) kind = "ds";
     if (!truth) continue;
@@ -92,21 +113,26 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
     // Dual-scattering references are slow (adaptive θr integrals of half-range energies): at most
     // kDualScatteringPoints points, the same for every table of the groups (one evaluation each).
     so.points = std::max<std::size_t>(kind == "ds" ? std::min(opt.max_points, kDualScatteringPoints) : opt.max_points, 1);
+    if (in_part) so.points = std::max<std::size_t>(static_cast<std::size_t>(std::ceil(static_cast<double>(so.points) * part->share)), 1);
     // The run's seed mixed with the table's path (the dual-scattering tables share their points, one
     // reference evaluation each, so they share a seed).
     so.seed = sampled_error_seed(kind == "ds" ? "dual_scattering" : t.path()) ^ (opt.seed.value_or(0) * 0x9e3779b97f4a7c15ULL);
+    if (in_part) so.seed ^= static_cast<std::uint64_t>(part->index + 1) * 0xbf58476d1ce4e5b9ULL;  // each part its own points
     // The dual-scattering references are too slow for the search (adaptive integrals per point).
     so.search = opt.search && kind != "ds";
     so.threads = opt.threads;
-    so.half_float = !fourier;  // a Fourier table is HDF5 only (float32 or float64)
+    so.half_float = !fourier && !in_part;  // a Fourier table is HDF5 only (float32 or float64); a part is measured through a function
     so.keep_points = true;
     so.cancel = opt.cancel;
-    const SampledError r = fourier ? measure_sampled_error(d, fourier_point_function(t), *truth, so) : measure_sampled_error(set, t, *truth, so);
+    const SampledError r = fourier   ? measure_sampled_error(d, fourier_point_function(t), *truth, so)
+                           : in_part ? measure_sampled_error(d, [&](const std::vector<double>& x) { return set.sample_value(t, x); }, *truth, so)
+                                     : measure_sampled_error(set, t, *truth, so);
     check_cancel(opt);
     json tj = {{"path", t.path()}, {"quantity", t.quantity}, {"kind", kind}, {"denominator", r.denominator}, {"dims", json::array()}};
     for (const GridAxis& a : d.axes) tj["dims"].push_back(a.name);
     if (fourier) tj["representation"] = "fourier: N_p over (" + std::string(kind == "np" ? "beta, sigma_a, theta_d, phi" : "sigma_a, theta_d") + ") from the coefficients";
     if (t.attributes.contains("beta_band")) tj["beta_band"] = t.attributes["beta_band"];  // N_p in β bands (beta_bands.hpp)
+    if (in_part) tj["part"] = {{"index", part->index}, {"axis", part->axis}, {"range", {part->lo, part->hi}}};
     tj["off_node"] = error_stats(r.error);
     tj["off_node_half"] = error_stats(r.half);
     auto at_of = [&](const std::vector<double>& x) {

@@ -33,6 +33,8 @@ struct ModelInfo {
 
 
 ModelInfo model_from(const TableSet& set);
+/// Whether the values of t may be negative (the sanity check counts negatives elsewhere).
+bool may_be_negative(const Table& t);
 
 json check(const std::string& id, const std::string& title, bool pass, double value, double threshold, const std::string& comparison,
            const std::string& detail);

@@ -195,6 +195,34 @@ GridAxis channel_axis(std::vector<std::string> labels, std::string long_name) {
   return a;
 }
 
+GridAxis narrowed_axis(const GridAxis& a, int first, int count, const std::string& where) {
+  if (first < 0 || count < 1 || first > a.count - count)
+    throw DomainError(where + ": nodes " + std::to_string(first) + " to " + std::to_string(first + count - 1) + " are outside the axis's " +
+                      std::to_string(a.count));
+  if (count == 1 && a.count > 1) throw DomainError(where + ": a part of an axis needs two nodes at least");
+  if (a.wrap == Wrap::periodic) throw DomainError(where + ": a periodic axis cannot be narrowed");
+  if (!a.labels.empty()) throw DomainError(where + ": a labelled axis cannot be narrowed");
+  GridAxis n = a;
+  n.count = count;
+  if (first > 0) n.lo_end = End::extrapolate;  // a mirror holds about 0, which a later part does not start at
+  if (a.spacing == Spacing::explicit_values) {
+    n.values.assign(a.values.begin() + first, a.values.begin() + first + count);
+    n.lo = n.values.front(), n.hi = n.values.back();
+    return n;
+  }
+  const sampler::Axis v = a.view();
+  if (a.placement == Placement::edges) {
+    // The ends are nodes; the nodes between are recomputed from them (the same to rounding).
+    n.lo = sampler::node(v, first), n.hi = sampler::node(v, first + count - 1);
+  } else {
+    // Cell-centred nodes: the part's range is the edges of its cells.
+    const double t0 = sampler::mapped(a.spacing, a.lo), t1 = sampler::mapped(a.spacing, a.hi);
+    n.lo = first == 0 ? a.lo : sampler::unmapped(a.spacing, t0 + (t1 - t0) * first / a.count);
+    n.hi = first + count == a.count ? a.hi : sampler::unmapped(a.spacing, t0 + (t1 - t0) * (first + count) / a.count);
+  }
+  return n;
+}
+
 std::size_t grid_size(const std::vector<GridAxis>& axes) {
   std::size_t n = 1;
   for (const GridAxis& a : axes) {

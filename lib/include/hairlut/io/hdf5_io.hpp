@@ -12,6 +12,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -80,6 +81,33 @@ void write_hdf5_slabbed(const TableSet& set, const SlabbedTables& slabbed, const
 /// not hairlut tables, are truncated or corrupted, or lack metadata, with an IoError.
 TableSet read_hdf5(const std::filesystem::path& file);
 
+/// Reading a set larger than memory in parts (validate-hair-luts --memory-budget): the tables of
+/// `group` whose leading axis is named `axis` (the N_p tables of a generic set, over β) hold only
+/// that axis's rows [first, first + count), the axis narrowed to them (narrowed_axis); every other
+/// table is read whole.
+struct Hdf5Rows {
+  std::string group = "np", axis = "beta";
+  int first = 0, count = 0;
+};
+/// One run of a table's values as read_hdf5_outline streams them: `count` values from row-major
+/// index `offset`, as stored (f32 or f64 set, the other null).
+struct Hdf5Run {
+  const Table& table;
+  std::size_t offset, count;
+  const float* f32;
+  const double* f64;
+};
+using Hdf5RunVisitor = std::function<void(const Hdf5Run&)>;
+/// Every table's description and axes without values (size() == 0), after the screening read_hdf5
+/// does. With `verify`, every value is read in runs of leading-axis rows of at most `run_bytes`
+/// (one row at least), shown to `visit` and hashed: the content checksum is verified without the
+/// set in memory. Throws IoError.
+TableSet read_hdf5_outline(const std::filesystem::path& file, bool verify, std::size_t run_bytes = std::size_t{64} << 20,
+                           const Hdf5RunVisitor& visit = {});
+/// The set with the tables `rows` names read in part (the others whole), checked as read_hdf5
+/// checks a file except for the content checksum, which a part cannot show: read_hdf5_outline
+/// verifies it. Throws IoError, also for rows outside a table's axis.
+TableSet read_hdf5_rows(const std::filesystem::path& file, const Hdf5Rows& rows);
 /// The same from a file image in memory (`name` is used in error messages).
 TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name);
 

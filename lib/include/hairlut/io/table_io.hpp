@@ -11,6 +11,7 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -91,6 +92,32 @@ void remove_stale_temporaries(const std::filesystem::path& directory, const std:
 /// is waited for. Throws IoError.
 TableSet load_tables(const std::filesystem::path& file);
 
+/// A set's HDF5 file read in parts, for a set larger than memory (validate-hair-luts
+/// --memory-budget). While it lives it holds the directory's shared lock, so no bake commits there
+/// between two parts. On construction it checks the file as load_tables does (its sidecar's size
+/// and hash) and reads its outline (read_hdf5_outline): every table's description, and the content
+/// checksum verified by streaming the values in runs of at most `run_bytes`, shown to `visit`.
+/// Throws IoError (also for a file that is not HDF5).
+class TableSetParts {
+ public:
+  TableSetParts(const std::filesystem::path& file, std::size_t run_bytes, const Hdf5RunVisitor& visit = {});
+  ~TableSetParts();
+  TableSetParts(const TableSetParts&) = delete;
+  TableSetParts& operator=(const TableSetParts&) = delete;
+  /// Every table without values.
+  const TableSet& outline() const { return outline_; }
+  /// The set with the tables `rows` names read in part (read_hdf5_rows). Throws IoError when the
+  /// file is no longer the one whose checksum the outline verified (device, inode, size or
+  /// modification time changed).
+  TableSet rows(const Hdf5Rows& rows) const;
+
+ private:
+  struct Lock;
+  std::unique_ptr<Lock> lock_;
+  std::filesystem::path file_;
+  TableSet outline_;
+  std::string identity_;  // the file's device, inode, size and modification time when verified
+};
 /// The file alone, without the directory lock and the sidecar check. Throws IoError.
 TableSet load_table_file(const std::filesystem::path& file);
 

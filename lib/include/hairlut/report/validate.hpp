@@ -8,6 +8,7 @@
 #include <atomic>
 #include <functional>
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <nlohmann/json.hpp>
@@ -44,6 +45,17 @@ struct ValidationThresholds {
   nlohmann::ordered_json to_json() const;
 };
 
+/// One part of a set validated in parts (validate_tables_in_parts): the tables of `group` whose
+/// leading axis is `axis` hold only this part's rows, which reach one node beyond [lo, hi] where
+/// the axis goes on (the taps of cubic interpolation), and their accuracy is measured over [lo, hi].
+/// The other tables, and the checks of nothing but them, are judged in part 0 alone.
+struct ValidationPart {
+  std::string group = "np", axis = "beta";
+  double lo = 0.0, hi = 0.0;  ///< the range of the axis this part measures, between two of its nodes
+  double share = 1.0;         ///< this part's share of the axis's cells: of max_points, the points it draws
+  int index = 0, count = 1;   ///< which part, of how many
+};
+
 struct ValidationOptions {
   ValidationThresholds thresholds;
   std::size_t max_points = kSampledErrorPoints;  ///< random points per table
@@ -59,6 +71,7 @@ struct ValidationOptions {
   int threads = 0;                 ///< OpenMP threads for direct evaluation (0: all)
   std::function<void(std::string_view stage, std::size_t done, std::size_t total)> progress;
   const std::atomic<bool>* cancel = nullptr;
+  std::optional<ValidationPart> part;  ///< set by validate_tables_in_parts for each part
 };
 
 /// Runs every check that the table set supports and returns report.json's document:
@@ -66,5 +79,27 @@ struct ValidationOptions {
 /// figures of each section}. `source` names the validated file. Throws DomainError when the set
 /// is not a usable hairlut table set (missing metadata, lobes or axes), BakeCancelled on cancel.
 nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& source, const ValidationOptions& options = {});
+
+/// Memory a part's validation takes beside the tables it holds: the program and its libraries, the
+/// accuracy measure's points, search and heat maps (measured: 36 MiB of peak RSS beside a part of
+/// 36 MiB, at the default 40000 points with the search).
+inline constexpr std::uint64_t kValidationPartOverhead = std::uint64_t{64} << 20;
+
+/// The bytes of the values of every table an HDF5 file holds, from its tables' descriptions
+/// (no value is read); nullopt for a file that is not HDF5. Throws IoError.
+std::optional<std::uint64_t> hdf5_values_bytes(const std::filesystem::path& file);
+
+/// validate_tables for an HDF5 set larger than `memory_budget` bytes, held in parts. The file is
+/// checked as load_tables checks it (sidecar, content checksum: streamed) under the directory's
+/// shared lock. Every N_p table over β (the bulk of a generic set, as a slabbed bake writes it) is
+/// read in parts of consecutive β rows, with the other tables whole; each part is validated over
+/// its own β cells (ValidationPart) and the reports are merged: a check fails if it fails in any
+/// part, and its value is the worst of the parts' (for the 99th percentile of the N_p error, the
+/// largest of the parts', which bounds the whole set's from above). NaN, Inf and negative values
+/// are counted over the stream. The report's "parts" says how the set was split. Throws
+/// DomainError when no part fits the budget or the set has no N_p tables over β to split (or
+/// holds sampling data for them, which a set baked slab by slab does not), IoError, BakeCancelled.
+nlohmann::ordered_json validate_tables_in_parts(const std::filesystem::path& file, const std::string& source, std::uint64_t memory_budget,
+                                                const ValidationOptions& options = {});
 
 }  // namespace hairlut

@@ -66,6 +66,12 @@ void validate_interpolation(const std::vector<GridAxis>& axes, const std::string
 /// A channel axis of `labels.size()` entries (values 0, 1, 2, ...), e.g. {"R", "G", "B"}.
 GridAxis channel_axis(std::vector<std::string> labels, std::string long_name);
 
+/// Nodes first … first + count − 1 of a clamped axis as an axis of their own: the same spacing and
+/// interpolation over the part's range, whose nodes are a's to rounding (a part of a table read
+/// slab by slab). Throws DomainError naming `where` for nodes outside the axis, a periodic or a
+/// labelled axis.
+GridAxis narrowed_axis(const GridAxis& a, int first, int count, const std::string& where);
+
 /// Product of the axes' counts, checked against overflow and a limit of 2^40 entries.
 std::size_t grid_size(const std::vector<GridAxis>& axes);
 
