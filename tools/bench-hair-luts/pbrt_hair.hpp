@@ -15,37 +15,47 @@
 
 namespace bench {
 
-struct PbrtVec3 {
-  float x, y, z;
+/// Float is pbrt's Float: float by default, double in a build with PBRT_FLOAT_AS_DOUBLE (FastExp
+/// stays float there, as in pbrt).
+template <class Float>
+struct PbrtVec3T {
+  Float x, y, z;
 };
 
-class PbrtHair {
+template <class Float>
+class PbrtHairT {
  public:
   static constexpr int kPMax = 3, kSamples = 4;
-  using Spectrum = std::array<float, kSamples>;
+  using Spectrum = std::array<Float, kSamples>;
+  using Vec3 = PbrtVec3T<Float>;
   /// h ∈ [−1, 1] offset across the fiber, η, σa per spectral sample, β_m, β_n ∈ [0, 1], α in degrees.
-  PbrtHair(float h, float eta, const Spectrum& sigma_a, float beta_m, float beta_n, float alpha_deg);
+  PbrtHairT(Float h, Float eta, const Spectrum& sigma_a, Float beta_m, Float beta_n, Float alpha_deg);
   /// f(wo, wi) in pbrt's hair frame (x along the fiber), divided by |cos θ| of wi as there.
-  Spectrum f(PbrtVec3 wo, PbrtVec3 wi) const;
+  Spectrum f(Vec3 wo, Vec3 wi) const;
   /// Sample_f: the lobe by A_p at θo (uc, remapped for φ), θi by inverting M_p (u0, u1), φ by the
   /// trimmed logistic; the pdf summed over the lobes and f at the drawn direction, as there.
   struct Sampled {
-    PbrtVec3 wi;
+    Vec3 wi;
     Spectrum f;
-    float pdf;
+    Float pdf;
   };
-  Sampled sample_f(PbrtVec3 wo, float uc, float u0, float u1) const;
+  Sampled sample_f(Vec3 wo, Float uc, Float u0, Float u1) const;
   /// PDF(wo, wi), as there.
-  float pdf(PbrtVec3 wo, PbrtVec3 wi) const;
+  Float pdf(Vec3 wo, Vec3 wi) const;
 
  private:
-  float mixture_pdf(float sin_o, float cos_o, float sin_i, float cos_i, float phi, float gamma_o, float gamma_t,
-                    const std::array<float, kPMax + 1>& apdf) const;
-  float h_, eta_;
+  Float mixture_pdf(Float sin_o, Float cos_o, Float sin_i, Float cos_i, Float phi, Float gamma_o, Float gamma_t,
+                    const std::array<Float, kPMax + 1>& apdf) const;
+  Float h_, eta_;
   Spectrum sigma_a_;
-  float v_[kPMax + 1];
-  float s_;
-  float sin2k_[kPMax], cos2k_[kPMax];
+  Float v_[kPMax + 1];
+  Float s_;
+  Float sin2k_[kPMax], cos2k_[kPMax];
 };
+
+using PbrtVec3 = PbrtVec3T<float>;
+using PbrtHair = PbrtHairT<float>;
+extern template class PbrtHairT<float>;
+extern template class PbrtHairT<double>;
 
 }  // namespace bench

@@ -49,7 +49,7 @@ double beta_n_of(double b) { return kPiD / std::sqrt(3.0) * std::sqrt(kPiD / 8.0
 // pbrt's longitudinal deviations (R β_m, TT β_m / 2, TRT and beyond 2 β_m) with β_n; the default
 // tables' tilts. The axes are pinned to those of docs/bench/runtime.md's figures, so that a rerun
 // measures the same tables whatever resolution the shipped config settles on.
-hairlut::TableSet bake_material(const Settings& st, const double* sigma_a, double beta_m, double beta_n) {
+hairlut::TableSet bake_material(const Settings& st, const double* sigma_a, double beta_m, double beta_n, bool float64 = false) {
   std::ifstream in(st.source_dir + "/tables/configs/show-example.json");
   json j = json::parse(in);
   const double m = beta_m * 180.0 / kPiD, n = beta_n * 180.0 / kPiD;
@@ -65,6 +65,7 @@ hairlut::TableSet bake_material(const Settings& st, const double* sigma_a, doubl
                                      {"beta_n_deg", {{"R", n}, {"residual", n}}}});
   j["output"]["formats"] = {"hdf5"};
   j["output"]["directory"] = ".";
+  if (float64) j["output"]["hdf5"]["precision"] = "float64";
   hairlut::BakeOptions options;
   options.threads = 0;
   return hairlut::bake(hairlut::parse_config(j, "runtime-material.json", st.source_dir + "/tables/configs"), options);
@@ -89,7 +90,8 @@ struct Costs {
   double sample = 0.0, pdf = 0.0, eval = 0.0, point = 0.0;
 };
 // The four costs of one runtime at the points; pdf and eval at its own drawn directions.
-Costs time_runtime(const Runtime& rt, const hairlut::sampler::Fiber& fiber, const std::vector<Point>& pts, int repeats) {
+template <class R>
+Costs time_runtime(const R& rt, const hairlut::sampler::Fiber& fiber, const std::vector<Point>& pts, int repeats) {
   const std::size_t n = pts.size();
   std::vector<std::array<double, 3>> wi(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -154,6 +156,48 @@ json white_weights(const Runtime& rt, const hairlut::sampler::Fiber& white, cons
           {"weight_over_albedo_fraction_outside_1_percent", static_cast<double>(rout1) / c}};
 }
 
+// The four costs of pbrt-v4's HairBxDF in Float arithmetic at the points (offset h per point):
+// Sample_f, PDF and f at its own drawn directions, and its shading point (the constructor, Sample_f,
+// PDF and f of a light direction).
+template <class F>
+Costs time_pbrt(const std::vector<PbrtHairT<F>>& pbrt, const typename PbrtHairT<F>::Spectrum& sigma, const std::vector<Point>& pts, int hs) {
+  using Vec3 = PbrtVec3T<F>;
+  const std::size_t n = pts.size();
+  auto pwo = [&](const Point& p) { return Vec3{static_cast<F>(p.wo[0]), static_cast<F>(p.wo[1]), static_cast<F>(p.wo[2])}; };
+  auto draw = [&](const PbrtHairT<F>& h, const Point& p) { return h.sample_f(pwo(p), static_cast<F>(p.u[0]), static_cast<F>(p.u[1]), static_cast<F>(p.u[2])); };
+  std::vector<Vec3> pwi(n);
+  for (std::size_t i = 0; i < n; ++i) pwi[i] = draw(pbrt[static_cast<std::size_t>(pts[i].h)], pts[i]).wi;
+  volatile double sink = 0.0;
+  Costs c;
+  c.sample = best_ns(n, 1, [&] {
+    F acc = 0;
+    for (const Point& p : pts) acc += draw(pbrt[static_cast<std::size_t>(p.h)], p).pdf;
+    sink = acc;
+  });
+  c.pdf = best_ns(n, 1, [&] {
+    F acc = 0;
+    for (std::size_t i = 0; i < n; ++i) acc += pbrt[static_cast<std::size_t>(pts[i].h)].pdf(pwo(pts[i]), pwi[i]);
+    sink = acc;
+  });
+  c.eval = best_ns(n, 1, [&] {
+    F acc = 0;
+    for (std::size_t i = 0; i < n; ++i) acc += pbrt[static_cast<std::size_t>(pts[i].h)].f(pwo(pts[i]), pwi[i])[0];
+    sink = acc;
+  });
+  c.point = best_ns(n, 1, [&] {
+    F acc = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point& p = pts[i];
+      const PbrtHairT<F> h(-1.0f + (2.0f * static_cast<F>(p.h) + 1.0f) / static_cast<F>(hs), 1.55f, sigma, 0.3f, 0.3f, 2.0f);
+      acc += draw(h, p).pdf;
+      acc += h.pdf(pwo(p), pwi[(i + 1) % n]) + h.f(pwo(p), pwi[(i + 1) % n])[0];
+    }
+    sink = acc;
+  });
+  (void)sink;
+  return c;
+}
+
 }  // namespace
 
 json bench_runtime(const Settings& st) {
@@ -179,19 +223,22 @@ json bench_runtime(const Settings& st) {
   const hairlut::TableSet white_material = bake_material(st, zero, fiber.beta_m, fiber.beta_n);
   const Runtime rt_white = hairlut::hair_scattering<float>(white_material, "materials/pbrt");
 
+  // pbrt's Float is float, or double in a build with PBRT_FLOAT_AS_DOUBLE: the double runtime
+  // reads the same material's tables stored as float64.
+  const hairlut::TableSet material64 = bake_material(st, fiber.sigma_a, fiber.beta_m, fiber.beta_n, true);
+  const hairlut::sampler::HairScattering<double> rt_material64 = hairlut::hair_scattering<double>(material64, "materials/pbrt");
   const PbrtHair::Spectrum sigma = {static_cast<float>(sa.r), static_cast<float>(sa.g), static_cast<float>(sa.b), static_cast<float>((sa.r + sa.g + sa.b) / 3.0)};
+  const PbrtHairT<double>::Spectrum sigma64 = {sa.r, sa.g, sa.b, (sa.r + sa.g + sa.b) / 3.0};
   const int hs = 64;
   std::vector<PbrtHair> pbrt;
-  for (int i = 0; i < hs; ++i) pbrt.emplace_back(-1.0f + (2.0f * static_cast<float>(i) + 1.0f) / hs, 1.55f, sigma, 0.3f, 0.3f, 2.0f);
+  std::vector<PbrtHairT<double>> pbrt64;
+  for (int i = 0; i < hs; ++i) {
+    pbrt.emplace_back(-1.0f + (2.0f * static_cast<float>(i) + 1.0f) / hs, 1.55f, sigma, 0.3f, 0.3f, 2.0f);
+    pbrt64.emplace_back(-1.0f + (2.0f * static_cast<double>(i) + 1.0f) / hs, 1.55f, sigma64, 0.3f, 0.3f, 2.0f);
+  }
 
   const std::size_t n = st.quick ? 2000 : 20000;
   const auto pts = points(n, hs);
-  std::vector<PbrtVec3> pwi(n);
-  auto pwo = [&](const Point& p) { return PbrtVec3{static_cast<float>(p.wo[0]), static_cast<float>(p.wo[1]), static_cast<float>(p.wo[2])}; };
-  for (std::size_t i = 0; i < n; ++i) {
-    const Point& p = pts[i];
-    pwi[i] = pbrt[static_cast<std::size_t>(p.h)].sample_f(pwo(p), static_cast<float>(p.u[0]), static_cast<float>(p.u[1]), static_cast<float>(p.u[2])).wi;
-  }
   // Rounds of every measurement in turn (pbrt, generic, material), the best of each kept: a slow
   // spell of a shared machine then hits all three alike instead of one section.
   const int repeats = st.quick ? 2 : 5;
@@ -200,41 +247,14 @@ json bench_runtime(const Settings& st) {
     best.point = std::min(best.point, c.point);
   };
   const Costs none{1e300, 1e300, 1e300, 1e300};
-  Costs peer_best = none, gen = none, four = none, mat = none;
+  Costs peer_best = none, gen = none, four = none, mat = none, peer64 = none, mat64 = none;
   for (int round = 0; round < repeats; ++round) {
-    volatile double sink = 0.0;
-    Costs peer;
-    peer.sample = best_ns(n, 1, [&] {
-      float acc = 0.0f;
-      for (const Point& p : pts) acc += pbrt[static_cast<std::size_t>(p.h)].sample_f(pwo(p), static_cast<float>(p.u[0]), static_cast<float>(p.u[1]), static_cast<float>(p.u[2])).pdf;
-      sink = acc;
-    });
-    peer.pdf = best_ns(n, 1, [&] {
-      float acc = 0.0f;
-      for (std::size_t i = 0; i < n; ++i) acc += pbrt[static_cast<std::size_t>(pts[i].h)].pdf(pwo(pts[i]), pwi[i]);
-      sink = acc;
-    });
-    peer.eval = best_ns(n, 1, [&] {
-      float acc = 0.0f;
-      for (std::size_t i = 0; i < n; ++i) acc += pbrt[static_cast<std::size_t>(pts[i].h)].f(pwo(pts[i]), pwi[i])[0];
-      sink = acc;
-    });
-    // pbrt's shading point: its constructor, Sample_f, PDF and f on the same points.
-    peer.point = best_ns(n, 1, [&] {
-      float acc = 0.0f;
-      for (std::size_t i = 0; i < n; ++i) {
-        const Point& p = pts[i];
-        const PbrtHair h(-1.0f + (2.0f * static_cast<float>(p.h) + 1.0f) / hs, 1.55f, sigma, 0.3f, 0.3f, 2.0f);
-        acc += h.sample_f(pwo(p), static_cast<float>(p.u[0]), static_cast<float>(p.u[1]), static_cast<float>(p.u[2])).pdf;
-        acc += h.pdf(pwo(p), pwi[(i + 1) % n]) + h.f(pwo(p), pwi[(i + 1) % n])[0];
-      }
-      sink = acc;
-    });
-    (void)sink;
-    keep_best(peer_best, peer);
+    keep_best(peer_best, time_pbrt(pbrt, sigma, pts, hs));
     keep_best(gen, time_runtime(rt_generic, fiber, pts, 1));
     keep_best(four, time_runtime(rt_fourier, fiber, pts, 1));
     keep_best(mat, time_runtime(rt_material, fiber, pts, 1));
+    keep_best(peer64, time_pbrt(pbrt64, sigma64, pts, hs));
+    keep_best(mat64, time_runtime(rt_material64, fiber, pts, 1));
   }
   const Costs& peer = peer_best;
 
@@ -269,7 +289,8 @@ json bench_runtime(const Settings& st) {
                           "beta_m 0.3, beta_n 0.3, alpha 2 deg, eta 1.55, 4 spectral samples, 64 offsets h"},
                  {"fiber", "sigma_a of eumelanin 0.8 + pheomelanin 0.2 (RGB), beta_m " + fmt(fiber.beta_m * 180.0 / kPiD) + " deg, beta_n " + fmt(fiber.beta_n * 180.0 / kPiD) +
                                " deg (pbrt's 0.3 in hairlut's units)"},
-                 {"arithmetic", "hairlut: float tables, double arithmetic (the runtime has no float path); pbrt: float"},
+                 {"arithmetic", "hairlut: float tables, double arithmetic (the runtime has no float path); pbrt: float. Double: hairlut's material tables "
+                                "stored float64 (HairScattering<double>), pbrt in double (a PBRT_FLOAT_AS_DOUBLE build: FastExp stays float)"},
                  {"calls", n},
                  {"timing", "thread CPU time, best of " + std::to_string(repeats) + " rounds that time every call in turn; wo uniform on the sphere, u uniform; pdf and eval at each sampler's own drawn directions"},
                  {"prepare_generic_ms", prepare_generic_ms},
@@ -280,6 +301,8 @@ json bench_runtime(const Settings& st) {
                  {"hairlut_generic", costs_json(gen)},
                  {"hairlut_fourier", costs_json(four)},
                  {"hairlut_material", costs_json(mat)},
+                 {"pbrt_double", costs_json(peer64)},
+                 {"hairlut_material_double", costs_json(mat64)},
                  {"white_fiber_weights", weights}};
   std::ostringstream md, csv;
   md << "Machine: " << st.machine.value("cpu", std::string("?")) << ", load average " << load_average() << "; command: bench-hair-luts --only runtime --out "
@@ -303,6 +326,13 @@ json bench_runtime(const Settings& st) {
      << "Fiber: " << result["fiber"].get<std::string>() << "; generic and Fourier tables read at it per call (Fourier: "
      << result["fourier_tables"].get<std::string>() << "), material tables baked for it (" << result["material_tables"].get<std::string>() << ").\n"
      << "hairlut in double arithmetic over float tables, pbrt in float.\n\n"
+     << "Double precision: pbrt-v4 with Float = double (its PBRT_FLOAT_AS_DOUBLE build; FastExp stays float, as there) against the\n"
+     << "same material's tables stored as float64 (HairScattering<double>), in the same rounds:\n\n"
+     << "| call | pbrt-v4 (double) ns | material tables (float64) ns | material / pbrt | target |\n|---|---|---|---|---|\n"
+     << "| sample | " << fmt(peer64.sample) << " | " << fmt(mat64.sample) << " | " << fmt(mat64.sample / peer64.sample) << " | <= 1 |\n"
+     << "| pdf | " << fmt(peer64.pdf) << " | " << fmt(mat64.pdf) << " | " << fmt(mat64.pdf / peer64.pdf) << " | <= 1 |\n"
+     << "| eval | " << fmt(peer64.eval) << " | " << fmt(mat64.eval) << " | " << fmt(mat64.eval / peer64.eval) << " | <= 0.5 |\n"
+     << "| shading point | " << fmt(peer64.point) << " | " << fmt(mat64.point) << " | " << fmt(mat64.point / peer64.point) << " | |\n\n"
      << "Weights S / pdf of a white fiber (sigma_a = 0), tilted tables, at the same " << n << " points. Their mean at wo is the\n"
      << "albedo there, which the tilted model holds away from 1 near grazing (docs/conventions.md); weight / albedo(wo) is the sampling's own spread:\n\n"
      << wmd.str();

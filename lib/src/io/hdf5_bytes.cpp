@@ -130,16 +130,19 @@ void fix_superblock_checksum(std::span<char> image) {
   for (int i = 0; i < 4; ++i) b[n + static_cast<std::size_t>(i)] = static_cast<unsigned char>(sum >> (8 * i));
 }
 
-std::string global_heap_problem(const unsigned char* data, std::size_t size) {
+std::string global_heap_problem(const unsigned char* data, std::size_t size, const std::function<void(std::size_t)>& scanned) {
   // Candidates may overlap (a collection's bytes can spell "GCOL" again, every 4 bytes): the
   // records walked over all of them are bounded by a multiple of the file's size, so the scan
   // stays linear. A file HDF5 wrote walks each real collection once, its records at least 16
   // bytes long, well within the bound.
   std::uint64_t steps = 4 * static_cast<std::uint64_t>(size) + (std::uint64_t{1} << 16);
+  constexpr std::size_t kReport = std::size_t{64} << 20;
+  std::size_t reported = 0;
   for (std::size_t i = 0; i + 4 <= size; ++i) {
     const void* hit = std::memchr(data + i, 'G', size - i);
     if (!hit) break;
     i = static_cast<std::size_t>(static_cast<const unsigned char*>(hit) - data);
+    if (scanned && i >= reported + kReport) scanned(reported = i);  // the walk goes forward from i
     if (i + 4 <= size && std::memcmp(data + i, "GCOL", 4) == 0) {
       if (std::string why = walk_collection(data + i, size - i, i, steps); !why.empty()) return why;
       if (steps == 0) return "global heap collections overlap beyond any HDF5 file's (corrupted or hostile file)";
@@ -162,7 +165,15 @@ std::string global_heap_problem(const std::filesystem::path& file) {
   ::close(fd);
   if (map == MAP_FAILED) return "cannot map the file to screen it (" + std::string(std::strerror(errno)) + ")";
   ::madvise(map, size, MADV_SEQUENTIAL);
-  std::string why = global_heap_problem(static_cast<const unsigned char*>(map), size);
+  // The pages behind the scan leave this process (the page cache keeps them): the mapped file
+  // would otherwise count whole in its resident memory, a set larger than memory included.
+  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  std::size_t released = 0;
+  std::string why = global_heap_problem(static_cast<const unsigned char*>(map), size, [&](std::size_t below) {
+    const std::size_t upto = below / page * page;
+    ::madvise(static_cast<unsigned char*>(map) + released, upto - released, MADV_DONTNEED);
+    released = upto;
+  });
   ::munmap(map, size);
   return why;
 }

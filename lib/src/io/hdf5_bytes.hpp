@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -23,9 +24,11 @@
 namespace hairlut::detail {
 
 /// Empty when every global heap collection in the bytes is walkable, else a one-phrase reason.
-std::string global_heap_problem(const unsigned char* data, std::size_t size);
+/// `scanned`, when given, hears now and then that no byte below its argument will be read again.
+std::string global_heap_problem(const unsigned char* data, std::size_t size, const std::function<void(std::size_t)>& scanned = {});
 
-/// The same for a file, read in blocks (no copy of the whole file).
+/// The same for a file, mapped read-only, the pages behind the scan released as it goes (no copy,
+/// and a file larger than memory never resident whole).
 std::string global_heap_problem(const std::filesystem::path& file);
 
 /// HDF5 1.10's H5Fget_file_image clears the superblock's "open for writing" flags in the image but

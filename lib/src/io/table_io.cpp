@@ -495,7 +495,7 @@ TableSetParts::TableSetParts(const fs::path& file, std::size_t run_bytes, const 
 
 TableSet TableSetParts::rows(const Hdf5Rows& rows) const {
   if (file_identity(file_) != identity_) throw IoError(file_.string() + ": changed after its checksum was verified (read in parts)");
-  TableSet part = read_hdf5_rows(file_, rows);
+  TableSet part = read_hdf5_rows(file_, rows, true);
   if (file_identity(file_) != identity_) throw IoError(file_.string() + ": changed while a part of it was read");
   return part;
 }

@@ -106,8 +106,10 @@ TableSet read_hdf5_outline(const std::filesystem::path& file, bool verify, std::
                            const Hdf5RunVisitor& visit = {});
 /// The set with the tables `rows` names read in part (the others whole), checked as read_hdf5
 /// checks a file except for the content checksum, which a part cannot show: read_hdf5_outline
-/// verifies it. Throws IoError, also for rows outside a table's axis.
-TableSet read_hdf5_rows(const std::filesystem::path& file, const Hdf5Rows& rows);
+/// verifies it. Throws IoError, also for rows outside a table's axis. `screened`: the file is the
+/// one (same inode, size and time) whose global heap an outline read screened, which a caller
+/// holding its identity (TableSetParts) may skip: the screen reads the whole file.
+TableSet read_hdf5_rows(const std::filesystem::path& file, const Hdf5Rows& rows, bool screened = false);
 /// The same from a file image in memory (`name` is used in error messages).
 TableSet read_hdf5_memory(const char* data, std::size_t size, const std::string& name);
 
