@@ -62,7 +62,8 @@ inline double percentile(std::vector<double> v, double q) {
 template <class... Args>
 void log(bool quiet, const char* fmt, Args... args) {
   if (quiet) return;
-  std::fprintf(stderr, fmt, args...);
+  if constexpr (sizeof...(Args) == 0) std::fputs(fmt, stderr);  // a message without arguments is no format
+  else std::fprintf(stderr, fmt, args...);
   std::fflush(stderr);
 }
 
