@@ -106,8 +106,9 @@ TableSet read_open_file(const File& f, hid_t file_id, const ReadPlan& plan) {
   Handle root(quiet([&] { return H5Gopen2(file_id, "/", H5P_DEFAULT); }), H5Gclose);
   f.check(root.get(), "cannot open the root group");
   check_links(f, root.get());
-  // The values of all tables are held at once: their total is bounded by the stored bytes
-  // (kMaxCompressionRatio) and by the machine's memory before each table is allocated.
+  // The values read are held at once (every table, or a part of the large ones): what the tables
+  // claim is bounded by the stored bytes (kMaxCompressionRatio), and what is held by the machine's
+  // memory before each table is allocated.
   const std::uint64_t physical = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
   std::uint64_t total_raw = 0, total_stored = 0, total_held = 0;
 
