@@ -8,8 +8,9 @@ it), then validates it with --memory-budget 100 (MiB): the report must say it wa
 that tile the beta axis, judge the same checks as the whole set's validation, and the validator's
 peak resident memory (getrusage of the child) must stay within the budget, below the set's own
 size. The whole set's validation, for comparison, holds more than the set. A budget that cannot
-hold one part is refused with exit 2 and one line that says what a part needs. A value planted in
-the file without its checksum is refused in parts as it is whole.
+hold one part is refused with exit 2 and one line that says what a part needs, as is a set with
+sampling data for its N_p tables, which parts cannot split. A value planted in the file without
+its checksum is refused in parts as it is whole.
 """
 import json
 import os
@@ -83,6 +84,27 @@ lines = err.strip().splitlines()
 print("--memory-budget 70: exit %d, %s" % (rc, err.strip()))
 if rc != 2 or len(lines) != 1 or "--memory-budget" not in lines[0] or "at least" not in lines[0]:
     fail("a budget that holds no part: exit %d, %r" % (rc, err))
+
+# A set over the budget with stored sampling data for its N_p tables (which parts cannot split):
+# refused before it is read through, in one line that says what validating it whole needs.
+with_sampling = os.path.join(WORK, "sampling")
+with open(cfg) as f:
+    c = json.load(f)
+c["output"]["directory"] = with_sampling
+c["output"]["sampling_data"] = True
+c["tables"]["np"]["axes"]["sigma_a"]["count"] = 16
+sampling_cfg = os.path.join(WORK, "sampling.json")
+with open(sampling_cfg, "w") as f:
+    json.dump(c, f)
+rc, _, err, _ = child_peak.peak_mib_of([BAKE, "--config", sampling_cfg, "--quiet", "--threads", "2"], WORK)
+if rc != 0:
+    fail("bake with sampling data exit %d: %s" % (rc, err.strip()))
+else:
+    rc, _, err, _ = child_peak.peak_mib_of([VALIDATE, os.path.join(with_sampling, "big.h5"), "--out", os.path.join(WORK, "s"), "--memory-budget", "64"] + common, WORK)
+    print("sampling data, --memory-budget 64: exit %d, %s" % (rc, err.strip()))
+    lines = err.strip().splitlines()
+    if rc != 2 or len(lines) != 1 or "sampling data" not in lines[0] or "--memory-budget of" not in lines[0]:
+        fail("a set with sampling data over the budget: exit %d, %r" % (rc, err))
 
 # One float changed in the file (a value of np/TT, found by its bytes) with the checksum left as it
 # was: refused in parts, as the whole load refuses it. The tables are stored compressed, so the

@@ -148,6 +148,15 @@ nlohmann::ordered_json validate_tables_in_parts(const std::filesystem::path& fil
     }
     c.values += static_cast<long long>(run.count);
   };
+  // What cannot be split is refused before the file is read through.
+  const TableSet described = read_hdf5_outline(file, false);
+  std::uint64_t whole = kValidationPartOverhead;
+  for (const Table& t : described.tables) whole += values_bytes(t);
+  for (const Table& t : described.tables)
+    if (t.group.rfind("sampling/np", 0) == 0)
+      throw DomainError(file.string() + ": holds sampling data for its N_p tables (" + t.path() +
+                        "), which cannot be validated in parts (a set baked slab by slab has none); validated whole it needs a --memory-budget of " +
+                        std::to_string((whole >> 20) + 1) + " MiB");
   if (options.progress) options.progress("checksum", 0, 1);
   const TableSetParts parts(file, kRunBytes, count);
   detail::validation::check_cancel(options);
@@ -157,9 +166,6 @@ nlohmann::ordered_json validate_tables_in_parts(const std::filesystem::path& fil
   const GridAxis* beta = nullptr;
   std::uint64_t row_bytes = 0, rest_bytes = 0;
   for (const Table& t : outline.tables) {
-    if (t.group.rfind("sampling/np", 0) == 0)
-      throw DomainError(file.string() + ": holds sampling data for its N_p tables (" + t.path() +
-                        "), which cannot be validated in parts; a set baked slab by slab has none");
     if (!in_parts(t)) {
       rest_bytes += values_bytes(t);
       continue;
