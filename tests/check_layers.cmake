@@ -11,6 +11,9 @@
 #   bake     hairlut::bake     configs, the bakers, engine presets, the resolution planner, a config's outputs
 #   report   hairlut::report   validation, comparison, reports, plots, benchmark pieces
 #
+# A table kind's folder, lib/kinds/<kind>/, spans layers by file: <kind>_<layer>.cpp belongs to that
+# layer (bake or report; bake/table_kind.hpp), and a header there is private to the folder.
+#
 # Usage: cmake -DROOT=<a tree with lib/include/hairlut and lib/src> -P check_layers.cmake
 # Every header and source of the library must sit in a layer folder (hairlut.hpp, the umbrella
 # header, is the one exception); a file may include a hairlut header of its own layer or of a layer
@@ -27,7 +30,7 @@ set(include_root ${ROOT}/lib/include/hairlut)
 set(src_root ${ROOT}/lib/src)
 
 set(violations "")
-file(GLOB_RECURSE files RELATIVE ${ROOT}/lib ${include_root}/* ${src_root}/*)
+file(GLOB_RECURSE files RELATIVE ${ROOT}/lib ${include_root}/* ${src_root}/* ${ROOT}/lib/kinds/*)
 list(FILTER files INCLUDE REGEX "\\.(hpp|cpp|hpp\\.in)$")
 if(NOT files)
   message(FATAL_ERROR "no library files under ${ROOT}/lib")
@@ -36,11 +39,23 @@ foreach(f IN LISTS files)
   if(f STREQUAL "include/hairlut/hairlut.hpp")
     continue()
   endif()
-  if(NOT f MATCHES "^(include/hairlut|src)/([a-z_]+)/[^/]+$")
+  if(f MATCHES "^kinds/([a-z][a-z0-9_]*)/([^/]+)$")
+    set(kind ${CMAKE_MATCH_1})
+    set(name ${CMAKE_MATCH_2})
+    if(name MATCHES "\\.hpp$")
+      set(layer report)  # a kind's private header: its includes are checked against the highest layer
+    elseif(name MATCHES "^${kind}_(bake|report)\\.cpp$")
+      set(layer ${CMAKE_MATCH_1})
+    else()
+      list(APPEND violations "lib/${f}: a kind's source is <kind>_bake.cpp or <kind>_report.cpp")
+      continue()
+    endif()
+  elseif(NOT f MATCHES "^(include/hairlut|src)/([a-z_]+)/[^/]+$")
     list(APPEND violations "lib/${f}: not in a layer folder (${layer_order})")
     continue()
+  else()
+    set(layer ${CMAKE_MATCH_2})
   endif()
-  set(layer ${CMAKE_MATCH_2})
   list(FIND layers ${layer} rank)
   if(rank EQUAL -1)
     list(APPEND violations "lib/${f}: '${layer}' is not a layer (${layer_order})")

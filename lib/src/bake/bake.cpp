@@ -100,7 +100,7 @@ TableSet bake(const BakeConfig& c, const BakeOptions& opt, BakeReport* report_ou
     else if (generic_np) detail::bake_generic_np(run, np, set, report);           // N_p over (β, σa, θd, φ), energies, residual
     if (per_material) detail::bake_material_np(run, np, set, report);  // N_p over (channel, θd, φ) per material
     if (c.mp_axes) detail::bake_mp_tables(run, per_material, set, report);
-    detail::append_melanin_tables(c, precision, set, report);
+    for (const TableKindRequest& k : c.kinds) k.kind->bake(*k.settings, precision, set, report);  // lib/kinds/
     bake_dual_scattering_tables(c, opt, set, report);  // mean energy, dual scattering, engine presets
     if (c.output.sampling_data) append_sampling_tables(set, opt.threads, opt.progress);  // the importance sampler's data next to every N_p and M_p table
 

@@ -168,7 +168,8 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
       }
     }
   }
-  if (c.melanin_axes) t.table(mul(grid(*c.melanin_axes), 3), 2);  // RGB σa (d'Eon) and the spectral transmittance
+  for (const TableKindRequest& k : c.kinds)
+    for (const TableKindSize& s : k.kind->sizes(*k.settings)) t.table(s.values, s.tables);
   std::uint64_t curves = 0;  // the largest dual-scattering grid's curves (one group bakes at a time)
   if (c.dual_scattering) {
     t.table(grid(c.dual_scattering->axes), dual_scattering_tables(lobes) + mean_energy_tables(lobes));

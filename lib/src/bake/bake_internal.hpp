@@ -68,7 +68,4 @@ inline const GridAxis& axis_named(const std::vector<GridAxis>& axes, const std::
   throw DomainError("internal: no axis named " + name);
 }
 
-/// The melanin → RGB σa tables (d'Eon's cross-sections and the spectral model) of the config.
-void append_melanin_tables(const BakeConfig& c, Precision precision, TableSet& set, BakeReport& report);
-
 }  // namespace hairlut::detail

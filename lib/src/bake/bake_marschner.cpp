@@ -207,7 +207,7 @@ TableSet bake_marschner(const BakeConfig& c, const BakeOptions& opt, BakeReport*
     }
   }
 
-  detail::append_melanin_tables(c, precision, set, report);
+  for (const TableKindRequest& k : c.kinds) k.kind->bake(*k.settings, precision, set, report);  // lib/kinds/
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report.threads = opt.threads;
   set.metadata["notes"] = report.notes;

@@ -1,6 +1,7 @@
 // Internal: the stages bake() runs for a d'Eon 2011 config, in order (bake.cpp), each in the file of
-// its table kind: generic N_p (bake_np.cpp), per-material N_p (bake_material_np.cpp), M_p and
-// melanin (bake_mp.cpp); dual scattering and engine presets follow in bake_engine.cpp.
+// its table kind: generic N_p (bake_np.cpp), per-material N_p (bake_material_np.cpp), M_p
+// (bake_mp.cpp); then the kinds of lib/kinds/ (table_kind.hpp), and dual scattering and engine
+// presets in bake_engine.cpp.
 #pragma once
 
 #include <cstddef>

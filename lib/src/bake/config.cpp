@@ -12,16 +12,32 @@
 #include "hairlut/util/error.hpp"
 #include "hairlut/physics/hair_model.hpp"
 #include "hairlut/bake/json_schema.hpp"
-#include "hairlut/physics/melanin.hpp"
 #include "hairlut/util/version.hpp"
 #include "config_parse.hpp"
 
 namespace hairlut {
 namespace detail {
-extern const char* const config_schema_json;  // generated from schemas/hairlut-config.schema.json
+extern const char* const config_schema_json;  // lib/src/bake/config.schema.json, embedded by the build
 }
 
-const char* config_schema_text() { return detail::config_schema_json; }
+nlohmann::ordered_json config_schema() {
+  nlohmann::ordered_json s = nlohmann::ordered_json::parse(detail::config_schema_json);
+  nlohmann::ordered_json& tables = s.at("properties").at("tables").at("properties");
+  for (const TableKind* k : table_kinds()) {
+    if (tables.contains(k->name())) throw std::logic_error("table kind " + std::string(k->name()) + " is also in the config schema");
+    tables[std::string(k->name())] = nlohmann::ordered_json::parse(k->schema());
+  }
+  return s;
+}
+
+void config_error(const std::string& path, const std::string& reason) { detail::config_parse::fail(path, reason); }
+
+GridAxis config_value_axis(const nlohmann::json& j, const std::string& path, const std::string& name, double domain_lo, double domain_hi,
+                           const std::string& units, const std::string& long_name) {
+  return detail::config_parse::make_axis(j, path, name, false, domain_lo, domain_hi, units, long_name);
+}
+
+nlohmann::json config_axes_json(const std::vector<GridAxis>& axes) { return detail::config_parse::axes_json(axes); }
 
 std::string_view to_string(NpQuadratureConfig::Method method) {
   switch (method) {
@@ -88,7 +104,8 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
   const nlohmann::json tables = doc.value("tables", nlohmann::json::object());
   if (tables.contains("np")) parse_np_tables(doc, tables, c);
   if (tables.contains("mp")) parse_mp_tables(doc, tables, c);
-  if (tables.contains("melanin")) parse_melanin_tables(tables, c);
+  for (const TableKind* k : table_kinds())
+    if (const std::string name(k->name()); tables.contains(name)) c.kinds.push_back({k, k->parse(tables.at(name))});
 
   if (c.marschner)
     for (const char* key : {"dual_scattering", "engine"})
@@ -98,8 +115,11 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
   if (tables.contains("engine")) c.engine = parse_engine(tables.at("engine"), names);
 
   if (doc.contains("scene")) parse_scene(doc, c);
-  if (!c.np_axes && !c.np_fourier && !c.mp_axes && !c.melanin_axes && !c.dual_scattering && !c.engine)
-    fail("tables", "must ask for at least one table (np, mp, melanin, dual_scattering or engine)");
+  if (!c.np_axes && !c.np_fourier && !c.mp_axes && c.kinds.empty() && !c.dual_scattering && !c.engine) {
+    std::string known = "np, mp, dual_scattering, engine";
+    for (const TableKind* k : table_kinds()) known += ", " + std::string(k->name());
+    fail("tables", "must ask for at least one table (" + known + ")");
+  }
 
   if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", nlohmann::json::object());
   // A bake for a target error is judged by that target unless the config says otherwise: the
@@ -166,7 +186,7 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
     if (!c.np_beta_bands.empty()) t["np"]["beta_bands"] = beta_bands_json(c.np_beta_bands);
   }
   if (c.mp_axes) t["mp"] = {{"axes", axes_json(*c.mp_axes)}};
-  if (c.melanin_axes) t["melanin"] = {{"axes", axes_json(*c.melanin_axes)}, {"path_length", c.melanin_path_length}};
+  for (const TableKindRequest& k : c.kinds) t[std::string(k.kind->name())] = k.kind->normalized(*k.settings);
   if (c.dual_scattering) t["dual_scattering"] = dual_scattering_json(*c.dual_scattering);
   if (c.engine) t["engine"] = engine_json(*c.engine);
   n["tables"] = t;
@@ -246,7 +266,7 @@ MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, Absorpt
 
 BakeConfig parse_config(const nlohmann::json& document, const std::string& source, const std::filesystem::path& base_dir) {
   static_assert(sizeof(char) == 1);
-  const JsonSchema schema(nlohmann::json::parse(config_schema_text()));
+  const JsonSchema schema(config_schema());
   const auto violations = schema.validate(document, 1);
   if (!violations.empty()) throw ConfigError(source + ": " + violations.front().message);
   try {

@@ -1,6 +1,6 @@
 // Internal: the config parser's pieces, shared by its files: config.cpp (the document: fiber, lobes,
 // quadrature, output, the normalized form), config_axes.cpp (axes and per-lobe values) and
-// config_tables.cpp (each table kind: np, mp, melanin, dual_scattering, engine, marschner, scene).
+// config_tables.cpp (np, mp, dual_scattering, engine, marschner, scene; the kinds of lib/kinds/ parse their own).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -48,7 +48,6 @@ nlohmann::json axes_json(const std::vector<GridAxis>& axes);
 // Table kinds: each reads its part of the document into c (doc: the whole document, tables: its "tables").
 void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
 void parse_mp_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
-void parse_melanin_tables(const nlohmann::json& tables, BakeConfig& c);
 void parse_scene(const nlohmann::json& doc, BakeConfig& c);
 MarschnerConfig parse_marschner(const nlohmann::json& doc, const nlohmann::json& lobes, const BakeConfig& c);
 DualScatteringTablesConfig parse_dual_scattering(const nlohmann::json& j, int lobe_count, bool residual);

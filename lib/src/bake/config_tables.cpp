@@ -1,4 +1,4 @@
-// The config's table kinds (config_parse.hpp): tables.np, tables.mp, tables.melanin, the scene's
+// The config's table kinds (config_parse.hpp): tables.np, tables.mp, the scene's
 // materials, model marschner2003's settings, tables.dual_scattering and tables.engine.
 #include <array>
 #include <cmath>
@@ -175,20 +175,6 @@ void parse_mp_tables(const nlohmann::json& doc, const nlohmann::json& tables, Ba
       make_axis(ax.at("theta_r"), p + "theta_r", "theta_r", true, -kHalfPi, kHalfPi, "rad", "exit inclination theta_r")};
   checked([&] { validate_interpolation(*c.mp_axes, "tables.mp"); });
 }
-
-void parse_melanin_tables(const nlohmann::json& tables, BakeConfig& c) {
-  const nlohmann::json& m = tables.at("melanin");
-  const std::string p = "tables.melanin.axes.";
-  c.melanin_axes = std::vector<GridAxis>{
-      make_axis(m.at("axes").at("eumelanin"), p + "eumelanin", "eumelanin", false, 0.0, 100.0, "1",
-                "eumelanin concentration (d'Eon 2011 / pbrt units)"),
-      make_axis(m.at("axes").at("pheomelanin"), p + "pheomelanin", "pheomelanin", false, 0.0, 100.0, "1",
-                "pheomelanin concentration (d'Eon 2011 / pbrt units)")};
-  // [0.001, 1000] by the schema: outside it the spectral fit's cross sections overflow (a file
-  // its loader refuses) or every transmittance rounds to 0 or 1.
-  c.melanin_path_length = get_number(m, "path_length", 2.0);
-}
-
 
 void parse_scene(const nlohmann::json& doc, BakeConfig& c) {
   const nlohmann::json& s = doc.at("scene");

@@ -9,14 +9,12 @@
 #include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
-#include "hairlut/physics/melanin.hpp"
 
 namespace hairlut {
 namespace {
 
 constexpr double kWhiteFloor = 1e-3;      // a lobe absorbed below this fraction of its white value no longer counts
 constexpr double kEnergyFloor = 1e-6;      // absolute floor of an energy or N_p value (dimensionless, 1/rad)
-constexpr double kMelaninFloor = 1e-2;     // absolute floor of σa (1/radius): exp(−2·0.01) ≈ 0.98 per diameter
 
 const char* kNpWords = "peak over all phi of the exact N_p of the same (beta, sigma_a, theta_d) slice, floored at 1e-3 x that peak of "
                        "the white fiber (sigma_a = 0) at the same (beta, theta_d)";
@@ -273,51 +271,8 @@ std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, st
     tr.sweep_cells = true;
     return tr;
   }
-  if (t.quantity == "sigma_a" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
-    TableTruth tr;
-    tr.absolute_floor = kMelaninFloor;
-    tr.denominator = "the exact sigma_a itself (relative error), floored at 0.01 per radius";
-    if (t.name == "sigma_a_deon") {
-      tr.make = [](const std::vector<double>&) {
-        return PointFunction([](const std::vector<double>& y) {
-          const Rgb s = melanin_sigma_a_rgb(y[0], y[1]);
-          const double c[3] = {s.r, s.g, s.b};
-          return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
-        });
-      };
-      return tr;
-    }
-    SpectralMelanin::Options so;
-    so.path_length = t.attributes.value("path_length", 2.0);
-    so.spectral_scale = t.attributes.value("spectral_scale", 0.0);
-    auto model = std::make_shared<SpectralMelanin>(SpectralMelanin::builtin(so));
-    tr.make = [model](const std::vector<double>&) {
-      return PointFunction([model](const std::vector<double>& y) {
-        const Rgb s = model->sigma_a_rgb(y[0], y[1]);
-        const double c[3] = {s.r, s.g, s.b};
-        return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
-      });
-    };
-    return tr;
-  }
-  if (t.quantity == "transmittance" && dims == std::vector<std::string>{"eumelanin", "pheomelanin", "channel"}) {
-    TableTruth tr;
-    tr.absolute_floor = 1e-3;
-    tr.denominator = "the exact transmittance itself (relative error), floored at 1e-3 (darker than 1e-3 over the path reads as black)";
-    SpectralMelanin::Options so;
-    so.path_length = t.attributes.value("path_length", 2.0);
-    so.spectral_scale = t.attributes.value("spectral_scale", 0.0);
-    auto model = std::make_shared<SpectralMelanin>(SpectralMelanin::builtin(so));
-    const double length = so.path_length;
-    tr.make = [model, length](const std::vector<double>&) {
-      return PointFunction([model, length](const std::vector<double>& y) {
-        const Rgb s = model->transmittance_unclamped(y[0], y[1], length);
-        const double c[3] = {s.r, s.g, s.b};
-        return c[std::clamp<long>(std::lround(y[2]), 0, 2)];
-      });
-    };
-    return tr;
-  }
+  for (const TableKind* k : table_kinds())
+    if (std::optional<TableTruth> tr = k->truth(t)) return tr;
   return std::nullopt;
 }
 

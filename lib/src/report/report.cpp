@@ -10,6 +10,7 @@
 #include "hairlut/report/compare.hpp"
 #include "hairlut/io/hdf5_io.hpp"  // IoError
 #include "hairlut/report/svg_plot.hpp"
+#include "hairlut/report/table_kind_report.hpp"
 #include "validate_sections.hpp"
 
 namespace hairlut {
@@ -29,12 +30,6 @@ std::string fmt(const json& v) {
 }
 
 std::vector<double> vec(const json& j) { return j.get<std::vector<double>>(); }
-
-std::string triple(const json& j) {
-  std::string s = "(";
-  for (std::size_t i = 0; i < j.size(); ++i) s += (i ? ", " : "") + fmt(j[i]);
-  return s + ")";
-}
 
 // One colour per lobe name, the same in every plot.
 std::string lobe_colour(const std::string& key) {
@@ -310,23 +305,8 @@ std::string render_report_html(const json& r) {
     }
     o << "</div>\n";
   }
-  for (const json& mel : ab["melanin"]) {
-    std::vector<svg::Swatch> sw;
-    std::vector<std::string> rows, cols;
-    double last_e = -1;
-    for (const json& x : mel["swatches"]) {
-      const auto rgb = vec(x["rgb"]);
-      sw.push_back({rgb[0], rgb[1], rgb[2], "eumelanin " + fmt(x["eumelanin"]) + ", pheomelanin " + fmt(x["pheomelanin"])});
-      if (x["eumelanin"].get<double>() != last_e) rows.push_back(fmt(x["eumelanin"])), last_e = x["eumelanin"].get<double>();
-      if (rows.size() == 1) cols.push_back(fmt(x["pheomelanin"]));
-    }
-    o << "<h2>Melanin: fiber colour (" << escape(mel["table"].get<std::string>()) << ")</h2><p>Transmittance through one fiber diameter, exp(&minus;2 "
-      << "&sigma;<sub>a</sub>), per concentration.";
-    if (mel["attributes"].contains("fitted_eumelanin_cross_section"))
-      o << " Fitted RGB cross-sections: eumelanin " << triple(mel["attributes"]["fitted_eumelanin_cross_section"]) << ", pheomelanin "
-        << triple(mel["attributes"]["fitted_pheomelanin_cross_section"]) << " (d'Eon: (0.419, 0.697, 1.37), (0.187, 0.4, 1.05)).";
-    o << "</p>\n" << svg::swatch_grid(mel["table"].get<std::string>(), sw, static_cast<int>(cols.size()), rows, cols, "eumelanin", "pheomelanin") << "\n";
-  }
+  for (const TableKindReport* k : table_kind_reports())  // lib/kinds/
+    if (r.contains(k->name())) o << k->html(r[std::string(k->name())]);
   o << detail::render_dual_scattering_html(r);
   o << "<h2>Thresholds</h2><p><code>" << escape(r["thresholds"].dump()) << "</code></p>\n";
   return html_page("hairlut validation: " + r["source"].get<std::string>(), o.str());

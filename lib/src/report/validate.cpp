@@ -27,10 +27,10 @@
 #include "hairlut/physics/lobe_energy.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/marschner.hpp"
-#include "hairlut/physics/melanin.hpp"
 #include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/bake/table_truth.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
+#include "hairlut/report/table_kind_report.hpp"
 #include "validate_sections.hpp"
 namespace hairlut {
 
@@ -62,6 +62,12 @@ void ValidationThresholds::set(const std::string& name, double value) {
   }
   require_positive("threshold " + name, value);
   this->*(it->second) = value;
+}
+
+double ValidationThresholds::get(const std::string& name) const {
+  const auto it = fields().find(name);
+  if (it == fields().end()) throw DomainError("threshold " + name + " is unknown");
+  return this->*(it->second);
 }
 
 nlohmann::ordered_json ValidationThresholds::to_json() const {
@@ -319,6 +325,8 @@ nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& s
   report["accuracy"] = accuracy_section(set, info, opt, checks);
   report["absorption"] = absorption_section(set, info, opt, checks);
   if (rest) {
+    for (const TableKindReport* k : table_kind_reports())  // lib/kinds/
+      if (json s = k->section(set); !s.is_null()) report[std::string(k->name())] = std::move(s);
     report["sampling_data"] = sampling_data_section(set, checks);
     report["dual_scattering"] = detail::dual_scattering_section(set, opt, checks);
   }

@@ -11,6 +11,7 @@
 
 #include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/bake/table_truth.hpp"
+#include "hairlut/report/table_kind_report.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
 #include "hairlut/util/error.hpp"
 #include "validate_sections.hpp"
@@ -23,12 +24,13 @@ namespace {
 
 // The kind of a table for the per-kind checks: "np" (the N_p tables of the lobes, also per
 // material), "energy" (energies, and the residual's N_p: its energy / 2π, uniform in φ and β),
-// "mp", "melanin", or "" (no check).
+// "mp", the name of a kind of lib/kinds/ that owns it, or "" (no check).
 std::string accuracy_kind(const Table& t) {
   if (t.quantity == "N_p" || is_fourier_table(t)) return t.attributes.value("lobe", std::string()) == "residual" ? "energy" : "np";
   if (t.quantity == "energy") return "energy";
   if (t.quantity == "M_p") return "mp";
-  if (t.quantity == "sigma_a" || t.quantity == "transmittance") return "melanin";
+  for (const TableKindReport* k : table_kind_reports())
+    if (k->owns(t)) return std::string(k->name());
   return "";
 }
 
@@ -197,12 +199,13 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
     checks.push_back(check("accuracy_p99_rel", "N_p tables: 99th percentile of the error at the random points", worst_p99["np"].value <= th.accuracy_p99_rel,
                            worst_p99["np"].value, th.accuracy_p99_rel, "<=", worst_p99["np"].where));
   }
-  const std::tuple<const char*, const char*, const char*, double> kinds[] = {
+  std::vector<std::tuple<std::string, std::string, std::string, double>> kinds = {
       {"energy", "accuracy_energy_max_rel", "Energy tables and the residual's N_p: worst relative error found (random points, then the search)",
        th.accuracy_energy_max_rel},
-      {"mp", "accuracy_mp_max_rel", "M_p tables: worst error found (random points, then the search), relative to the peak over theta_r", th.accuracy_mp_max_rel},
-      {"melanin", "accuracy_melanin_max_rel", "Melanin tables (sigma_a, spectral transmittance): worst relative error found (random points, then the search)", th.accuracy_melanin_max_rel},
-      {"ds", "accuracy_ds_max_rel", "Dual-scattering and mean-energy tables: worst relative error at random points", th.accuracy_ds_max_rel}};
+      {"mp", "accuracy_mp_max_rel", "M_p tables: worst error found (random points, then the search), relative to the peak over theta_r", th.accuracy_mp_max_rel}};
+  for (const TableKindReport* k : table_kind_reports())
+    kinds.emplace_back(k->name(), k->accuracy_check(), k->accuracy_title(), th.get(std::string(k->accuracy_check())));
+  kinds.emplace_back("ds", "accuracy_ds_max_rel", "Dual-scattering and mean-energy tables: worst relative error at random points", th.accuracy_ds_max_rel);
   for (const auto& [kind, id, title, threshold] : kinds)
     if (worst_max[kind].any)
       checks.push_back(check(id, title, worst_max[kind].value <= threshold, worst_max[kind].value, threshold, "<=", worst_max[kind].where + words(kind)));

@@ -1,6 +1,6 @@
 // The validator's energy sections: the white furnace (direct and through the tables), the truncation
 // of the explicit lobes, Marschner 2003's E(θi), the M_p tables' normalisation, and absorption
-// (∫ N_table dφ against the energy tables, energies against σa and θd, melanin swatches).
+// (∫ N_table dφ against the energy tables, energies against σa and θd).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,7 +15,6 @@
 #include "hairlut/physics/lobe_energy.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/marschner.hpp"
-#include "hairlut/physics/melanin.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/error.hpp"
@@ -374,7 +373,7 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
   return out;
 }
 
-// ∫ N_table dφ against the energy table, and energies against σa and θd, melanin swatches.
+// ∫ N_table dφ against the energy table, and energies against σa and θd.
 json absorption_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
   json out;
   json energies = json::array();
@@ -413,25 +412,6 @@ json absorption_section(const TableSet& set, const ModelInfo& info, const Valida
   if (!energies.empty())
     checks.push_back(check("energy_consistency", "int N_table dphi against the lobe energy tables (relative to the largest energy)",
                            worst <= opt.thresholds.energy_consistency, worst, opt.thresholds.energy_consistency, "<=", where.empty() ? "-" : where));
-  // Melanin swatches: the colour of light through one fiber diameter, exp(−2 σa), per concentration.
-  json swatches = json::array();
-  for (const char* name : {"melanin/sigma_a_deon", "melanin/transmittance_spectral"}) {
-    const Table* m = set.find(name);
-    if (!m || m->axes.size() != 3) continue;
-    const auto ce = m->axes[0].nodes(), cp = m->axes[1].nodes();
-    // The colour through one diameter: exp(−2 σa), or the tabulated transmittance over its path
-    // (2 radii by default), clamped to [0, 1] out of gamut.
-    const bool transmittance = m->quantity == "transmittance";
-    auto colour = [&](std::size_t o) { return transmittance ? std::clamp(m->get(o), 0.0, 1.0) : std::exp(-2.0 * m->get(o)); };
-    json rows = json::array();
-    for (std::size_t i = 0; i < ce.size(); ++i)
-      for (std::size_t j = 0; j < cp.size(); ++j) {
-        const std::size_t o = (i * cp.size() + j) * 3;
-        rows.push_back({{"eumelanin", ce[i]}, {"pheomelanin", cp[j]}, {"rgb", {colour(o), colour(o + 1), colour(o + 2)}}});
-      }
-    swatches.push_back({{"table", name}, {"swatches", rows}, {"attributes", m->attributes}});
-  }
-  out["melanin"] = swatches;
   return out;
 }
 

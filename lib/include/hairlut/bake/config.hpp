@@ -20,6 +20,7 @@
 #include "hairlut/util/hash.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/marschner.hpp"
+#include "hairlut/bake/table_kind.hpp"
 
 namespace hairlut {
 
@@ -136,8 +137,9 @@ struct BakeConfig {
   /// tables.np.beta_bands (beta_bands.hpp): N_p per β band; band 0's axes are np_axes.
   std::vector<BetaBand> np_beta_bands;
   std::optional<std::vector<GridAxis>> mp_axes;       ///< beta (β_R for marschner2003), theta_i, theta_r
-  std::optional<std::vector<GridAxis>> melanin_axes;  ///< eumelanin, pheomelanin
-  double melanin_path_length = 2.0;
+  /// The table kinds of lib/kinds/ that the config asks for (table_kind.hpp: tables.melanin), in
+  /// the order of table_kinds().
+  std::vector<TableKindRequest> kinds;
   std::optional<SceneConfig> scene;
   std::optional<DualScatteringTablesConfig> dual_scattering;  ///< tables.dual_scattering
   std::optional<EngineConfig> engine;                         ///< tables.engine (export presets)
@@ -164,7 +166,9 @@ MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, Absorpt
 /// Reads, parses and validates a config file (JSON syntax errors report line and column).
 BakeConfig load_config(const std::filesystem::path& file);
 
-/// The embedded text of schemas/hairlut-config.schema.json.
-const char* config_schema_text();
+/// The config schema: the library's own (lib/src/bake/config.schema.json) with each table kind's
+/// fragment (table_kind.hpp) under properties.tables.properties.<kind>. schemas/hairlut-config.schema.json
+/// publishes it (a test keeps the two equal).
+nlohmann::ordered_json config_schema();
 
 }  // namespace hairlut

@@ -1,7 +1,7 @@
 // Direct evaluation of what a baked table approximates: the reference against which the
 // validator and the sampled-error measure judge a table, by table kind (d'Eon N_p, residual and
-// energies, M_p, melanin σa, Marschner 2003 N_p, energies and M_p). Independent of the baker's
-// algorithms where it matters: N_p by Gauss–Legendre of order 1024 in γ (the adaptive reference
+// energies, M_p, Marschner 2003 N_p, energies and M_p; each kind of lib/kinds/ gives its own).
+// Independent of the baker's algorithms where it matters: N_p by Gauss–Legendre of order 1024 in γ (the adaptive reference
 // below β = 1°), energies by the adaptive lobe-energy reference at 1e−13.
 #pragma once
 

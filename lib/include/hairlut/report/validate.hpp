@@ -42,6 +42,8 @@ struct ValidationThresholds {
   static const std::map<std::string, double ValidationThresholds::*>& fields();
   /// Sets one threshold by name; throws DomainError naming the key when unknown or not > 0.
   void set(const std::string& name, double value);
+  /// One threshold by name; throws DomainError naming the key when unknown.
+  double get(const std::string& name) const;
   nlohmann::ordered_json to_json() const;
 };
 
