@@ -252,39 +252,11 @@ double pdf_tolerance(const HairScattering<float>& rt, const MaterialSampling& m,
   return kK * kU * (pdf * (q > 0.0 ? (qa + kPi * dq) / q : 1.0) + kPi * slope) + kK * kTiny;
 }
 
-struct Args {
-  std::string tables, spirv, out, device;
-  std::size_t points = 20000;
-};
-
-Args parse(int argc, char** argv) {
-  Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    if (i + 1 >= argc) throw std::invalid_argument(k + ": needs a value");
-    const std::string v = argv[++i];
-    if (k == "--tables") a.tables = v;
-    else if (k == "--spirv") a.spirv = v;
-    else if (k == "--out") a.out = v;
-    else if (k == "--device") a.device = v;
-    else if (k == "--points") {
-      char* end = nullptr;
-      const long n = std::strtol(v.c_str(), &end, 10);
-      if (*end || n < 8 || n > 10000000) throw std::invalid_argument("--points: an integer from 8 to 10000000 (got " + v + ")");
-      a.points = static_cast<std::size_t>(n);
-    } else {
-      throw std::invalid_argument("unknown option " + k);
-    }
-  }
-  if (a.tables.empty() || a.spirv.empty() || a.out.empty()) throw std::invalid_argument("--tables, --spirv and --out are required");
-  return a;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
-  Args args;
+  gpu_test::Args args;
   hairlut::TableSet set;
   std::vector<std::string> groups;
   std::vector<HairScattering<float>> rts;
@@ -292,7 +264,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::vector<std::uint32_t>> spirv;
   std::vector<MaterialSampling> sampling;
   try {
-    args = parse(argc, argv);
+    args = gpu_test::parse_args(argc, argv, 20000);
     for (const char* name : {"explicit", "hardware", "explicit-8bit", "explicit-builtin-trig"})
       spirv[name] = gpu_test::read_spirv(args.spirv + "/eval_material-" + name + ".spv");
     spirv["sample"] = gpu_test::read_spirv(args.spirv + "/sample_material-explicit.spv");

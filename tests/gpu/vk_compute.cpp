@@ -1,5 +1,6 @@
 #include "vk_compute.hpp"
 
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
@@ -279,6 +280,30 @@ std::vector<std::uint32_t> read_spirv(const std::string& path) {
   f.read(reinterpret_cast<char*>(words.data()), n);
   if (words[0] != 0x07230203u) throw std::runtime_error(path + ": not a SPIR-V module (bad magic number)");
   return words;
+}
+
+Args parse_args(int argc, char** argv, std::size_t points) {
+  Args a;
+  a.points = points;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (i + 1 >= argc) throw std::invalid_argument(k + ": needs a value");
+    const std::string v = argv[++i];
+    if (k == "--tables") a.tables = v;
+    else if (k == "--spirv") a.spirv = v;
+    else if (k == "--out") a.out = v;
+    else if (k == "--device") a.device = v;
+    else if (k == "--points") {
+      char* end = nullptr;
+      const long n = std::strtol(v.c_str(), &end, 10);
+      if (*end || n < 8 || n > 10000000) throw std::invalid_argument("--points: an integer from 8 to 10000000 (got " + v + ")");
+      a.points = static_cast<std::size_t>(n);
+    } else {
+      throw std::invalid_argument("unknown option " + k);
+    }
+  }
+  if (a.tables.empty() || a.spirv.empty() || a.out.empty()) throw std::invalid_argument("--tables, --spirv and --out are required");
+  return a;
 }
 
 }  // namespace gpu_test

@@ -86,4 +86,12 @@ class Vk {
 /// The SPIR-V words of a .spv file; throws std::runtime_error naming the file.
 std::vector<std::uint32_t> read_spirv(const std::string& path);
 
+/// The GPU tests' options: --tables FILE --spirv DIR --out DIR [--points N] [--device NAME].
+struct Args {
+  std::string tables, spirv, out, device;
+  std::size_t points = 0;
+};
+/// Parses them (points: `points` unless given, 8 to 10⁷); throws std::invalid_argument naming the option.
+Args parse_args(int argc, char** argv, std::size_t points);
+
 }  // namespace gpu_test

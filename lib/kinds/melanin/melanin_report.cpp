@@ -1,5 +1,5 @@
 // The validator's section of the melanin tables: their accuracy check (against melanin_bake.cpp's
-// references) and colour swatches of the light through one fibre per concentration.
+// references) and colour swatches of the light through one fiber per concentration.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,7 +33,7 @@ class Report final : public TableKindReport {
     return "Melanin tables (sigma_a, spectral transmittance): worst relative error found (random points, then the search)";
   }
 
-  // The colour of light through one fibre diameter per concentration: exp(−2 σa), or the
+  // The colour of light through one fiber diameter per concentration: exp(−2 σa), or the
   // tabulated transmittance over its path (2 radii by default) clamped to [0, 1] out of gamut.
   json section(const TableSet& set) const override {
     json swatches = json::array();

@@ -224,6 +224,11 @@ class NpResidual {
   }
   bool valid() const { return table_.data() != nullptr; }
   const FixedView<T, 2, R>& table() const { return table_; }
+  bool has_energy() const { return has_energy_; }
+  const FixedView<T, 2, R>& energy() const { return energy_; }
+  /// The grazing factors of the table and of its energy factor.
+  const GrazingFactor& factor() const { return factor_; }
+  const GrazingFactor& energy_factor() const { return energy_factor_; }
   R operator()(R sigma_a, R theta_d) const {
     const R x[2] = {sigma_a, std::fabs(theta_d)};
     R v = table_(x);
