@@ -16,6 +16,8 @@ elseif(TOOL STREQUAL "compare-hair-models")
 elseif(TOOL STREQUAL "render-hair-luts")
   list(APPEND cases "|exactly one of --tables and --config" "--tables a.h5 --config b.json|exactly one" "--tables a.h5 --size 0|--size.*0"
        "--tables a.h5 --size abc|--size.*abc")
+elseif(TOOL STREQUAL "export-hair-luts")
+  list(APPEND cases "|tables is required" "a.h5|--out is required" "missing.h5 --out x|missing.h5")
 elseif(TOOL STREQUAL "bench-hair-luts")
   list(APPEND cases "--slices 0|--slices.*0" "--slices -1|--slices.*-1" "stray|stray")
 else()

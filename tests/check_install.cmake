@@ -36,7 +36,7 @@ foreach(f include/hairlut/sampler/sampler.hpp include/hairlut/sampler/hair_scatt
           share/hairlut/schemas/hairlut-config.schema.json share/hairlut/schemas/hairlut-tables.schema.json
           share/hairlut/tables/configs/default.json share/hairlut/tables/default/hairlut-default.h5 share/doc/hairlut/LICENSE
           share/hairlut/shaders/hairlut.glsl
-          bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts bin/render-hair-luts)
+          bin/bake-hair-luts bin/validate-hair-luts bin/hairlut-eval bin/compare-hair-models bin/bench-hair-luts bin/render-hair-luts bin/export-hair-luts)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")
   endif()

@@ -11,7 +11,7 @@
 // With HAIRLUT_SAMPLING, hairlut_sampling.glsl adds hairlut_at, hairlut_sample and hairlut_pdf, as
 // HairScattering's at, sample and pdf (the same density, drawn the same way).
 //
-// Textures (examples/gpu/material_textures.hpp lays them out; docs/gpu.md):
+// Textures (hairlut/sampler/gpu_textures.hpp lays them out; docs/gpu.md):
 //   HAIRLUT_NP_TEXTURE  sampler2DArray; x = φ node, y = θd node, one layer per explicit lobe
 //                       (RGB = the channels) and, when the material has one, one more layer for
 //                       the residual (its N, uniform in φ, repeated along x).

@@ -9,7 +9,7 @@
 // every lookup reads its taps explicitly (sampler.hpp's axis model, FixedView's reconstruction,
 // in float). A cubic N_p lookup reads 256 values per lobe and channel.
 //
-// Buffers (examples/gpu/generic_buffers.hpp fills them from a loaded table set; docs/gpu.md):
+// Buffers (hairlut/sampler/gpu_buffers.hpp fills them from a loaded table set; docs/gpu.md):
 //   HAIRLUT_GENERIC_SET   a HairlutGenericSet (below): which tables serve each lobe, and each
 //                         table's axes; std140 or std430 (every member is 16-byte aligned).
 //   HAIRLUT_GENERIC_DATA  the float values of every table, row-major, last axis fastest.

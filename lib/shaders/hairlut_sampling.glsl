@@ -2,8 +2,8 @@
 // hairlut::sampler::MaterialScattering (material_scattering.hpp) draws them: θi from step 1's
 // piecewise-quadratic rows, the lobe in proportion to M_q Z_q, φ from the lobe's N̄ row; the pdf
 // per unit solid angle q(θi) / cos θi · S̄ / S̄_φ. Included by hairlut.glsl when HAIRLUT_SAMPLING
-// is 1; reads the rows MaterialScattering::rows() holds, as float32 (examples/gpu/
-// material_textures.hpp lays them out; guides as exact integers), from HAIRLUT_ROWS.
+// is 1; reads the rows MaterialScattering::rows() holds, as float32 (hairlut/sampler/
+// gpu_textures.hpp lays them out; guides as exact integers), from HAIRLUT_ROWS.
 #ifndef HAIRLUT_ROWS
 layout(set = HAIRLUT_SET, binding = HAIRLUT_BINDING + 2, std430) readonly buffer HairlutRows { float hairlut_rows[]; };
 #define HAIRLUT_ROWS hairlut_rows

@@ -31,7 +31,7 @@
 #include "hairlut/io/table_io.hpp"
 #include "hairlut/report/validate.hpp"
 #include "hairlut/tables/hair_views.hpp"
-#include "material_textures.hpp"
+#include "hairlut/sampler/gpu_textures.hpp"
 #include "patch.hpp"
 #include "vk_compute.hpp"
 
@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
   hairlut::TableSet set;
   std::vector<std::string> groups;
   std::vector<hairlut::sampler::HairScattering<float>> rts;
-  hairlut_gpu::MaterialTextures tex;
+  hairlut::gpu::MaterialTextures tex;
   std::vector<std::uint32_t> eval_spv, sample_spv;
   double eps = 0.0;
   try {
@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
     const gpu_test::Vk::Image mp = vk.texture(f32, tex.mp_width, tex.mp_height, tex.mp_layers, tex.mp.data(), tex.mp.size() * 4);
     const VkSampler linear = vk.sampler(VK_FILTER_LINEAR);
     const VkPipeline eval_pipe = vk.pipeline(eval_spv), sample_pipe = vk.pipeline(sample_spv);
-    gpu_test::Vk::Buffer ubo = vk.buffer(4 * sizeof(hairlut_gpu::GpuMaterial), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    gpu_test::Vk::Buffer ubo = vk.buffer(4 * sizeof(hairlut::gpu::GpuMaterial), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     std::memcpy(ubo.map, tex.materials.data(), tex.materials.size() * sizeof tex.materials[0]);
     gpu_test::Vk::Buffer rows = vk.buffer(tex.rows.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     std::memcpy(rows.map, tex.rows.data(), tex.rows.size() * 4);

@@ -1,6 +1,6 @@
 // The GLSL runtime for generic tables (lib/shaders/hairlut_generic.glsl) through Vulkan against the
 // C++ runtime: loads a generic d'Eon set (the shipped default tables), lays it out as buffers
-// (examples/gpu/generic_buffers.hpp), evaluates S in a compute shader at random fibers and
+// (lib/include/hairlut/sampler/gpu_buffers.hpp), evaluates S in a compute shader at random fibers and
 // directions, and compares with HairScattering<float>::eval (double arithmetic over the same float
 // tables) at the same float arguments.
 //
@@ -13,6 +13,8 @@
 // (θo and −θi within 1.5° of one pole); σa per channel 16 u² (u uniform: the low σa where hair
 // colours are dense); β_m, β_n log-uniform over [4°, 45°] (the tables' range); every fourth fiber
 // with a tilt of up to ±3°.
+// The buffers go through the files an engine loads (write_gpu_export, read_gpu_export), checked
+// byte for byte against the layout built in memory.
 // Measured and reported, not checked: the same with every value rounded to half precision, the
 // error that storing the tables as 16-bit floats would add.
 //
@@ -30,8 +32,9 @@
 #include <string>
 #include <vector>
 
-#include "generic_buffers.hpp"
-#include "material_textures.hpp"  // to_half
+#include "hairlut/sampler/gpu_buffers.hpp"
+#include "hairlut/sampler/gpu_textures.hpp"  // to_half
+#include "hairlut/io/gpu_export.hpp"
 #include "hairlut/io/table_io.hpp"
 #include "hairlut/tables/hair_views.hpp"
 #include "vk_compute.hpp"
@@ -75,14 +78,6 @@ std::vector<float> make_points(std::size_t n, bool angles) {
     p.insert(p.end(), v, v + 16);
   }
   return p;
-}
-
-// x rounded to the nearest half-precision value (IEEE binary16, ties to even): to_half, decoded.
-float as_half(float x) {
-  const std::uint16_t h = hairlut_gpu::to_half(std::fabs(x));
-  const int e = (h >> 10) & 0x1f, m = h & 0x3ff;
-  const float v = e == 0 ? std::ldexp(static_cast<float>(m), -24) : std::ldexp(static_cast<float>(m | 0x400), e - 25);
-  return x < 0.0f ? -v : v;
 }
 
 Fiber fiber_of(const float* q) {
@@ -170,7 +165,18 @@ int main(int argc, char** argv) {
   }
   try {
     const HairScattering<float> rt = hairlut::hair_scattering<float>(set);
-    const hairlut_gpu::GenericBuffers buffers(hairlut::hair_tables<float, double>(set));
+    // The buffers as an engine gets them: exported to files (export-hair-luts), read back, and
+    // the same bytes as the layout built in memory.
+    std::filesystem::create_directories(args.out);
+    const hairlut::gpu::GenericBuffers built(hairlut::hair_tables<float, double>(set));
+    hairlut::write_gpu_export(set, std::filesystem::path(args.out) / "export");
+    const hairlut::GpuLayout exported = hairlut::read_gpu_export(std::filesystem::path(args.out) / "export.gpu.json");
+    if (!exported.generic || std::memcmp(&exported.generic->set, &built.set, sizeof built.set) != 0 || exported.generic->data != built.data) {
+      std::printf("FAIL: the exported buffers differ from the layout built in memory\n");
+      return 1;
+    }
+    const hairlut::gpu::GenericBuffers& buffers = *exported.generic;
+    std::printf("buffers read back from %s/export.gpu.json, identical to the layout built in memory\n", args.out.c_str());
     gpu_test::Vk vk(args.device);
     std::printf("device: %s (%s)%s\n", vk.device_name().c_str(), vk.driver_info().c_str(), vk.is_cpu() ? ", a CPU implementation" : "");
     const float texel[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // the harness's layout binds two textures this shader does not read
@@ -186,7 +192,7 @@ int main(int argc, char** argv) {
     gpu_test::Vk::Buffer out = vk.buffer(n * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 
     nlohmann::ordered_json report = {{"device", vk.device_name()}, {"driver", vk.driver_info()}, {"tables", args.tables},
-                                     {"points", n}, {"values_bytes", buffers.data.size() * 4}, {"tables_laid_out", buffers.tables},
+                                     {"points", n}, {"values_bytes", buffers.data.size() * 4}, {"tables_laid_out", built.tables},
                                      {"check", "|S_gpu - S_cpp| <= 1e-3 max(S_cpp, 1e-4 x the channel's largest S of the batch)"}};
     bool pass = true;
     // θi half a node of the first lobe's M_p θi axis off: the control the check must reject.
@@ -217,7 +223,7 @@ int main(int argc, char** argv) {
     // Half storage: the values rounded to binary16, through the direction interface.
     {
       std::vector<float> half(buffers.data.size());
-      for (std::size_t i = 0; i < half.size(); ++i) half[i] = as_half(buffers.data[i]);
+      for (std::size_t i = 0; i < half.size(); ++i) half[i] = hairlut::gpu::from_half(hairlut::gpu::to_half(buffers.data[i]));
       std::memcpy(data.map, half.data(), half.size() * 4);
       const std::vector<float> pts = make_points(n, false);
       std::memcpy(in.map, pts.data(), pts.size() * 4);

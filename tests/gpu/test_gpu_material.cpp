@@ -1,6 +1,6 @@
 // The GLSL runtime (lib/shaders/hairlut.glsl, hairlut_sampling.glsl) through Vulkan against the C++
 // runtime: loads a per-material table set, lays its materials out as textures and sampling rows
-// (examples/gpu/material_textures.hpp, float32 and half), evaluates S, the pdf and samples at random
+// (lib/include/hairlut/sampler/gpu_textures.hpp, float32 and half), evaluates S, the pdf and samples at random
 // points in compute shaders and compares them with HairScattering's eval, pdf and sample at the
 // same (float) arguments.
 //
@@ -16,6 +16,8 @@
 // located half a node off (the bound is tight enough to see a mapping bug). Likewise checked: the
 // pdf at the same (wo, wi), and the pdf hairlut_sample returns against the C++ pdf at the direction
 // it drew (pdf_tolerance below says how the bound extends to the pdf).
+// The textures, blocks and rows also go through the files an engine loads (write_gpu_export,
+// float32 and half, read back): checked to hold the same values as the layout built in memory.
 // Measured and reported, not checked: half textures (storage rounding), the hardware bilinear
 // filter of this device at texel centres (float32 and half), and explicit taps with weights rounded
 // to 8 fractional bits (an emulation of common GPU filter units; lavapipe's own filter is the
@@ -37,9 +39,10 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/io/gpu_export.hpp"
 #include "hairlut/io/table_io.hpp"
 #include "hairlut/tables/hair_views.hpp"
-#include "material_textures.hpp"
+#include "hairlut/sampler/gpu_textures.hpp"
 #include "vk_compute.hpp"
 
 namespace {
@@ -260,7 +263,7 @@ int main(int argc, char** argv) {
   hairlut::TableSet set;
   std::vector<std::string> groups;
   std::vector<HairScattering<float>> rts;
-  hairlut_gpu::MaterialTextures tex;
+  hairlut::gpu::MaterialTextures tex;
   std::map<std::string, std::vector<std::uint32_t>> spirv;
   std::vector<MaterialSampling> sampling;
   try {
@@ -282,9 +285,34 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    // The textures as an engine gets them: exported to files (export-hair-luts), read back, and the
+    // same values as the layout built in memory (half: the same values rounded as to_half rounds).
+    std::filesystem::create_directories(args.out);
+    const std::filesystem::path base = std::filesystem::path(args.out) / "export";
+    hairlut::GpuExportOptions half_files;
+    half_files.half = true;
+    hairlut::write_gpu_export(set, base.string() + "-half", half_files);
+    const hairlut::GpuLayout half_read = hairlut::read_gpu_export(base.string() + "-half.gpu.json");
+    hairlut::write_gpu_export(set, base);
+    const hairlut::GpuLayout read = hairlut::read_gpu_export(base.string() + ".gpu.json");
+    const hairlut::gpu::MaterialTextures& r = read.textures;
+    bool same = read.materials == groups && r.np == tex.np && r.mp == tex.mp && r.rows == tex.rows && r.materials.size() == tex.materials.size() &&
+                std::memcmp(r.materials.data(), tex.materials.data(), tex.materials.size() * sizeof tex.materials[0]) == 0;
+    for (std::size_t i = 0; same && i < tex.np.size(); ++i) same = half_read.textures.np[i] == hairlut::gpu::from_half(hairlut::gpu::to_half(tex.np[i]));
+    for (std::size_t i = 0; same && i < tex.mp.size(); ++i) same = half_read.textures.mp[i] == hairlut::gpu::from_half(hairlut::gpu::to_half(tex.mp[i]));
+    if (!same) {
+      std::printf("FAIL: the exported textures, blocks or rows differ from the layout built in memory\n");
+      return 1;
+    }
+    std::printf("textures, blocks and rows read back from %s.gpu.json (and the half export), identical to the layout built in memory\n", base.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "test-gpu-material: error: %s\n", e.what());
+    return 1;
+  }
+  try {
     gpu_test::Vk vk(args.device);
     std::printf("device: %s (%s)%s\n", vk.device_name().c_str(), vk.driver_info().c_str(), vk.is_cpu() ? ", a CPU implementation" : "");
-    const auto half_np = hairlut_gpu::to_half(tex.np), half_mp = hairlut_gpu::to_half(tex.mp);
+    const auto half_np = hairlut::gpu::to_half(tex.np), half_mp = hairlut::gpu::to_half(tex.mp);
     const VkFormat f32 = VK_FORMAT_R32G32B32A32_SFLOAT, f16 = VK_FORMAT_R16G16B16A16_SFLOAT;
     const gpu_test::Vk::Image np32 = vk.texture(f32, tex.np_width, tex.np_height, tex.np_layers, tex.np.data(), tex.np.size() * 4);
     const gpu_test::Vk::Image mp32 = vk.texture(f32, tex.mp_width, tex.mp_height, tex.mp_layers, tex.mp.data(), tex.mp.size() * 4);
@@ -298,12 +326,12 @@ int main(int argc, char** argv) {
 
     const Points dirs = make_points(rts, args.points, false), angs = make_points(rts, args.points, true);
     const std::size_t n = args.points;
-    gpu_test::Vk::Buffer ubo = vk.buffer(4 * sizeof(hairlut_gpu::GpuMaterial), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    gpu_test::Vk::Buffer ubo = vk.buffer(4 * sizeof(hairlut::gpu::GpuMaterial), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     gpu_test::Vk::Buffer in = vk.buffer(n * 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     gpu_test::Vk::Buffer out = vk.buffer(n * 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     gpu_test::Vk::Buffer rows = vk.buffer(tex.rows.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     std::memcpy(rows.map, tex.rows.data(), tex.rows.size() * 4);
-    auto set_materials = [&](const std::vector<hairlut_gpu::GpuMaterial>& m) { std::memcpy(ubo.map, m.data(), m.size() * sizeof m[0]); };
+    auto set_materials = [&](const std::vector<hairlut::gpu::GpuMaterial>& m) { std::memcpy(ubo.map, m.data(), m.size() * sizeof m[0]); };
 
     struct Run {
       std::string name, filter, texture, interface;
@@ -330,7 +358,7 @@ int main(int argc, char** argv) {
     run("float32, 8-bit weights (emulated)", "explicit-8bit", false, false, false);
     run("float32, explicit filter, GLSL's atan", "explicit-builtin-trig", false, false, false);
     // The bound must see a mapping error: θi located half a node off.
-    std::vector<hairlut_gpu::GpuMaterial> shifted = tex.materials;
+    std::vector<hairlut::gpu::GpuMaterial> shifted = tex.materials;
     for (auto& m : shifted) m.theta_i[0] -= 0.5f / m.theta_i[1];
     set_materials(shifted);
     const Stats wrong = run("float32, explicit filter, theta_i half a node off (must fail the bound)", "explicit", false, false, false);

@@ -208,7 +208,7 @@ class MaterialScattering {
   int lobes() const { return L_; }
 
   /// What sample() and pdf() read besides the tables, for a renderer that samples elsewhere (a GPU:
-  /// examples/gpu/material_textures.hpp). With nr θr nodes, nt θd nodes, nf φ nodes, P explicit
+  /// gpu_textures.hpp). With nr θr nodes, nt θd nodes, nf φ nodes, P explicit
   /// lobes: step 1's rows, per θr node r, gq [r][cell][3] (A, B, C on each of nq − 1 cells of step
   /// hq from θi = −π/2) and gcum [r][nq] (prefix masses), gguide [r][64]; step 2's lobe energies
   /// z [θd node][lobes_padded], each over its lobe's grazing factor as the tables are (a reader

@@ -24,7 +24,7 @@
 
 #include "hairlut/sampler/material_scattering.hpp"
 
-namespace hairlut_gpu {
+namespace hairlut::gpu {
 
 /// The GLSL struct HairlutMaterial (std140 and std430: 176 bytes).
 struct GpuMaterial {
@@ -73,6 +73,12 @@ inline std::uint16_t to_half(float x) {
   const std::uint32_t rest = abs & 0x1fffu;
   if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) ++h;
   return static_cast<std::uint16_t>(sign | h);
+}
+/// The float a binary16 holds (finite values; the sign kept).
+inline float from_half(std::uint16_t h) {
+  const int e = (h >> 10) & 0x1f, m = h & 0x3ff;
+  const float v = e == 0 ? std::ldexp(static_cast<float>(m), -24) : std::ldexp(static_cast<float>(m | 0x400), e - 25);
+  return (h & 0x8000u) ? -v : v;
 }
 inline std::vector<std::uint16_t> to_half(const std::vector<float>& v) {
   std::vector<std::uint16_t> h(v.size());
@@ -186,4 +192,4 @@ void MaterialTextures::add(const hairlut::sampler::MaterialTables<T>& t) {
   mp_layers += mp_add;
 }
 
-}  // namespace hairlut_gpu
+}  // namespace hairlut::gpu

@@ -19,7 +19,7 @@
 
 #include "hairlut/sampler/sampler_fiber.hpp"
 
-namespace hairlut_gpu {
+namespace hairlut::gpu {
 
 constexpr int kGenericMaxTables = 24;  // HAIRLUT_GENERIC_MAX_TABLES
 constexpr int kGenericMaxAxes = 80;    // HAIRLUT_GENERIC_MAX_AXES
@@ -52,6 +52,7 @@ struct GenericBuffers {
   std::vector<float> data;  // every table's values (a storage buffer)
   int tables = 0, axes = 0;
 
+  GenericBuffers() = default;
   /// Lays out the tables of one set (every explicit lobe's N_p, energy and M_p, the residual's).
   template <class T, class R>
   explicit GenericBuffers(const hairlut::sampler::HairTables<T, R>& t) {
@@ -124,4 +125,4 @@ struct GenericBuffers {
   }
 };
 
-}  // namespace hairlut_gpu
+}  // namespace hairlut::gpu
