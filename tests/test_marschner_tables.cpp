@@ -186,10 +186,10 @@ TEST_CASE("Marschner per-material scenes use Table 1's widths for the lobes not 
   // A Marschner material must give R; azimuthal roughness does not apply.
   json bad = j;
   bad["scene"]["materials"][0]["beta_deg"] = {{"TT", 3}};
-  CHECK_THROWS_WITH(parse_config(bad, "m.json", "."), Catch::Contains("scene.materials[0].beta_deg: must give R"));
+  CHECK_THROWS_WITH(parse_config(bad, "m.json", "."), Catch::Contains("scene.materials[0].beta_deg: missing required key \"R\""));
   bad = j;
   bad["scene"]["materials"][0]["beta_n_deg"] = {{"R", 3}};
-  CHECK_THROWS_WITH(parse_config(bad, "m.json", "."), Catch::Contains("beta_n_deg: applies to model deon2011 only"));
+  CHECK_THROWS_WITH(parse_config(bad, "m.json", "."), Catch::Contains("scene.materials[0].beta_n_deg: must not be given with model marschner2003"));
 }
 
 TEST_CASE("The validator checks Marschner tables against Marschner's model", "[marschner][validate]") {

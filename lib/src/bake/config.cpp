@@ -77,9 +77,8 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
                      names[i] + "\")");
   }
   c.lobe_count = static_cast<int>(names.size());
-  if (doc.contains("marschner") && c.model != "marschner2003")
-    fail("marschner", "applies to model \"marschner2003\" only (model is \"" + c.model + "\")");
-  if (c.model == "marschner2003") c.marschner = parse_marschner(doc, lobes, c);
+  // "marschner" with another model, and the d'Eon-only keys with marschner2003: the schema's allOf.
+  if (c.model == "marschner2003") c.marschner = parse_marschner(doc, c);
   c.residual = c.marschner ? false : lobes.value("residual", true);
   c.fold_below = get_number(lobes, "fold_below", 0.0);
   c.tilt.assign(static_cast<std::size_t>(c.lobe_count), 0.0);
@@ -107,10 +106,6 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
   for (const TableKind* k : table_kinds())
     if (const std::string name(k->name()); tables.contains(name)) c.kinds.push_back({k, k->parse(tables.at(name))});
 
-  if (c.marschner)
-    for (const char* key : {"dual_scattering", "engine"})
-      if (tables.contains(key))
-        fail(std::string("tables.") + key, "applies to model deon2011 only (computed from d'Eon's energy-conserving M_p and N_p)");
   if (tables.contains("dual_scattering")) c.dual_scattering = parse_dual_scattering(tables.at("dual_scattering"), c.lobe_count, c.residual);
   if (tables.contains("engine")) c.engine = parse_engine(tables.at("engine"), names);
 

@@ -49,7 +49,7 @@ nlohmann::json axes_json(const std::vector<GridAxis>& axes);
 void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
 void parse_mp_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
 void parse_scene(const nlohmann::json& doc, BakeConfig& c);
-MarschnerConfig parse_marschner(const nlohmann::json& doc, const nlohmann::json& lobes, const BakeConfig& c);
+MarschnerConfig parse_marschner(const nlohmann::json& doc, const BakeConfig& c);
 DualScatteringTablesConfig parse_dual_scattering(const nlohmann::json& j, int lobe_count, bool residual);
 EngineConfig parse_engine(const nlohmann::json& j, const std::vector<std::string>& lobe_names);
 nlohmann::json dual_scattering_json(const DualScatteringTablesConfig& d);

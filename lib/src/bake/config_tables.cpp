@@ -38,7 +38,7 @@ void parse_fourier_np(const nlohmann::json& doc, const nlohmann::json& np, BakeC
   const nlohmann::json& ax = np.at("axes");
   const std::string p = "tables.np.axes.";
   const std::string r = "tables.np.representation";
-  if (c.marschner) fail(r, "fourier applies to model deon2011 only");
+  // Model marschner2003 with fourier: refused by the schema (its allOf states each model's rules).
   if (doc.contains("scene")) fail(r, "fourier applies to generic tables (not to a scene)");
   for (const char* key : {"beta_bands", "normalize"})
     if (np.contains(key)) fail(std::string("tables.np.") + key, "does not apply to representation fourier (beta and phi are exact)");
@@ -78,10 +78,7 @@ void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, Ba
     c.np_representation = np_json.at("representation").get<std::string>() == "fourier" ? NpRepresentation::fourier : NpRepresentation::tensor;
   if (np_json.contains("fourier") && c.np_representation != NpRepresentation::fourier)
     fail("tables.np.fourier", "applies to representation fourier only (set tables.np.representation to \"fourier\")");
-  if (np_json.contains("target_error")) {
-    if (c.marschner) fail("tables.np.target_error", "applies to model deon2011 only");
-    c.np_target_error = np_json.at("target_error").get<double>();
-  }
+  if (np_json.contains("target_error")) c.np_target_error = np_json.at("target_error").get<double>();  // deon2011 only: the schema
   if (np_json.contains("target_points")) {
     if (!c.np_target_error) fail("tables.np.target_points", "applies with tables.np.target_error only");
     c.np_target_points = np_json.at("target_points").get<std::size_t>();  // [256, 1e7]: the schema's bound
@@ -91,9 +88,7 @@ void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, Ba
   const std::string p = "tables.np.axes.";
   // Per-material scenes take sigma_a and beta from their materials; generic tables need them.
   const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
-  if (c.marschner && ax.contains("beta"))
-    fail(p + "beta", "model marschner2003 has no azimuthal roughness (its N_p is the smooth fiber's): remove this axis");
-  if (!c.marschner && ax.contains("phi_h")) fail(p + "phi_h", "applies to model marschner2003 with an eccentric fiber only");
+  // A β axis with model marschner2003, and φh with model deon2011: refused by the schema.
   for (const char* key : {"sigma_a", "beta"})
     if (!ax.contains(key) && !per_material && !(c.marschner && key == std::string("beta")))
       fail("tables.np.axes", std::string("missing required key \"") + key + "\" (needed unless scene.mode is per-material)");
@@ -129,12 +124,11 @@ void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, Ba
   checked([&] { validate_interpolation(*c.np_axes, "tables.np"); });
   const nlohmann::json& np = tables.at("np");
   if (np.value("normalize", std::string("none")) == "energy") {
-    if (c.marschner) fail("tables.np.normalize", "applies to model deon2011 only");
     if (per_material) fail("tables.np.normalize", "applies to generic N_p tables (not to a per-material scene)");
     c.np_normalize_energy = true;
   }
   if (np.contains("energy_axes")) {
-    if (c.marschner || per_material) fail("tables.np.energy_axes", "applies to generic deon2011 N_p tables only");
+    if (per_material) fail("tables.np.energy_axes", "applies to generic deon2011 N_p tables only");
     c.np_energy_axes = energy_axes(np.at("energy_axes"), sigma_axis, theta_axis);
   }
   if (np.contains("beta_bands")) {  // β bands (beta_bands.cpp): band 0 becomes the N_p axes
@@ -209,10 +203,8 @@ void parse_scene(const nlohmann::json& doc, BakeConfig& c) {
     }
     if (c.marschner) {
       // Gaussian widths: R given, TT and TRT given or from Table 1 (β_R/2, 2β_R).
+      // R present, no residual and no beta_n_deg: the schema's rules of model marschner2003.
       const nlohmann::json& b = mj.at("beta_deg");
-      if (!b.contains("R")) fail(path + ".beta_deg", "must give R for model marschner2003 (TT and TRT default to Table 1's beta_R/2 and 2 beta_R)");
-      if (b.contains("residual")) fail(path + ".beta_deg.residual", "model marschner2003 has no residual lobe");
-      if (mj.contains("beta_n_deg")) fail(path + ".beta_n_deg", "applies to model deon2011 only (marschner2003 has no azimuthal roughness)");
       for (const auto& [key, value] : b.items()) lobe_index(key, c.lobe_count, path + ".beta_deg." + key);
       const MarschnerLobes table1 = c.marschner->lobes(radians(b.at("R").get<double>()));
       for (int lobe = 0; lobe < c.lobe_count; ++lobe)
@@ -232,16 +224,10 @@ void parse_scene(const nlohmann::json& doc, BakeConfig& c) {
 }
 
 
-// The settings of model marschner2003, and the keys of the d'Eon model it has no use for.
-MarschnerConfig parse_marschner(const nlohmann::json& doc, const nlohmann::json& lobes, const BakeConfig& c) {
-  if (c.lobe_count > 3)
-    fail("lobes.explicit", "model marschner2003 has the lobes R, TT and TRT only (got " + std::to_string(c.lobe_count) + " lobes)");
-  if (lobes.contains("residual") && lobes.at("residual").get<bool>())
-    fail("lobes.residual", "model marschner2003 has no residual lobe: set it to false or leave it out");
-  if (lobes.contains("tilt_deg"))
-    fail("lobes.tilt_deg", "does not apply to model marschner2003: its lobes are shifted by marschner.longitudinal.alpha_R_deg with Table 1's relations");
-  if (lobes.contains("fold_below")) fail("lobes.fold_below", "applies to model deon2011 only");
-  if (doc.contains("quadrature")) fail("quadrature", "applies to model deon2011 only (marschner2003 solves for the smooth fiber's paths)");
+// The settings of model marschner2003.
+MarschnerConfig parse_marschner(const nlohmann::json& doc, const BakeConfig& c) {
+  // At most R, TT and TRT, no residual, tilts, fold_below or quadrature: the schema's rules of model
+  // marschner2003 (its allOf), applied before this runs.
   const nlohmann::json mj = doc.value("marschner", nlohmann::json::object());
   MarschnerConfig m;
   m.params.eta = c.eta;
