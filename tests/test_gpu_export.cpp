@@ -102,7 +102,7 @@ TEST_CASE("gpu export: a per-material set read back holds the textures, blocks a
   fs::remove_all(dir);
 }
 
-TEST_CASE("gpu export: the default generic set read back holds the buffers built in memory; hostile descriptions are refused", "[gpu]") {
+TEST_CASE("gpu export: the default generic set read back holds the buffers built in memory, and hostile descriptions are refused", "[gpu]") {
   const TableSet set = load_tables(fs::path(HAIRLUT_SOURCE_DIR) / "tables" / "default" / "hairlut-default.h5");
   const gpu::GenericBuffers built(hair_tables<float, double>(set));
   const fs::path dir = fresh_dir("generic");
