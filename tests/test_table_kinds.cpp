@@ -13,6 +13,7 @@
 #include <hairlut/bake/table_truth.hpp>
 #include <hairlut/report/table_kind_report.hpp>
 #include <hairlut/report/validate.hpp>
+#include <hairlut/util/error.hpp>
 #include <set>
 
 #include "catch.hpp"
@@ -129,13 +130,25 @@ TEST_CASE("table kinds: each kind's examples parse, bake what the estimate count
   }
 }
 
-TEST_CASE("table kinds: each validator section belongs to a kind and names a threshold", "[kinds][validate]") {
+TEST_CASE("table kinds: each validator section belongs to a kind and checks its kind's threshold", "[kinds][validate]") {
+  // Each kind's threshold has its default, can be set by name, and is refused at 0.
+  for (const TableKind* k : table_kinds()) {
+    const std::string name(k->threshold().name);
+    ValidationThresholds th;
+    CHECK(th.get(name) == k->threshold().value);
+    th.set(name, 0.5);
+    CHECK(th.get(name) == 0.5);
+    CHECK(th.to_json()[name] == 0.5);
+    CHECK_THROWS_AS(th.set(name, 0.0), DomainError);
+  }
   for (const TableKindReport* r : table_kind_reports()) {
     INFO("kind " << std::string(r->name()));
     bool found = false;
     for (const TableKind* k : table_kinds()) found = found || k->name() == r->name();
     CHECK(found);
     CHECK_NOTHROW(ValidationThresholds{}.get(std::string(r->accuracy_check())));
+    for (const TableKind* k : table_kinds())
+      if (k->name() == r->name()) CHECK(k->threshold().name == r->accuracy_check());
     CHECK(!r->accuracy_title().empty());
   }
 }

@@ -110,6 +110,10 @@ class Kind final : public TableKind {
     report.entries += 2 * ce.size() * cp.size() * 3;
   }
 
+  Threshold threshold() const override {
+    return {"accuracy_melanin_max_rel", 1e-2, "max relative error of the melanin sigma_a tables at random points (floor 0.01 per radius)"};
+  }
+
   std::optional<TableTruth> truth(const Table& t) const override {
     if (t.group != "melanin") return std::nullopt;
     std::vector<std::string> dims;

@@ -23,9 +23,13 @@ extern const char* const config_schema_json;  // lib/src/bake/config.schema.json
 nlohmann::ordered_json config_schema() {
   nlohmann::ordered_json s = nlohmann::ordered_json::parse(detail::config_schema_json);
   nlohmann::ordered_json& tables = s.at("properties").at("tables").at("properties");
+  nlohmann::ordered_json& thresholds = s.at("properties").at("validate").at("properties").at("thresholds").at("properties");
   for (const TableKind* k : table_kinds()) {
-    if (tables.contains(k->name())) throw std::logic_error("table kind " + std::string(k->name()) + " is also in the config schema");
+    const TableKind::Threshold th = k->threshold();
+    if (tables.contains(k->name()) || thresholds.contains(th.name))
+      throw std::logic_error("table kind " + std::string(k->name()) + " is also in the config schema");
     tables[std::string(k->name())] = nlohmann::ordered_json::parse(k->schema());
+    thresholds[std::string(th.name)] = {{"type", "number"}, {"exclusiveMinimum", 0}, {"default", th.value}, {"description", th.description}};
   }
   return s;
 }

@@ -30,6 +30,7 @@
 #include "hairlut/bake/sampled_error.hpp"
 #include "hairlut/bake/table_truth.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
+#include "hairlut/bake/table_kind.hpp"
 #include "hairlut/report/table_kind_report.hpp"
 #include "validate_sections.hpp"
 namespace hairlut {
@@ -44,7 +45,6 @@ const std::map<std::string, double ValidationThresholds::*>& ValidationThreshold
       {"accuracy_p99_rel", &ValidationThresholds::accuracy_p99_rel},
       {"accuracy_energy_max_rel", &ValidationThresholds::accuracy_energy_max_rel},
       {"accuracy_mp_max_rel", &ValidationThresholds::accuracy_mp_max_rel},
-      {"accuracy_melanin_max_rel", &ValidationThresholds::accuracy_melanin_max_rel},
       {"accuracy_ds_max_rel", &ValidationThresholds::accuracy_ds_max_rel},
       {"energy_consistency", &ValidationThresholds::energy_consistency},
       {"ds_furnace", &ValidationThresholds::ds_furnace},
@@ -53,26 +53,36 @@ const std::map<std::string, double ValidationThresholds::*>& ValidationThreshold
   return f;
 }
 
+ValidationThresholds::ValidationThresholds() {
+  for (const TableKind* k : table_kinds()) kinds[std::string(k->threshold().name)] = k->threshold().value;
+}
+
 void ValidationThresholds::set(const std::string& name, double value) {
   const auto it = fields().find(name);
-  if (it == fields().end()) {
+  const auto kind = kinds.find(name);
+  if (it == fields().end() && kind == kinds.end()) {
+    std::map<std::string, double> all = kinds;
+    for (const auto& [k, v] : fields()) all[k] = 0.0;
     std::string known;
-    for (const auto& [k, v] : fields()) known += (known.empty() ? "" : ", ") + k;
+    for (const auto& [k, v] : all) known += (known.empty() ? "" : ", ") + k;
     throw DomainError("threshold " + name + " is unknown (known: " + known + ")");
   }
   require_positive("threshold " + name, value);
-  this->*(it->second) = value;
+  if (it != fields().end()) this->*(it->second) = value;
+  else kind->second = value;
 }
 
 double ValidationThresholds::get(const std::string& name) const {
-  const auto it = fields().find(name);
-  if (it == fields().end()) throw DomainError("threshold " + name + " is unknown");
-  return this->*(it->second);
+  if (const auto it = fields().find(name); it != fields().end()) return this->*(it->second);
+  if (const auto kind = kinds.find(name); kind != kinds.end()) return kind->second;
+  throw DomainError("threshold " + name + " is unknown");
 }
 
 nlohmann::ordered_json ValidationThresholds::to_json() const {
+  std::map<std::string, double> all = kinds;  // every threshold by name, in name order
+  for (const auto& [k, v] : fields()) all[k] = this->*v;
   nlohmann::ordered_json j;
-  for (const auto& [k, v] : fields()) j[k] = this->*v;
+  for (const auto& [k, v] : all) j[k] = v;
   return j;
 }
 

@@ -167,7 +167,8 @@ MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, Absorpt
 BakeConfig load_config(const std::filesystem::path& file);
 
 /// The config schema: the library's own (lib/src/bake/config.schema.json) with each table kind's
-/// fragment (table_kind.hpp) under properties.tables.properties.<kind>. schemas/hairlut-config.schema.json
+/// fragment (table_kind.hpp) under properties.tables.properties.<kind> and its threshold under
+/// validate.thresholds. schemas/hairlut-config.schema.json
 /// publishes it (a test keeps the two equal).
 nlohmann::ordered_json config_schema();
 

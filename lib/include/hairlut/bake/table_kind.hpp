@@ -1,6 +1,7 @@
 // A kind of table that lives in its own folder, lib/kinds/<name>/ (docs/architecture.md): the
 // fragment of the config schema under `tables.<name>` (schema.json), and here the parser, the size
-// estimate, the baker and the reference the validator judges its tables by (<name>_bake.cpp); the
+// estimate, the baker, the reference the validator judges its tables by and the threshold it
+// holds them to (<name>_bake.cpp); the
 // validator's section is report/table_kind_report.hpp (<name>_report.cpp). The config parser, the
 // memory plan, the bake and table_truth() reach a kind only through this interface and
 // table_kinds(), which the build generates from the folders: adding a kind adds a folder.
@@ -49,6 +50,15 @@ class TableKind {
   virtual std::vector<TableKindSize> sizes(const TableKindSettings& s) const = 0;
   /// Appends its tables to the set; counts their entries in the report.
   virtual void bake(const TableKindSettings& s, Precision precision, TableSet& set, BakeReport& report) const = 0;
+  /// The threshold of the validator's accuracy check over its tables (report/table_kind_report.hpp):
+  /// its name, a key of a config's validate.thresholds and of validate-hair-luts --threshold; its
+  /// default; what it bounds (the schema's description).
+  struct Threshold {
+    std::string_view name;
+    double value = 0.0;
+    std::string_view description;
+  };
+  virtual Threshold threshold() const = 0;
   /// The exact function behind one of its tables (read back from a file: only the table's own
   /// description and attributes), or nullopt for a table that is not its own.
   virtual std::optional<TableTruth> truth(const Table& t) const = 0;
