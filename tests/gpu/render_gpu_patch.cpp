@@ -101,8 +101,7 @@ int main(int argc, char** argv) {
       hairlut::BakeOptions opt;
       set = hairlut::bake(hairlut::load_config(args.config), opt);
     }
-    for (const hairlut::Table& t : set.tables)
-      if (t.group.rfind("materials/", 0) == 0 && std::find(groups.begin(), groups.end(), t.group) == groups.end()) groups.push_back(t.group);
+    groups = hairlut::material_groups(set);
     if (groups.empty() || groups.size() > 4) throw std::runtime_error("1 to 4 materials needed (the set has " + std::to_string(groups.size()) + ")");
     for (const std::string& g : groups) {
       rts.push_back(hairlut::hair_scattering<float>(set, g));

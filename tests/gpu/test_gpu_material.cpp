@@ -54,13 +54,6 @@ constexpr double kU = 0x1p-24;
 constexpr double kK = 32.0;
 constexpr double kTiny = 0x1p-126;  // float's smallest normal: a shader may flush anything smaller to 0
 
-std::vector<std::string> material_groups(const hairlut::TableSet& set) {
-  std::vector<std::string> groups;
-  for (const hairlut::Table& t : set.tables)
-    if (t.group.rfind("materials/", 0) == 0 && std::find(groups.begin(), groups.end(), t.group) == groups.end()) groups.push_back(t.group);
-  return groups;
-}
-
 // The points, as the shader reads them (two vec4 each), and the C++ runtime's S and bound there.
 struct Points {
   std::vector<float> gpu;
@@ -272,7 +265,7 @@ int main(int argc, char** argv) {
       spirv[name] = gpu_test::read_spirv(args.spirv + "/eval_material-" + name + ".spv");
     spirv["sample"] = gpu_test::read_spirv(args.spirv + "/sample_material-explicit.spv");
     set = hairlut::load_tables(args.tables);
-    groups = material_groups(set);
+    groups = hairlut::material_groups(set);
     if (groups.empty() || groups.size() > 4) throw std::runtime_error(args.tables + ": 1 to 4 materials needed (has " + std::to_string(groups.size()) + ")");
     for (const std::string& g : groups) {
       rts.push_back(hairlut::hair_scattering<float>(set, g));

@@ -208,9 +208,7 @@ int main(int argc, char** argv) {
 
     // The looks: generic tables at three melanin settings, or every material of the set.
     std::vector<Look> looks;
-    std::vector<std::string> groups;
-    for (const auto& t : set.tables)
-      if (t.group.rfind("materials/", 0) == 0 && std::find(groups.begin(), groups.end(), t.group) == groups.end()) groups.push_back(t.group);
+    const std::vector<std::string> groups = hairlut::material_groups(set);
     if (groups.empty()) {
       const hairlut::Table* mel = set.find("melanin/sigma_a_deon");
       struct Setting {

@@ -36,13 +36,6 @@ constexpr long long kMaxExtent = 16384, kMaxLayers = 2048, kMaxFloats = 1LL << 3
 
 static_assert(std::endian::native == std::endian::little, "the export's binary files are little-endian, as this host");
 
-std::vector<std::string> material_groups(const TableSet& set) {
-  std::vector<std::string> groups;
-  for (const Table& t : set.tables)
-    if (t.group.rfind("materials/", 0) == 0 && std::find(groups.begin(), groups.end(), t.group) == groups.end()) groups.push_back(t.group);
-  return groups;
-}
-
 // A file of the export, written to a temporary name; renamed into place by commit().
 struct Pending {
   fs::path final_path, tmp;
@@ -167,7 +160,7 @@ void check_generic(const gpu::GpuGenericSet& s, std::size_t floats, const fs::pa
 GpuLayout gpu_layout(const TableSet& set) {
   using namespace detail::gpu_files;
   GpuLayout g;
-  g.materials = material_groups(set);
+  g.materials = hairlut::material_groups(set);
   try {
     if (!g.materials.empty()) {
       g.kind = "materials";

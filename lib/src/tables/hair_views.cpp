@@ -1,5 +1,6 @@
 #include "hairlut/tables/hair_views.hpp"
 
+#include <algorithm>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -297,6 +298,13 @@ sampler::Fiber fiber_from_melanin(double eumelanin, double pheomelanin, double b
   f.sigma_a[0] = s.r, f.sigma_a[1] = s.g, f.sigma_a[2] = s.b;
   f.beta_m = beta_m, f.beta_n = beta_n;
   return f;
+}
+
+std::vector<std::string> material_groups(const TableSet& set) {
+  std::vector<std::string> groups;
+  for (const Table& t : set.tables)
+    if (t.group.rfind("materials/", 0) == 0 && std::find(groups.begin(), groups.end(), t.group) == groups.end()) groups.push_back(t.group);
+  return groups;
 }
 
 }  // namespace hairlut

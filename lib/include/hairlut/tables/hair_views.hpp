@@ -36,6 +36,8 @@ sampler::HairScattering<T> hair_scattering(const TableSet& set);
 /// lobe's.
 template <class T>
 sampler::MaterialTables<T> material_tables(const TableSet& set, std::string_view group);
+/// The material groups of a per-material bake ("materials/<name>"), in the order of their first table.
+std::vector<std::string> material_groups(const TableSet& set);
 /// The runtime over one table group: "" for the generic tables (as above) or "materials/<name>",
 /// whose tables fix σa and β (the runtime copies them; `set` need not outlive it). Throws
 /// DomainError naming the table that is missing, on other axes, or on axes the runtime cannot
