@@ -11,8 +11,10 @@
 #   bake     hairlut::bake     configs, the bakers, engine presets, the resolution planner, a config's outputs
 #   report   hairlut::report   validation, comparison, reports, plots, benchmark pieces
 #
-# A table kind's folder, lib/kinds/<kind>/, spans layers by file: <kind>_<layer>.cpp belongs to that
-# layer (bake or report; bake/table_kind.hpp), and a header there is private to the folder.
+# A table kind's folder, lib/kinds/<kind>/, and a model's, lib/models/<model>/, span layers by file:
+# <name>_<layer>.cpp belongs to that layer (bake or report; bake/table_kind.hpp, bake/model_kind.hpp)
+# and may include that layer's private headers by folder ("bake/bake_internal.hpp"); a header there
+# is private to the folder.
 #
 # Usage: cmake -DROOT=<a tree with lib/include/hairlut and lib/src> -P check_layers.cmake
 # Every header and source of the library must sit in a layer folder (hairlut.hpp, the umbrella
@@ -30,7 +32,7 @@ set(include_root ${ROOT}/lib/include/hairlut)
 set(src_root ${ROOT}/lib/src)
 
 set(violations "")
-file(GLOB_RECURSE files RELATIVE ${ROOT}/lib ${include_root}/* ${src_root}/* ${ROOT}/lib/kinds/*)
+file(GLOB_RECURSE files RELATIVE ${ROOT}/lib ${include_root}/* ${src_root}/* ${ROOT}/lib/kinds/* ${ROOT}/lib/models/*)
 list(FILTER files INCLUDE REGEX "\\.(hpp|cpp|hpp\\.in)$")
 if(NOT files)
   message(FATAL_ERROR "no library files under ${ROOT}/lib")
@@ -39,15 +41,17 @@ foreach(f IN LISTS files)
   if(f STREQUAL "include/hairlut/hairlut.hpp")
     continue()
   endif()
-  if(f MATCHES "^kinds/([a-z][a-z0-9_]*)/([^/]+)$")
-    set(kind ${CMAKE_MATCH_1})
-    set(name ${CMAKE_MATCH_2})
+  set(folder_file FALSE)
+  if(f MATCHES "^(kinds|models)/([a-z][a-z0-9_]*)/([^/]+)$")
+    set(folder_file TRUE)
+    set(kind ${CMAKE_MATCH_2})
+    set(name ${CMAKE_MATCH_3})
     if(name MATCHES "\\.hpp$")
-      set(layer report)  # a kind's private header: its includes are checked against the highest layer
+      set(layer report)  # a folder's private header: its includes are checked against the highest layer
     elseif(name MATCHES "^${kind}_(bake|report)\\.cpp$")
       set(layer ${CMAKE_MATCH_1})
     else()
-      list(APPEND violations "lib/${f}: a kind's source is <kind>_bake.cpp or <kind>_report.cpp")
+      list(APPEND violations "lib/${f}: a kind's or model's source is <name>_bake.cpp or <name>_report.cpp")
       continue()
     endif()
   elseif(NOT f MATCHES "^(include/hairlut|src)/([a-z_]+)/[^/]+$")
@@ -80,6 +84,11 @@ foreach(f IN LISTS files)
       # A private header of lib/src: must sit beside the file that includes it.
       if(NOT EXISTS ${dir}/${CMAKE_MATCH_1})
         list(APPEND violations "lib/${f}: includes \"${CMAKE_MATCH_1}\", which is not in its own folder")
+      endif()
+    elseif(folder_file AND line MATCHES "\"([a-z_]+)/([^\"/]+\\.hpp)\"")
+      # A kind's or model's file including its own layer's private header by folder.
+      if(NOT CMAKE_MATCH_1 STREQUAL layer OR NOT EXISTS ${src_root}/${CMAKE_MATCH_1}/${CMAKE_MATCH_2})
+        list(APPEND violations "lib/${f}: includes \"${CMAKE_MATCH_1}/${CMAKE_MATCH_2}\", not a private header of its own layer (${layer})")
       endif()
     elseif(line MATCHES "\"")
       list(APPEND violations "lib/${f}: unexpected include: ${line}")

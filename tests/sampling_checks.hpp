@@ -10,6 +10,7 @@
 #include <hairlut/physics/lobe_energy.hpp>
 #include <hairlut/physics/longitudinal_mp.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/util/angles.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/tables/hair_views.hpp>
 #include <hairlut/tables/table_sampling.hpp>

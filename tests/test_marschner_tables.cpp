@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/bake/model_kind.hpp>
 #include <hairlut/hairlut.hpp>
 #include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/table_io.hpp>
@@ -71,10 +72,10 @@ void for_each_node(const Table& t, F&& f) {
 
 TEST_CASE("Baked Marschner N_p, energies and M_p equal direct evaluation at the nodes", "[marschner][bake]") {
   const BakeConfig c = parse_config(marschner_config(), "m.json", temp_dir("nodes"));
-  REQUIRE(c.marschner);
+  REQUIRE(c.model_settings);
   const TableSet set = bake(c);
   CHECK(set.metadata["model"] == "marschner2003");
-  const MarschnerConfig& m = *c.marschner;
+  const MarschnerConfig m = marschner_from_json(c.model_settings->json(), c.eta, c.path);
   const Table* trt = set.find("np/TRT");
   REQUIRE(trt);
   REQUIRE(trt->axes.size() == 4);
@@ -133,7 +134,7 @@ TEST_CASE("Marschner tables round-trip exactly through HDF5 and at float precisi
   // η*(φh) is even with period π, so the table at φh and at −φh, π − φh, φh + π agree; at a
   // node the sample is the stored value and equals direct evaluation there.
   const Table& trt = *set.find("np/TRT");
-  const MarschnerParams& mp = c.marschner->params;
+  const MarschnerParams mp = marschner_from_json(c.model_settings->json(), c.eta, c.path).params;
   for (double ph : {0.2, 0.7, 1.3}) {
     const double x[4] = {0.5, 0.4, ph, 0.3};
     const double v = trt.sample({x[0], x[1], ph, x[3]});
@@ -180,7 +181,7 @@ TEST_CASE("Marschner per-material scenes use Table 1's widths for the lobes not 
   REQUIRE(n.axes[0].name == "channel");
   const double sig[3] = {0.1, 0.2, 0.4};
   for_each_node(n, [&](std::size_t i, const std::vector<double>& x) {
-    const double direct = MarschnerAzimuthal(c.marschner->params, x[1]).np(2, sig[static_cast<std::size_t>(x[0])], x[2]);
+    const double direct = MarschnerAzimuthal(marschner_from_json(c.model_settings->json(), c.eta, c.path).params, x[1]).np(2, sig[static_cast<std::size_t>(x[0])], x[2]);
     CHECK(n.get(i) == Approx(direct).epsilon(1e-6).margin(1e-30));
   });
   // A Marschner material must give R; azimuthal roughness does not apply.
@@ -242,5 +243,5 @@ TEST_CASE("Model short names are recorded as the full ones", "[marschner][config
   const BakeConfig shorter = parse_config(j, "m.json", ".");
   CHECK(shorter.model == "marschner2003");
   CHECK(shorter.hash == full.hash);
-  CHECK(shorter.marschner.has_value());
+  CHECK(shorter.model_settings != nullptr);
 }

@@ -171,7 +171,7 @@ TEST_CASE("MaterialScattering: N_p up to theta_d = 90 deg against the exact N_p,
   // tables' (TableView times the factor), to rounding.
   const TableSet& set = show_tables();
   const auto rule = std::make_shared<const GaussLegendreRule>(1024);
-  const TruthModel model{1.55, AbsorptionPath::chord, 4, std::nullopt};
+  const TruthModel model{1.55, AbsorptionPath::chord, 4, nullptr, nullptr};
   const std::vector<double> degs = {89.5, 89.6, 89.8, 89.9, 89.95, 89.99, 89.999, 90.0};
   for (const std::string& name : show_materials()) {
     for (const std::string lobe : {"TT", "TRT", "TRRT", "residual"}) {

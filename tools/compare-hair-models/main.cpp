@@ -12,6 +12,7 @@
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/report/compare.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/bake/model_kind.hpp>
 #include <hairlut/util/error.hpp>
 #include <hairlut/io/hdf5_io.hpp>
 #include <hairlut/physics/melanin.hpp>
@@ -78,10 +79,10 @@ compare.html (open it in a browser), compare.json and compare.md into --out. Exi
   try {
     if (!config_path.empty()) {
       const hairlut::BakeConfig c = hairlut::load_config(config_path);
-      if (!c.marschner) throw hairlut::DomainError("--config " + config_path + ": model must be marschner2003 (got " + c.model + ")");
+      if (c.model != "marschner2003") throw hairlut::DomainError("--config " + config_path + ": model must be marschner2003 (got " + c.model + ")");
       s.eta = c.eta;
       s.path = c.path;
-      s.marschner = *c.marschner;
+      s.marschner = hairlut::marschner_from_json(c.model_settings->json(), c.eta, c.path);
     } else {
       s.path = hairlut::parse_absorption_path(path, "--absorption-path");
       s.marschner.params.caustic.k_G = k_g;

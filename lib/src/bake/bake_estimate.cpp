@@ -8,6 +8,7 @@
 
 #include "hairlut/bake/dual_scattering_grid.hpp"
 #include "hairlut/bake/engine_presets.hpp"
+#include "hairlut/bake/model_kind.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/sampler/axis_sampling.hpp"
 
@@ -108,7 +109,8 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
   const std::uint64_t explicit_lobes = static_cast<std::uint64_t>(std::max(c.lobe_count, 0));
   const std::uint64_t lobes = explicit_lobes + (c.residual ? 1 : 0);
   const bool per_material = c.scene && c.scene->mode == SceneConfig::Mode::per_material;
-  const bool generic = !c.marschner && !per_material;
+  const ModelKind& model = c.model_kind();
+  const bool generic = model.slab_by_slab() && !per_material;  // d'Eon's generic tables, the ones baked slab by slab
   Tally t;
   t.value_bytes = c.output.hdf5_double ? 8 : 4;
   t.sampling = c.output.sampling_data;
@@ -132,18 +134,11 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
             sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0, kDeflatedFraction, cubic(order));
     t.table(mul(3, slice), mul(lobes + (c.residual ? 1 : 0), materials));
   }
-  if (c.np_axes && c.marschner) {  // N_p over (σa, θd, φ) per lobe, TRT of an eccentric fiber over φh too; energies without φ
-    const std::vector<GridAxis>& ax = *c.np_axes;
-    const GridAxis* h = c.marschner->params.eccentricity != 1.0 ? named(ax, "phi_h") : nullptr;
-    for (std::uint64_t p = 0; p < explicit_lobes; ++p) {
-      const bool with_h = p == 2 && h;
-      std::vector<const GridAxis*> order = {named(ax, "sigma_a"), named(ax, "theta_d")};
-      if (with_h) order.push_back(h);
-      order.push_back(named(ax, "phi"));
-      const std::uint64_t n = with_h ? grid(ax) : grid(ax, {"phi_h"});
-      t.table(n, 1, sampled(order) ? static_cast<std::uint64_t>(named(ax, "phi")->count) : 0, kDeflatedFraction, cubic(order));
-      t.table(n / static_cast<std::uint64_t>(std::max(named(ax, "phi") ? named(ax, "phi")->count : 1, 1)));
-    }
+  for (const PlannedTable& pt : model.own_np_tables(c)) {  // a model's own N_p stage (lib/models/)
+    std::vector<const GridAxis*> order;
+    for (const GridAxis& a : pt.axes) order.push_back(&a);
+    if (pt.sampled) t.table(grid(pt.axes), 1, sampled(order) ? static_cast<std::uint64_t>(pt.axes.back().count) : 0, kDeflatedFraction, cubic(order));
+    else t.table(grid(pt.axes));
   }
   if (c.np_fourier && !per_material) {  // the coefficients per explicit lobe; the residual's, the energy and residual tables (energy axes)
     const FourierNpConfig& f = *c.np_fourier;
@@ -153,17 +148,16 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
   }
   if (c.mp_axes) {  // M_p per lobe and the residual (per material without β)
     const std::vector<GridAxis>& ax = *c.mp_axes;
-    const std::uint64_t mp_lobes = c.marschner ? explicit_lobes : lobes;
     if (per_material) {
       const std::vector<const GridAxis*> order = {named(ax, "theta_i"), named(ax, "theta_r")};
-      t.table(grid(ax, {"beta"}), mul(mp_lobes, static_cast<std::uint64_t>(c.scene->materials.size())),
+      t.table(grid(ax, {"beta"}), mul(lobes, static_cast<std::uint64_t>(c.scene->materials.size())),
               sampled(order) ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0, kDeflatedMpFraction, cubic(order));
     } else {
       const std::vector<const GridAxis*> order = {named(ax, "beta"), named(ax, "theta_i"), named(ax, "theta_r")};
-      t.table(grid(ax), mp_lobes, sampled(order) ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0, kDeflatedMpFraction,
+      t.table(grid(ax), lobes, sampled(order) ? static_cast<std::uint64_t>(named(ax, "theta_r")->count) : 0, kDeflatedMpFraction,
               cubic(order));
       if (generic) {
-        slabbable = add(slabbable, mul(grid(ax), mp_lobes));
+        slabbable = add(slabbable, mul(grid(ax), lobes));
         row = std::max(row, grid(ax, {"beta"}));
       }
     }

@@ -1,5 +1,5 @@
-// Internal: pieces of the baker shared by the models' bake functions (bake.cpp and its stages for d'Eon 2011,
-// bake_marschner.cpp for Marschner 2003).
+// Internal: pieces of the baker shared by the models' bake functions (d'Eon 2011's stages, and
+// lib/models/marschner2003/ which includes it as "bake/bake_internal.hpp").
 #pragma once
 
 #include <omp.h>

@@ -12,6 +12,7 @@
 #include "hairlut/util/error.hpp"
 #include "hairlut/physics/hair_model.hpp"
 #include "hairlut/bake/json_schema.hpp"
+#include "hairlut/bake/model_kind.hpp"
 #include "hairlut/util/version.hpp"
 #include "config_parse.hpp"
 
@@ -22,6 +23,28 @@ extern const char* const config_schema_json;  // lib/src/bake/config.schema.json
 
 nlohmann::ordered_json config_schema() {
   nlohmann::ordered_json s = nlohmann::ordered_json::parse(detail::config_schema_json);
+  // The models: their names in `model`'s enum (full names, then short ones), their settings keys,
+  // their rules; the default stays the base schema's. A reference into an ordered_json object does
+  // not survive an insertion into it, so each is taken after the models' keys are in.
+  nlohmann::ordered_json names = nlohmann::ordered_json::array();
+  std::string described, shorts;
+  for (const ModelKind* m : model_kinds()) {
+    const nlohmann::ordered_json f = nlohmann::ordered_json::parse(m->schema());
+    names.push_back(std::string(m->name()));
+    described += (described.empty() ? "" : " or ") + f.at("description").get<std::string>();
+    shorts += (shorts.empty() ? "\"" : ", \"") + std::string(m->short_name()) + "\"";
+    if (f.contains("properties"))
+      for (const auto& [key, value] : f.at("properties").items()) {
+        if (s.at("properties").contains(key)) throw std::logic_error("model " + std::string(m->name()) + ": key " + key + " is also in the config schema");
+        s.at("properties")[key] = value;
+      }
+    if (f.contains("allOf"))
+      for (const auto& rule : f.at("allOf")) s.at("allOf").push_back(rule);
+  }
+  for (const ModelKind* m : model_kinds()) names.push_back(std::string(m->short_name()));
+  nlohmann::ordered_json& model = s.at("properties").at("model");
+  model["enum"] = names;
+  model["description"] = "Scattering model: " + described + ". " + shorts + " are accepted as short names and recorded as the full ones.";
   nlohmann::ordered_json& tables = s.at("properties").at("tables").at("properties");
   nlohmann::ordered_json& thresholds = s.at("properties").at("validate").at("properties").at("thresholds").at("properties");
   for (const TableKind* k : table_kinds()) {
@@ -43,6 +66,33 @@ GridAxis config_value_axis(const nlohmann::json& j, const std::string& path, con
 
 nlohmann::json config_axes_json(const std::vector<GridAxis>& axes) { return detail::config_parse::axes_json(axes); }
 
+GridAxis config_angle_axis(const nlohmann::json& j, const std::string& path, const std::string& name, double domain_lo, double domain_hi,
+                           const std::string& long_name) {
+  return detail::config_parse::make_axis(j, path, name, true, domain_lo, domain_hi, "rad", long_name);
+}
+
+int config_lobe_index(const std::string& name, int lobe_count, const std::string& path) {
+  return detail::config_parse::lobe_index(name, lobe_count, path);
+}
+
+void config_per_lobe_values(const nlohmann::json& j, const std::string& path, int lobe_count, double scale, std::vector<double>& out,
+                            double& residual_out) {
+  detail::config_parse::per_lobe_values(j, path, lobe_count, scale, out, residual_out);
+}
+
+
+const ModelKind* find_model_kind(std::string_view name) {
+  for (const ModelKind* m : model_kinds())
+    if (m->name() == name || m->short_name() == name) return m;
+  return nullptr;
+}
+
+const ModelKind& BakeConfig::model_kind() const {
+  const ModelKind* m = find_model_kind(model);
+  if (!m) throw DomainError("model " + model + ": not a model of this build");
+  return *m;
+}
+
 std::string_view to_string(NpQuadratureConfig::Method method) {
   switch (method) {
     case NpQuadratureConfig::Method::adaptive: return "adaptive";
@@ -61,17 +111,17 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
   BakeConfig c;
   c.name = doc.at("name").get<std::string>();
   c.description = doc.value("description", std::string());
-  c.model = doc.value("model", std::string("deon2011"));
-  if (c.model == "deon") c.model = "deon2011";  // short names (schema enum) → the recorded ones
-  if (c.model == "marschner") c.model = "marschner2003";
+  // The schema's enum holds the models' names and short names; the full one is recorded.
+  const ModelKind* model = find_model_kind(doc.value("model", std::string("deon2011")));
+  if (!model) fail("model", "is not a model of this build");
+  c.model = model->name();
 
   const nlohmann::json fiber = doc.value("fiber", nlohmann::json::object());
   c.eta = get_number(fiber, "eta", 1.55);
   c.path = parse_absorption_path(fiber.value("absorption_path", std::string("chord")), "fiber.absorption_path");
 
   const nlohmann::json lobes = doc.value("lobes", nlohmann::json::object());
-  const auto names = lobes.value("explicit", c.model == "marschner2003" ? std::vector<std::string>{"R", "TT", "TRT"}
-                                                                       : std::vector<std::string>{"R", "TT", "TRT", "TRRT"});
+  const auto names = lobes.value("explicit", model->default_lobes());
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string path = "lobes.explicit[" + std::to_string(i) + "]";
     int p = -1;
@@ -81,9 +131,9 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
                      names[i] + "\")");
   }
   c.lobe_count = static_cast<int>(names.size());
-  // "marschner" with another model, and the d'Eon-only keys with marschner2003: the schema's allOf.
-  if (c.model == "marschner2003") c.marschner = parse_marschner(doc, c);
-  c.residual = c.marschner ? false : lobes.value("residual", true);
+  // What a model refuses (another model's settings and keys): its rules in the schema's allOf.
+  c.model_settings = model->parse(doc, c);
+  c.residual = model->has_residual() ? lobes.value("residual", true) : false;
   c.fold_below = get_number(lobes, "fold_below", 0.0);
   c.tilt.assign(static_cast<std::size_t>(c.lobe_count), 0.0);
   if (lobes.contains("tilt_deg")) {
@@ -150,20 +200,7 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
   n["description"] = c.description;
   n["model"] = c.model;
   n["fiber"] = {{"eta", c.eta}, {"absorption_path", to_string(c.path)}};
-  if (c.marschner) {
-    n["lobes"] = {{"explicit", names}, {"residual", false}};
-    n["marschner"] = marschner_json(*c.marschner);
-  } else {
-    nlohmann::json tilt = nlohmann::json::object();
-    for (int p = 0; p < c.lobe_count; ++p) tilt[lobe_name(p)] = c.tilt[static_cast<std::size_t>(p)];
-    tilt["residual"] = c.residual_tilt;
-    n["lobes"] = {{"explicit", names}, {"residual", c.residual}, {"fold_below", c.fold_below}, {"tilt", tilt}};
-    n["quadrature"] = {{"method", to_string(c.quadrature.method)},
-                       {"order", c.quadrature.order},
-                       {"variable", to_string(c.quadrature.variable)},
-                       {"tolerance", c.quadrature.tolerance},
-                       {"energy_order", c.quadrature.energy_order}};
-  }
+  model->normalize(c, n);
   nlohmann::json t = nlohmann::json::object();
   if (c.np_fourier) {
     const FourierNpConfig& f = *c.np_fourier;
@@ -218,50 +255,6 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
 
 
 }  // namespace
-
-nlohmann::json marschner_json(const MarschnerConfig& m) {
-  const CausticParams& k = m.params.caustic;
-  return {{"roots", to_string(m.params.roots)},
-          {"caustic", {{"k_G", k.k_G}, {"w_c", k.w_c}, {"delta_eta_prime", k.delta_eta_prime}, {"delta_h_max", k.delta_h_max}}},
-          {"eccentricity", m.params.eccentricity},
-          {"eccentric_fresnel", to_string(m.params.eccentric_fresnel)},
-          {"longitudinal", {{"alpha_R", m.alpha_r}, {"argument", m.argument == GaussianArgument::theta_h ? "theta-h" : "2theta-h"},
-                            {"relations", "alpha_TT = -alpha_R/2, alpha_TRT = -3 alpha_R/2, beta_TT = beta_R/2, beta_TRT = 2 beta_R (Table 1)"}}}};
-}
-
-MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path) {
-  MarschnerConfig m;
-  try {
-    m.params.eta = eta;
-    m.params.path = path;
-    m.params.roots = parse_marschner_roots(j.at("roots").get<std::string>(), "marschner.roots");
-    const auto& k = j.at("caustic");
-    m.params.caustic.k_G = k.at("k_G").get<double>();
-    m.params.caustic.w_c = k.at("w_c").get<double>();
-    m.params.caustic.delta_eta_prime = k.at("delta_eta_prime").get<double>();
-    m.params.caustic.delta_h_max = k.at("delta_h_max").get<double>();
-    m.params.eccentricity = j.at("eccentricity").get<double>();
-    m.params.eccentric_fresnel = parse_eccentric_fresnel(j.at("eccentric_fresnel").get<std::string>(), "marschner.eccentric_fresnel");
-    const auto& l = j.at("longitudinal");
-    m.alpha_r = l.at("alpha_R").get<double>();
-    const std::string arg = l.at("argument").get<std::string>();
-    if (arg != "theta-h" && arg != "2theta-h") throw DomainError("marschner.longitudinal.argument must be theta-h or 2theta-h (got \"" + arg + "\")");
-    m.argument = arg == "theta-h" ? GaussianArgument::theta_h : GaussianArgument::two_theta_h;
-  } catch (const nlohmann::json::exception& e) {
-    throw DomainError(std::string("marschner settings malformed (") + e.what() + ")");
-  }
-  try {
-    m.params.validate();
-  } catch (const DomainError& e) {
-    throw DomainError("marschner." + std::string(e.what()));
-  }
-  // The config's bound (config_tables.cpp), for settings read back from a file.
-  if (!(m.params.caustic.w_c >= 0.5 * kPi / 180.0))
-    throw DomainError("marschner.caustic.w_c must be at least 0.5 degrees (got " + nlohmann::json(m.params.caustic.w_c).dump() + " rad)");
-  if (!(std::abs(m.alpha_r) <= kPi / 4.0))
-    throw DomainError("marschner.longitudinal.alpha_R must lie in [-45, 45] degrees (got " + nlohmann::json(m.alpha_r).dump() + " rad)");
-  return m;
-}
 
 BakeConfig parse_config(const nlohmann::json& document, const std::string& source, const std::filesystem::path& base_dir) {
   static_assert(sizeof(char) == 1);

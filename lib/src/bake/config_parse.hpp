@@ -1,6 +1,6 @@
 // Internal: the config parser's pieces, shared by its files: config.cpp (the document: fiber, lobes,
 // quadrature, output, the normalized form), config_axes.cpp (axes and per-lobe values) and
-// config_tables.cpp (np, mp, dual_scattering, engine, marschner, scene; the kinds of lib/kinds/ parse their own).
+// config_tables.cpp (np, mp, dual_scattering, engine, scene; the models of lib/models/ and the kinds of lib/kinds/ parse their own).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -49,7 +49,6 @@ nlohmann::json axes_json(const std::vector<GridAxis>& axes);
 void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
 void parse_mp_tables(const nlohmann::json& doc, const nlohmann::json& tables, BakeConfig& c);
 void parse_scene(const nlohmann::json& doc, BakeConfig& c);
-MarschnerConfig parse_marschner(const nlohmann::json& doc, const BakeConfig& c);
 DualScatteringTablesConfig parse_dual_scattering(const nlohmann::json& j, int lobe_count, bool residual);
 EngineConfig parse_engine(const nlohmann::json& j, const std::vector<std::string>& lobe_names);
 nlohmann::json dual_scattering_json(const DualScatteringTablesConfig& d);

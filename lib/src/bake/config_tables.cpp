@@ -7,6 +7,7 @@
 #include <string>
 
 #include "config_parse.hpp"
+#include "hairlut/bake/model_kind.hpp"
 #include "hairlut/physics/hair_model.hpp"
 #include "hairlut/physics/melanin.hpp"
 #include "hairlut/util/angles.hpp"
@@ -88,39 +89,23 @@ void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, Ba
   const std::string p = "tables.np.axes.";
   // Per-material scenes take sigma_a and beta from their materials; generic tables need them.
   const bool per_material = doc.contains("scene") && doc.at("scene").value("mode", std::string("per-material")) == "per-material";
-  // A β axis with model marschner2003, and φh with model deon2011: refused by the schema.
-  for (const char* key : {"sigma_a", "beta"})
-    if (!ax.contains(key) && !per_material && !(c.marschner && key == std::string("beta")))
-      fail("tables.np.axes", std::string("missing required key \"") + key + "\" (needed unless scene.mode is per-material)");
-  GridAxis beta_axis, sigma_axis;
-  beta_axis.name = "beta", sigma_axis.name = "sigma_a";
-  beta_axis.count = sigma_axis.count = 0;  // unused (per-material scene) unless given
-  if (ax.contains("beta"))
-    beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)");
+  // Every model's N_p has σa (unless a per-material scene gives it), θd and φ; the model adds its
+  // own axes (d'Eon's β, an eccentric Marschner fiber's φh) and orders them.
+  if (!ax.contains("sigma_a") && !per_material)
+    fail("tables.np.axes", "missing required key \"sigma_a\" (needed unless scene.mode is per-material)");
+  SharedNpAxes shared;
+  shared.sigma_a.name = "sigma_a";
+  shared.sigma_a.count = 0;  // unused (per-material scene) unless given
   if (ax.contains("sigma_a"))
-    sigma_axis = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius",
-                           "absorption coefficient per unit fiber radius");
-  const GridAxis theta_axis = make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
-                                        "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
-  if (c.marschner) {
-    // N_R, N_TT over (sigma_a, theta_d, phi); an eccentric TRT also over phi_h (before phi).
-    c.np_axes = std::vector<GridAxis>{sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
-    const bool eccentric = c.marschner->params.eccentricity != 1.0;
-    if (ax.contains("phi_h") && !eccentric)
-      fail(p + "phi_h", "applies to an eccentric fiber only (marschner.eccentricity is 1)");
-    if (eccentric) {
-      const nlohmann::json def = {{"count", 9}, {"range_deg", {0, 90}}};
-      GridAxis ph = make_axis(ax.contains("phi_h") ? ax.at("phi_h") : def, p + "phi_h", "phi_h", true, 0.0, kHalfPi, "rad",
-                              "azimuthal half angle phi_h = (phi_i + phi_r)/2 from the axis where eta* = eta1* (period pi, even)");
-      ph.wrap = Wrap::reflect;
-      if (ph.lo != 0.0 || std::abs(ph.hi - kHalfPi) > 1e-12)
-        fail(p + "phi_h", "must cover [0, 90] degrees (eta* is even in phi_h with period 180 degrees; the sampler folds phi_h into it)");
-      ph.hi = kHalfPi;
-      c.np_axes->insert(c.np_axes->begin() + 2, ph);
-    }
-  } else {
-    c.np_axes = std::vector<GridAxis>{beta_axis, sigma_axis, theta_axis, make_phi_axis(ax.at("phi"), p + "phi")};
-  }
+    shared.sigma_a = make_axis(ax.at("sigma_a"), p + "sigma_a", "sigma_a", false, 0.0, 1e5, "1/radius",
+                               "absorption coefficient per unit fiber radius");
+  shared.theta_d = make_axis(ax.at("theta_d"), p + "theta_d", "theta_d", true, 0.0, kHalfPi, "rad",
+                             "longitudinal difference angle theta_d = (theta_r - theta_i)/2");
+  shared.phi = make_phi_axis(ax.at("phi"), p + "phi");
+  shared.per_material = per_material;
+  c.np_axes = c.model_kind().np_axes(ax, p, shared, c);
+  const GridAxis& sigma_axis = shared.sigma_a;
+  const GridAxis& theta_axis = shared.theta_d;
   checked([&] { validate_interpolation(*c.np_axes, "tables.np"); });
   const nlohmann::json& np = tables.at("np");
   if (np.value("normalize", std::string("none")) == "energy") {
@@ -132,8 +117,10 @@ void parse_np_tables(const nlohmann::json& doc, const nlohmann::json& tables, Ba
     c.np_energy_axes = energy_axes(np.at("energy_axes"), sigma_axis, theta_axis);
   }
   if (np.contains("beta_bands")) {  // β bands (beta_bands.cpp): band 0 becomes the N_p axes
-    if (c.marschner || doc.contains("scene") || c.np_target_error)
+    // Another model's tables: refused by its schema rules.
+    if (doc.contains("scene") || c.np_target_error)
       fail("tables.np.beta_bands", "applies to generic deon2011 N_p tables without a scene or target_error");
+    const GridAxis beta_axis = c.np_axes->front();  // deon2011's (β, σa, θd, φ)
     checked([&] {
       c.np_beta_bands = parse_beta_bands(np.at("beta_bands"), ax, [&](const nlohmann::json& bx, const std::string& bp) {
         std::vector<GridAxis> b{make_axis(bx.at("beta"), bp + "beta", "beta", true, 1e-6, kPi, "rad", "azimuthal roughness beta (detector width)"),
@@ -161,8 +148,7 @@ void parse_mp_tables(const nlohmann::json& doc, const nlohmann::json& tables, Ba
   beta_axis.count = 0;  // unused (per-material scene) unless given
   if (ax.contains("beta"))
     beta_axis = make_axis(ax.at("beta"), p + "beta", "beta", true, 1e-6, kPi, "rad",
-                          c.marschner ? "width beta_R of the R lobe's Gaussian (lobe p uses Table 1's beta_p = ratio_p beta_R)"
-                                      : "longitudinal roughness beta, v = beta^2");
+                          c.model_kind().mp_beta_meaning());
   c.mp_axes = std::vector<GridAxis>{
       beta_axis,
       make_axis(ax.at("theta_i"), p + "theta_i", "theta_i", true, -kHalfPi, kHalfPi, "rad", "incident inclination theta_i"),
@@ -201,60 +187,12 @@ void parse_scene(const nlohmann::json& doc, BakeConfig& c) {
       const auto v = mj.at("sigma_a").get<std::vector<double>>();
       m.sigma_a = {v[0], v[1], v[2]};
     }
-    if (c.marschner) {
-      // Gaussian widths: R given, TT and TRT given or from Table 1 (β_R/2, 2β_R).
-      // R present, no residual and no beta_n_deg: the schema's rules of model marschner2003.
-      const nlohmann::json& b = mj.at("beta_deg");
-      for (const auto& [key, value] : b.items()) lobe_index(key, c.lobe_count, path + ".beta_deg." + key);
-      const MarschnerLobes table1 = c.marschner->lobes(radians(b.at("R").get<double>()));
-      for (int lobe = 0; lobe < c.lobe_count; ++lobe)
-        m.beta_m.push_back(b.contains(lobe_name(lobe)) ? radians(b.at(lobe_name(lobe)).get<double>()) : table1.beta[lobe]);
-      m.beta_n = m.beta_m;
-      scene.materials.push_back(std::move(m));
-      continue;
-    }
-    per_lobe_values(mj.at("beta_deg"), path + ".beta_deg", c.lobe_count, kPi / 180.0, m.beta_m, m.residual_beta_m);
-    if (mj.contains("beta_n_deg"))
-      per_lobe_values(mj.at("beta_n_deg"), path + ".beta_n_deg", c.lobe_count, kPi / 180.0, m.beta_n, m.residual_beta_n);
-    else
-      m.beta_n = m.beta_m, m.residual_beta_n = m.residual_beta_m;
+    c.model_kind().material_roughness(mj, path, c, m);
     scene.materials.push_back(std::move(m));
   }
   c.scene = std::move(scene);
 }
 
-
-// The settings of model marschner2003.
-MarschnerConfig parse_marschner(const nlohmann::json& doc, const BakeConfig& c) {
-  // At most R, TT and TRT, no residual, tilts, fold_below or quadrature: the schema's rules of model
-  // marschner2003 (its allOf), applied before this runs.
-  const nlohmann::json mj = doc.value("marschner", nlohmann::json::object());
-  MarschnerConfig m;
-  m.params.eta = c.eta;
-  m.params.path = c.path;
-  m.params.roots = parse_marschner_roots(mj.value("roots", std::string("exact")), "marschner.roots");
-  const nlohmann::json k = mj.value("caustic", nlohmann::json::object());
-  m.params.caustic.k_G = get_number(k, "k_G", 0.5);
-  // At least 0.5 degrees by the schema: a narrower caustic is finer than any table's phi spacing,
-  // and the validator's integration over it grows without bound as it narrows (1e-10 degrees:
-  // over ten minutes).
-  m.params.caustic.w_c = radians(get_number(k, "w_c_deg", 15.0));
-  m.params.caustic.delta_eta_prime = get_number(k, "delta_eta_prime", 0.3);
-  m.params.caustic.delta_h_max = get_number(k, "delta_h_max", 0.5);
-  m.params.eccentricity = get_number(mj, "eccentricity", 1.0);
-  m.params.eccentric_fresnel = parse_eccentric_fresnel(mj.value("eccentric_fresnel", std::string("eta")), "marschner.eccentric_fresnel");
-  const nlohmann::json l = mj.value("longitudinal", nlohmann::json::object());
-  m.alpha_r = radians(get_number(l, "alpha_R_deg", -5.0));
-  m.argument = l.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
-  checked([&] {
-    try {
-      m.params.validate();
-    } catch (const DomainError& e) {
-      throw DomainError("marschner." + std::string(e.what()));
-    }
-  });
-  return m;
-}
 
 // ---- tables.dual_scattering and tables.engine -------------------------------------------------
 

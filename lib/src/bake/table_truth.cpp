@@ -9,6 +9,7 @@
 #include "hairlut/physics/fiber_geometry.hpp"
 #include "hairlut/physics/lobe_energy.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
+#include "hairlut/bake/model_kind.hpp"
 
 namespace hairlut {
 namespace {
@@ -29,76 +30,6 @@ TableTruth peak_over_phi(TableTruth t) {
   t.absolute_floor = 1e-300;
   t.denominator = kNpWords;
   return t;
-}
-
-// Marschner 2003 tables: N_p and energies over (σa or channel, θd, [φh,] φ) evaluated directly
-// (no quadrature in N_p; the energies by adaptive quadrature), M_p the closed-form Gaussian.
-std::optional<TableTruth> marschner_truth(const Table& t, const MarschnerConfig& m, const std::vector<std::string>& dims) {
-  const int p = t.attributes.value("p", -1);
-  if (dims.size() < 2 || p < 0 || p > 2) return std::nullopt;
-  if (t.quantity == "M_p" && t.attributes.value("function", std::string()) == "gaussian") {
-    const double alpha = t.attributes.value("alpha_theta_h", 0.0);
-    const GaussianArgument arg = t.attributes.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
-    TableTruth tr;
-    tr.peak_lo = -kHalfPi, tr.peak_hi = kHalfPi;
-    tr.denominator = kMpWords;
-    if (dims == std::vector<std::string>{"beta", "theta_i", "theta_r"}) {
-      const double ratio = t.attributes.value("beta_ratio", 1.0);
-      tr.peak_axis = 2;
-      tr.make = [=](const std::vector<double>&) {
-        return PointFunction([=](const std::vector<double>& y) { return longitudinal_gaussian(ratio * y[0], alpha, y[1], y[2], arg); });
-      };
-      return tr;
-    }
-    if (dims == std::vector<std::string>{"theta_i", "theta_r"}) {
-      const double beta = t.attributes.value("beta", 0.1);
-      tr.peak_axis = 1;
-      tr.make = [=](const std::vector<double>&) {
-        return PointFunction([=](const std::vector<double>& y) { return longitudinal_gaussian(beta, alpha, y[0], y[1], arg); });
-      };
-      return tr;
-    }
-    return std::nullopt;
-  }
-  if (dims[0] != "sigma_a" && dims[0] != "channel") return std::nullopt;
-  if (dims[1] != "theta_d") return std::nullopt;
-  const bool with_h = dims.size() > 2 && dims[2] == "phi_h";
-  std::vector<double> channel_sigmas;
-  if (dims[0] == "channel") {
-    if (!t.attributes.contains("sigma_a")) return std::nullopt;
-    channel_sigmas = t.attributes["sigma_a"].get<std::vector<double>>();
-  }
-  auto sigma_of = [channel_sigmas](double x) {
-    return channel_sigmas.empty() ? x : channel_sigmas[static_cast<std::size_t>(std::clamp<long>(std::lround(x), 0, static_cast<long>(channel_sigmas.size()) - 1))];
-  };
-  const std::vector<int> slab = with_h ? std::vector<int>{1, 2} : std::vector<int>{1};
-  const MarschnerParams params = m.params;
-  const bool np = t.quantity == "N_p" && dims.back() == "phi" && dims.size() == (with_h ? 4u : 3u);
-  const bool energy = t.quantity == "energy" && dims.size() == (with_h ? 3u : 2u);
-  if (!np && !energy) return std::nullopt;
-  auto build = [=](bool white) {
-    return [=](const std::vector<double>& x) {
-      auto az = std::make_shared<MarschnerAzimuthal>(params, x[1], with_h ? x[2] : 0.0);
-      return PointFunction([=](const std::vector<double>& y) {
-        const double sig = white ? 0.0 : sigma_of(y[0]);
-        if (np) return az->np(p, sig, y.back());
-        double e = 0.0;
-        az->energy(p, std::span<const double>(&sig, 1), std::span<double>(&e, 1));
-        return e;
-      });
-    };
-  };
-  TableTruth tr;
-  tr.slab_axes = slab;
-  tr.make = build(false);
-  tr.make_white = build(true);
-  if (np) {
-    tr = peak_over_phi(tr);
-    tr.peak_axis = static_cast<int>(dims.size()) - 1;
-  } else {
-    tr.white_floor = kWhiteFloor, tr.absolute_floor = kEnergyFloor, tr.denominator = kEnergyWords;
-  }
-  return tr;
 }
 
 // N_p(β, φ) of lobe p at (θd, σa) by the Fourier series (azimuthal_fourier.hpp) to 1e−10 for every
@@ -161,10 +92,29 @@ std::vector<double> np_features(double eta, double theta_d, int p) {
 
 }  // namespace
 
+TableTruth with_np_denominator(TableTruth t, int phi_axis) {
+  t = peak_over_phi(std::move(t));
+  t.peak_axis = phi_axis;
+  return t;
+}
+
+TableTruth with_energy_denominator(TableTruth t) {
+  t.white_floor = kWhiteFloor, t.absolute_floor = kEnergyFloor, t.denominator = kEnergyWords;
+  return t;
+}
+
+TableTruth with_mp_denominator(TableTruth t, int theta_r_axis) {
+  t.peak_axis = theta_r_axis;
+  t.peak_lo = -kHalfPi, t.peak_hi = kHalfPi;
+  t.denominator = kMpWords;
+  return t;
+}
+
 std::optional<TableTruth> table_truth(const Table& t, const TruthModel& info, std::shared_ptr<const GaussLegendreRule> rule) {
   std::vector<std::string> dims;
   for (const GridAxis& a : t.axes) dims.push_back(a.name);
-  if (info.marschner && t.attributes.value("model", std::string()) == "marschner2003") return marschner_truth(t, *info.marschner, dims);
+  if (info.model && info.settings)  // a model with stages of its own (lib/models/) judges its tables
+    if (std::optional<TableTruth> own = info.model->truth(t, *info.settings)) return own;
   const int p = t.attributes.value("p", -1);
   const bool is_residual = t.attributes.value("lobe", std::string()) == "residual";
   // Exact N_p: Gauss–Legendre of order 1024 in γ (converged to ~1e−14 for β ≥ 1°, see the

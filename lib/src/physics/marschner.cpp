@@ -329,4 +329,48 @@ MarschnerAlbedo marschner_directional_albedo(const MarschnerParams& params, cons
   return m;
 }
 
+nlohmann::json marschner_json(const MarschnerConfig& m) {
+  const CausticParams& k = m.params.caustic;
+  return {{"roots", to_string(m.params.roots)},
+          {"caustic", {{"k_G", k.k_G}, {"w_c", k.w_c}, {"delta_eta_prime", k.delta_eta_prime}, {"delta_h_max", k.delta_h_max}}},
+          {"eccentricity", m.params.eccentricity},
+          {"eccentric_fresnel", to_string(m.params.eccentric_fresnel)},
+          {"longitudinal", {{"alpha_R", m.alpha_r}, {"argument", m.argument == GaussianArgument::theta_h ? "theta-h" : "2theta-h"},
+                            {"relations", "alpha_TT = -alpha_R/2, alpha_TRT = -3 alpha_R/2, beta_TT = beta_R/2, beta_TRT = 2 beta_R (Table 1)"}}}};
+}
+
+MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path) {
+  MarschnerConfig m;
+  try {
+    m.params.eta = eta;
+    m.params.path = path;
+    m.params.roots = parse_marschner_roots(j.at("roots").get<std::string>(), "marschner.roots");
+    const auto& k = j.at("caustic");
+    m.params.caustic.k_G = k.at("k_G").get<double>();
+    m.params.caustic.w_c = k.at("w_c").get<double>();
+    m.params.caustic.delta_eta_prime = k.at("delta_eta_prime").get<double>();
+    m.params.caustic.delta_h_max = k.at("delta_h_max").get<double>();
+    m.params.eccentricity = j.at("eccentricity").get<double>();
+    m.params.eccentric_fresnel = parse_eccentric_fresnel(j.at("eccentric_fresnel").get<std::string>(), "marschner.eccentric_fresnel");
+    const auto& l = j.at("longitudinal");
+    m.alpha_r = l.at("alpha_R").get<double>();
+    const std::string arg = l.at("argument").get<std::string>();
+    if (arg != "theta-h" && arg != "2theta-h") throw DomainError("marschner.longitudinal.argument must be theta-h or 2theta-h (got \"" + arg + "\")");
+    m.argument = arg == "theta-h" ? GaussianArgument::theta_h : GaussianArgument::two_theta_h;
+  } catch (const nlohmann::json::exception& e) {
+    throw DomainError(std::string("marschner settings malformed (") + e.what() + ")");
+  }
+  try {
+    m.params.validate();
+  } catch (const DomainError& e) {
+    throw DomainError("marschner." + std::string(e.what()));
+  }
+  // The config schema's bounds, for settings read back from a file.
+  if (!(m.params.caustic.w_c >= 0.5 * kPi / 180.0))
+    throw DomainError("marschner.caustic.w_c must be at least 0.5 degrees (got " + nlohmann::json(m.params.caustic.w_c).dump() + " rad)");
+  if (!(std::abs(m.alpha_r) <= kPi / 4.0))
+    throw DomainError("marschner.longitudinal.alpha_R must lie in [-45, 45] degrees (got " + nlohmann::json(m.alpha_r).dump() + " rad)");
+  return m;
+}
+
 }  // namespace hairlut

@@ -31,6 +31,7 @@
 #include "hairlut/bake/table_truth.hpp"
 #include "hairlut/tables/fourier_tables.hpp"
 #include "hairlut/bake/table_kind.hpp"
+#include "hairlut/report/model_kind_report.hpp"
 #include "hairlut/report/table_kind_report.hpp"
 #include "validate_sections.hpp"
 namespace hairlut {
@@ -113,12 +114,9 @@ ModelInfo model_from(const TableSet& set) {
     throw DomainError(std::string("table metadata: malformed (") + e.what() + ")");
   }
   require_greater("table metadata eta", info.eta, 1.0, "must be > 1");
-  if (info.model == "marschner2003") {
-    if (!m.contains("marschner")) throw DomainError("table metadata: model marschner2003 without its \"marschner\" settings");
-    info.marschner = marschner_from_json(m.at("marschner"), info.eta, info.path);
-  } else if (info.model != "deon2011") {
-    throw DomainError("table metadata: unknown model \"" + info.model + "\"");
-  }
+  info.kind = find_model_kind(info.model);
+  if (!info.kind) throw DomainError("table metadata: unknown model \"" + info.model + "\"");
+  info.settings = info.kind->from_metadata(m, info.eta, info.path);
   if (info.lobes.empty()) throw DomainError("table metadata: lobes is empty");
   for (std::size_t p = 0; p < info.lobes.size(); ++p)
     if (parse_lobe(info.lobes[p], "table metadata lobes") != static_cast<int>(p))
@@ -271,28 +269,6 @@ json sanity_section(const TableSet& set, const ModelInfo& info, std::vector<json
   return out;
 }
 
-// The model comparison for the fiber of a Marschner table set: its η, path and settings, the
-// σa node nearest 0.5 (a light brown) and the middle β_R of its M_p tables.
-json compare_for(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt) {
-  CompareSettings s;
-  s.eta = info.eta;
-  s.path = info.path;
-  s.marschner = *info.marschner;
-  s.cancel = opt.cancel;
-  if (const Table* n = set.find("np/R"); n && n->axes[0].name == "sigma_a") {
-    double best = INFINITY;
-    for (double v : n->axes[0].nodes())
-      if (std::abs(v - 0.5) < std::abs(best - 0.5)) best = v;
-    s.sigma_a = best;
-  }
-  if (const Table* mt = set.find("mp/R"); mt && mt->axes.size() == 3) {
-    const auto b = mt->axes[0].nodes();
-    s.beta_r = b[b.size() / 2];
-  }
-  s.fiber = "from the tables' metadata";
-  return compare_models(s);
-}
-
 }  // namespace
 
 nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& source, const ValidationOptions& given) {
@@ -311,17 +287,8 @@ nlohmann::ordered_json validate_tables(const TableSet& set, const std::string& s
   report["thresholds"] = opt.thresholds.to_json();
   if (opt.progress) opt.progress("sanity", 0, 6);
   report["sanity"] = sanity_section(set, info, checks);
-  if (info.marschner) {
-    if (opt.progress) opt.progress("energy", 1, 6);
-    report["marschner_energy"] = marschner_energy_section(set, info, opt, checks);
-    if (opt.progress) opt.progress("compare", 2, 6);
-    report["compare"] = compare_for(set, info, opt);
-  } else {
-    if (opt.progress) opt.progress("white furnace", 1, 6);
-    report["furnace"] = furnace_section(set, info, opt, checks);
-    if (opt.progress) opt.progress("truncation", 2, 6);
-    report["truncation"] = truncation_section(info, checks);
-  }
+  for (const ModelKindReport* m : model_kind_reports())  // lib/models/
+    if (m->name() == info.model) m->energy_sections(set, info, opt, checks, report);
   check_cancel(opt);
   // In a part after the first, only what reads the tables in parts is checked again.
   const bool rest = !opt.part || opt.part->index == 0;

@@ -91,7 +91,7 @@ json accuracy_section(const TableSet& set, const ModelInfo& info, const Validati
   std::map<std::string, Worst> worst_max, worst_p99;
   std::map<std::string, std::string> denominators;
   const auto rule = std::make_shared<const GaussLegendreRule>(1024);
-  const TruthModel model{info.eta, info.path, info.explicit_lobes, info.marschner};
+  const TruthModel model{info.eta, info.path, info.explicit_lobes, info.kind, info.settings};
   const auto ds_memo = make_dual_scattering_memo();
   std::size_t done = 0;
   for (const Table& t : set.tables) {

@@ -1,6 +1,7 @@
 // Validator and report sections that live in their own files (internal to the library).
 #pragma once
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -9,28 +10,21 @@
 #include "hairlut/tables/tables.hpp"
 #include "hairlut/report/validate.hpp"
 #include "hairlut/bake/config.hpp"
+#include "hairlut/report/model_kind_report.hpp"
+#include "hairlut/util/angles.hpp"
 
 namespace hairlut::detail {
 
 /// The validator's own pieces, shared by its section files (validate.cpp: sanity and the report;
-/// validate_energy.cpp: furnaces, truncation, M_p and absorption; validate_accuracy.cpp: the
-/// sampled error of every table).
+/// validate_energy.cpp: M_p and absorption; validate_accuracy.cpp: the sampled error of every
+/// table) and the models' sections (lib/models/<model>/<model>_report.cpp: furnaces, truncation,
+/// Marschner's E(θi)).
 namespace validation {
 
 using json = nlohmann::ordered_json;
 
 // The model the tables were baked with, from their metadata.
-struct ModelInfo {
-  std::string model = "deon2011";
-  double eta = 1.55;
-  AbsorptionPath path = AbsorptionPath::chord;
-  std::vector<std::string> lobes;
-  int explicit_lobes = 0;
-  bool residual = false;
-  int energy_order = 128;
-  std::optional<MarschnerConfig> marschner;  ///< model "marschner2003"
-};
-
+using ModelInfo = TableSetModel;
 
 ModelInfo model_from(const TableSet& set);
 /// Whether the values of t may be negative (the sanity check counts negatives elsewhere).
@@ -44,10 +38,24 @@ void check_cancel(const ValidationOptions& opt);
 std::vector<double> theta_grid_deg();                   // θ in degrees, −89 … 89, denser near grazing
 std::vector<double> representative(const GridAxis& a);  // up to three nodes: first, middle, last
 
+// Integrals over φ of tables, exactly as the sampler interpolates along φ (validate_energy.cpp).
+/// ∫ N_table(β, σa, θd, φ) dφ of a d'Eon table (read as a renderer reads it: with its factor).
+double table_energy(const TableSet& set, const Table& t, double beta, double sigma, double theta_d);
+/// ∫ N_table dφ of a Marschner table (σa, θd, [φh,] φ) at φh (ignored without that axis).
+double marschner_table_energy(const Table& t, double sigma, double theta_d, double phi_h);
+/// e_p,table(θd) on a fine θd grid, for interpolation inside the θr integral.
+struct EnergyCurve {
+  std::vector<double> values;  // at θd = k (π/2)/n, k = 0 … n
+  double at(double theta_d) const {
+    const double n = static_cast<double>(values.size() - 1);
+    const double s = std::clamp(theta_d / kHalfPi * n, 0.0, n);
+    const auto k = std::min(static_cast<std::size_t>(s), values.size() - 2);
+    const double w = s - static_cast<double>(k);
+    return (1.0 - w) * values[k] + w * values[k + 1];
+  }
+};
+
 // Sections: each appends its checks and returns its part of the report.
-json furnace_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
-json truncation_section(const ModelInfo& info, std::vector<json>& checks);
-json marschner_energy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
 json longitudinal_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
 json absorption_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);
 json accuracy_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks);

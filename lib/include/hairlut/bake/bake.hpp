@@ -71,21 +71,17 @@ using NpGridOutput = std::function<void(int p, std::size_t k, std::size_t t, std
 /// Returns how many adaptive entries missed their tolerance (0 for the other methods).
 std::size_t bake_np_grid(const NpGridRequest& request, const BakeOptions& options, const std::string& stage, const NpGridOutput& out);
 
-/// Bakes every table of the config (either model). Throws BakeCancelled or DomainError.
+/// Bakes every table of the config, by its model (lib/models/, bake/model_kind.hpp). Throws BakeCancelled or DomainError.
 /// With `slabbed`, the generic N_p tables (over β, σa, θd, φ) and the generic M_p tables (over β,
 /// θi, θr) of a d'Eon config are left without values and listed there with their producers, for
 /// write_hdf5_slabbed to bake and write slab by slab; everything else (metadata and checksummed
 /// notes included) is final when bake returns. Refused (DomainError) for what needs those tables
-/// whole: the adaptive N_p method, tables.np.target_error and the Marschner model.
+/// whole: the adaptive N_p method, tables.np.target_error and a model that does not bake slab by slab
+/// (ModelKind::slab_by_slab: Marschner 2003).
 TableSet bake(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr, SlabbedTables* slabbed = nullptr);
 /// What bake() refuses when asked for slabs (DomainError, one line): the tool's --check calls it
 /// for a slabbed plan, so that it says valid only for what the bake accepts.
 void check_slab_by_slab(const BakeConfig& config);
-
-/// The tables of a model "marschner2003" config (bake() calls it for such configs): N_R, N_TT,
-/// N_TRT over (sigma_a, theta_d, [phi_h,] phi) with their energies, Gaussian M_p over
-/// (beta_R, theta_i, theta_r), per-material RGB tables, melanin tables.
-TableSet bake_marschner(const BakeConfig& config, const BakeOptions& options = {}, BakeReport* report = nullptr);
 
 /// The generic N_p axes a scene in restrict-generic mode ends up with: sigma_a and beta ranges
 /// narrowed to [min, max] of what its materials use (counts kept; one node if min = max).

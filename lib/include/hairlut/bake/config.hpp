@@ -5,6 +5,7 @@
 
 #include <array>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -19,10 +20,12 @@
 #include "hairlut/tables/grid.hpp"
 #include "hairlut/util/hash.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
-#include "hairlut/physics/marschner.hpp"
 #include "hairlut/bake/table_kind.hpp"
 
 namespace hairlut {
+
+class ModelKind;
+struct ModelSettings;
 
 /// A config that cannot be used. what() is one line: "<file>: <key.path>: <reason>".
 class ConfigError : public std::runtime_error {
@@ -76,15 +79,6 @@ struct SceneConfig {
   std::vector<MaterialConfig> materials;
 };
 
-/// Settings of model "marschner2003" (Marschner et al. 2003 §5, Table 1).
-struct MarschnerConfig {
-  MarschnerParams params;                              ///< η and the absorption path mirror BakeConfig's
-  double alpha_r = radians(-5.0);                      ///< R lobe's shift of θh (Table 1: −10° to −5°)
-  GaussianArgument argument = GaussianArgument::theta_h;
-  /// Table 1's lobes for a given β_R.
-  MarschnerLobes lobes(double beta_r) const { return MarschnerLobes::table1(alpha_r, beta_r); }
-};
-
 /// tables.dual_scattering: mean energy per lobe and Zinke 2008's dual-scattering quantities over
 /// generic physical axes (dual_scattering.hpp, docs/dual-scattering.md).
 struct DualScatteringTablesConfig {
@@ -107,8 +101,10 @@ struct OutputConfig {
 /// A validated config, with defaults applied and angles in radians.
 struct BakeConfig {
   std::string name, description;
-  std::string model = "deon2011";
-  std::optional<MarschnerConfig> marschner;  ///< set exactly when model == "marschner2003"
+  std::string model = "deon2011";   ///< a model of lib/models/ by its full name
+  /// What the model read from the config (null for a model with no settings of its own, d'Eon's);
+  /// its json() is what the normalized config and the table metadata record.
+  std::shared_ptr<const ModelSettings> model_settings;
   double eta = 1.55;
   AbsorptionPath path = AbsorptionPath::chord;
   int lobe_count = 4;                ///< explicit lobes p = 0 … lobe_count − 1
@@ -149,6 +145,9 @@ struct BakeConfig {
 
   nlohmann::json normalized;  ///< the config with every default filled in, angles in radians
   std::string hash;           ///< FNV-1a 64 of normalized + library version, 16 hex digits
+
+  /// The model named by `model` (bake/model_kind.hpp); throws DomainError for a name no folder has.
+  const ModelKind& model_kind() const;
 };
 
 /// Parses and validates a config document. `source` names it in error messages (the file name).
@@ -156,17 +155,11 @@ struct BakeConfig {
 BakeConfig parse_config(const nlohmann::json& document, const std::string& source,
                         const std::filesystem::path& base_dir);
 
-/// The marschner2003 settings as recorded in the normalized config and the table metadata
-/// (angles in radians).
-nlohmann::json marschner_json(const MarschnerConfig& m);
-/// The inverse of marschner_json (for tables read back), with the fiber's η and path; throws
-/// DomainError naming the malformed or out-of-domain field.
-MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path);
-
 /// Reads, parses and validates a config file (JSON syntax errors report line and column).
 BakeConfig load_config(const std::filesystem::path& file);
 
-/// The config schema: the library's own (lib/src/bake/config.schema.json) with each table kind's
+/// The config schema: the library's own (lib/src/bake/config.schema.json) with each model's
+/// fragment (model_kind.hpp: its name in `model`, its settings key, its rules in allOf), each table kind's
 /// fragment (table_kind.hpp) under properties.tables.properties.<kind> and its threshold under
 /// validate.thresholds. schemas/hairlut-config.schema.json
 /// publishes it (a test keeps the two equal).

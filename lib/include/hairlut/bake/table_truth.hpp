@@ -1,6 +1,7 @@
 // Direct evaluation of what a baked table approximates: the reference against which the
 // validator and the sampled-error measure judge a table, by table kind (d'Eon N_p, residual and
-// energies, M_p, Marschner 2003 N_p, energies and M_p; each kind of lib/kinds/ gives its own).
+// energies, M_p; each model of lib/models/ with stages of its own and each kind of lib/kinds/
+// gives its own).
 // Independent of the baker's algorithms where it matters: N_p by Gauss–Legendre of order 1024 in γ (the adaptive reference
 // below β = 1°), energies by the adaptive lobe-energy reference at 1e−13.
 #pragma once
@@ -13,18 +14,23 @@
 
 #include "hairlut/physics/attenuation.hpp"
 #include "hairlut/bake/config.hpp"
-#include "hairlut/physics/marschner.hpp"
 #include "hairlut/util/quadrature.hpp"
 #include "hairlut/tables/tables.hpp"
 
 namespace hairlut {
+
+class ModelKind;
+struct ModelSettings;
 
 /// The fiber the tables were baked for (from the set's metadata).
 struct TruthModel {
   double eta = 1.55;
   AbsorptionPath path = AbsorptionPath::chord;
   int explicit_lobes = 3;                      ///< lobes before the residual (R, TT, TRT, ...)
-  std::optional<MarschnerConfig> marschner;    ///< model "marschner2003"
+  /// The model (lib/models/) and its settings from the metadata; a model's own tables are judged
+  /// by its ModelKind::truth (unset or without settings: d'Eon's tables only).
+  const ModelKind* model = nullptr;
+  std::shared_ptr<const ModelSettings> settings;
 };
 
 /// The exact value of a table's quantity at a point x (one coordinate per axis of the table).
@@ -59,6 +65,13 @@ struct TableTruth {
   double absolute_floor = 0.0;
   std::string denominator;  ///< the denominator in words, for reports
 };
+
+/// The denominators table_truth() gives, for a model's own tables (ModelKind::truth): an N_p's
+/// peak over φ (the table's axis phi_axis) floored at 1e-3 of the white fiber's; an energy's own
+/// value floored at 1e-3 of the white fiber's and at 1e-6; an M_p's peak over θr in [−π/2, π/2].
+TableTruth with_np_denominator(TableTruth t, int phi_axis);
+TableTruth with_energy_denominator(TableTruth t);
+TableTruth with_mp_denominator(TableTruth t, int theta_r_axis);
 
 /// The reference for table t, or nullopt for a kind without one (dual-scattering, engine tables).
 std::optional<TableTruth> table_truth(const Table& t, const TruthModel& model, std::shared_ptr<const GaussLegendreRule> rule);

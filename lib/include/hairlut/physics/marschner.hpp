@@ -30,6 +30,7 @@
 //   attenuation of the path h = 0 and Δh = Δh_M.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -203,5 +204,21 @@ struct MarschnerAlbedo {
 };
 MarschnerAlbedo marschner_directional_albedo(const MarschnerParams& params, const MarschnerLobes& lobes, GaussianArgument argument,
                                              double sigma_a, double theta_i, double phi_h = 0.0, double rel_tol = 1e-7);
+
+/// Model "marschner2003" as a config and a table set's metadata give it: the fiber's parameters,
+/// Table 1's R shift and the Gaussian's argument.
+struct MarschnerConfig {
+  MarschnerParams params;                              ///< η and the absorption path mirror the config's fiber
+  double alpha_r = radians(-5.0);                      ///< R lobe's shift of θh (Table 1: −10° to −5°)
+  GaussianArgument argument = GaussianArgument::theta_h;
+  /// Table 1's lobes for a given β_R.
+  MarschnerLobes lobes(double beta_r) const { return MarschnerLobes::table1(alpha_r, beta_r); }
+};
+
+/// The settings as the normalized config and the table metadata record them (angles in radians).
+nlohmann::json marschner_json(const MarschnerConfig& m);
+/// The inverse of marschner_json (for tables read back), with the fiber's η and path; throws
+/// DomainError naming the malformed or out-of-domain field.
+MarschnerConfig marschner_from_json(const nlohmann::json& j, double eta, AbsorptionPath path);
 
 }  // namespace hairlut

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hairlut/bake/config.hpp"
+#include "hairlut/physics/marschner.hpp"
 #include "hairlut/physics/kajiya_kay.hpp"
 
 namespace hairlut {
