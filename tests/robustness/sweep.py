@@ -79,6 +79,10 @@ def base_configs():
                             "mp": {"axes": {"theta_i": {"count": 3, "range_deg": [-80, 80]}, "theta_r": {"count": 3, "range_deg": [-80, 80]},
                                             "beta": {"count": 2, "range_deg": [4, 12]}}}},
                  "output": {"basename": "s", "formats": ["hdf5"]}}
+    kajiya = {"name": "sweep-kajiya", "model": "kajiya1989", "kajiya_kay": {"kd": 0.1, "ks": 1.0},
+              "tables": {"mp": {"axes": {"theta_i": {"count": 3, "range_deg": [-80, 80]}, "theta_r": {"count": 3, "range_deg": [-80, 80]},
+                                         "beta": {"count": 2, "range_deg": [4, 12]}}}},
+              "output": {"basename": "s", "formats": ["hdf5"]}}
     scene = {"name": "sweep-scene", "lobes": {"explicit": ["R", "TT", "TRT"], "residual": True}, "quadrature": {"order": 32},
              "tables": {"np": {"axes": {"theta_d": {"count": 3, "range_deg": [0, 60]}, "phi": {"count": 5}}},
                         "mp": {"axes": {"theta_i": {"count": 3, "range_deg": [-60, 60]}, "theta_r": {"count": 3, "range_deg": [-60, 60]}}}},
@@ -91,8 +95,8 @@ def base_configs():
               "tables": {"engine": {"preset": "unity-hdrp-hair", "density_factor": 0.7,
                                     "unity": {"radial_smoothness": 0.5, "cuticle_angle_deg": 3, "attenuation_scale": 1.0}}},
               "output": {"basename": "s", "formats": ["hdf5"]}}
-    return [("deon", deon), ("ds", ds), ("bands", bands), ("target", target), ("fourier", fourier), ("marschner", marschner), ("scene", scene),
-            ("engine", engine)]
+    return [("deon", deon), ("ds", ds), ("bands", bands), ("target", target), ("fourier", fourier), ("marschner", marschner),
+            ("kajiya", kajiya), ("scene", scene), ("engine", engine)]
 
 
 def schema_fields(schema_path):

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <memory>
 
+#include "bake/bake_internal.hpp"
 #include "bake/bake_stages.hpp"
 #include "hairlut/bake/bake.hpp"
 #include "hairlut/bake/bake_engine.hpp"
@@ -35,15 +36,11 @@ json quadrature_json(const NpQuadratureConfig& q) {
 
 // The table set's self-description: model, conventions, lobes (after folding), quadrature, config.
 void describe(const BakeConfig& c, const detail::BakeRun& s, const BakeReport& report, Precision precision, TableSet& set) {
-  set.metadata["hairlut_version"] = kVersion;
-  set.metadata["model"] = c.model;
-  set.metadata["name"] = c.name;
-  set.metadata["description"] = c.description;
-  set.metadata["conventions"] =
+  detail::open_set_description(
+      c,
       "hairlut conventions (docs/conventions.md): angles in radians; S = sum_p M_p N_p; int M cos(theta_r) dtheta_r = 1; "
-      "N_p(phi) = 1/2 int A(p,h) D_beta(phi - Phi(p,h)) dh; sigma_a per unit fiber radius; tilt shifts theta_r";
-  set.metadata["eta"] = c.eta;
-  set.metadata["absorption_path"] = to_string(c.path);
+      "N_p(phi) = 1/2 int A(p,h) D_beta(phi - Phi(p,h)) dh; sigma_a per unit fiber radius; tilt shifts theta_r",
+      set);
   set.metadata["lobes"] = json::array();
   for (int p = 0; p < s.lobes; ++p) set.metadata["lobes"].push_back(lobe_name(p));
   set.metadata["residual"] = c.residual;
@@ -51,9 +48,7 @@ void describe(const BakeConfig& c, const detail::BakeRun& s, const BakeReport& r
   set.metadata["folded_lobes"] = json::array();
   for (const auto& f : report.folded) set.metadata["folded_lobes"].push_back({{"lobe", f.lobe}, {"max_energy", f.max_energy}});
   set.metadata["quadrature"] = quadrature_json(c.quadrature);
-  set.metadata["config_hash"] = c.hash;
-  set.metadata["config"] = c.normalized.dump();
-  set.metadata["precision"] = precision == Precision::float32 ? "float32" : "float64";
+  detail::close_set_description(c, precision, set);
 }
 
 
@@ -156,6 +151,8 @@ class Model final : public ModelKind {
     else
       m.beta_n = m.beta_m, m.residual_beta_n = m.residual_beta_m;
   }
+
+  void check(const BakeConfig&) const override {}  // its rules are the schema's and the N_p axes'
 
   bool slab_by_slab() const override { return true; }
   std::vector<PlannedTable> own_np_tables(const BakeConfig&) const override { return {}; }

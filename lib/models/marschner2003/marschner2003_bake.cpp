@@ -79,17 +79,13 @@ TableSet bake_tables(const BakeConfig& c, const MarschnerConfig& m, const BakeOp
   const int lobes = c.lobe_count;
   report.explicit_lobes = lobes;
 
-  set.metadata["hairlut_version"] = kVersion;
-  set.metadata["model"] = c.model;
-  set.metadata["name"] = c.name;
-  set.metadata["description"] = c.description;
-  set.metadata["conventions"] =
+  detail::open_set_description(
+      c,
       "Marschner et al. 2003 with hairlut's angles (docs/conventions.md): S = sum_p M_p N_p with M_p = g(beta_p; theta_h - alpha_p)/cos^2(theta_d) "
       "(alpha shifts theta_h, Marschner's Table 1 sign), energy measure cos^2(theta_r) dtheta_r dphi; N_p = sum over paths A(p,h)/|2 dPhi/dh| with "
       "Phi(p,h) = 2p gamma_t - 2 gamma_i + p pi, A with the Bravais eta', eta'' Fresnel factors; TRT with the caustic replacement of sec. 5.2.2 "
-      "and eta*(phi_h) of sec. 5.2.3; sigma_a per unit fiber radius";
-  set.metadata["eta"] = c.eta;
-  set.metadata["absorption_path"] = to_string(c.path);
+      "and eta*(phi_h) of sec. 5.2.3; sigma_a per unit fiber radius",
+      set);
   set.metadata["lobes"] = json::array();
   for (int p = 0; p < lobes; ++p) set.metadata["lobes"].push_back(lobe_name(p));
   set.metadata["residual"] = false;
@@ -98,9 +94,7 @@ TableSet bake_tables(const BakeConfig& c, const MarschnerConfig& m, const BakeOp
                                 {"roots", to_string(m.params.roots)},
                                 {"energy_method", "adaptive gauss-kronrod in gamma, rel 1e-11"}};
   set.metadata["marschner"] = marschner_json(m);
-  set.metadata["config_hash"] = c.hash;
-  set.metadata["config"] = c.normalized.dump();
-  set.metadata["precision"] = precision == Precision::float32 ? "float32" : "float64";
+  detail::close_set_description(c, precision, set);
 
   const bool eccentric = m.params.eccentricity != 1.0;
   // ---- N_p and lobe energies.
@@ -208,13 +202,7 @@ TableSet bake_tables(const BakeConfig& c, const MarschnerConfig& m, const BakeOp
     }
   }
 
-  for (const TableKindRequest& k : c.kinds) k.kind->bake(*k.settings, precision, set, report);  // lib/kinds/
-  if (c.output.sampling_data) append_sampling_tables(set, opt.threads, opt.progress);  // the importance sampler's data next to every N_p and M_p table
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  report.threads = opt.threads;
-  set.metadata["notes"] = report.notes;
-  if (report_out) *report_out = report;
-  return set;
+  return detail::finish_model_bake(c, opt, t0, precision, std::move(set), report, report_out);
 }
 
 double number(const nlohmann::json& j, const char* key, double fallback) { return j.contains(key) ? j.at(key).get<double>() : fallback; }
@@ -376,6 +364,8 @@ class Model final : public ModelKind {
       m.beta_m.push_back(b.contains(lobe_name(lobe)) ? radians(b.at(lobe_name(lobe)).get<double>()) : table1.beta[lobe]);
     m.beta_n = m.beta_m;
   }
+
+  void check(const BakeConfig&) const override {}  // its rules are the schema's and the N_p axes'
 
   bool slab_by_slab() const override { return false; }
   // N_p over (σa, θd, φ) per lobe, TRT of an eccentric fiber over φh too; the energies without φ.

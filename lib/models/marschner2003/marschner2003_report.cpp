@@ -3,20 +3,27 @@
 // comparison with d'Eon 2011's model for the tables' fiber (report/compare.hpp).
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/marschner.hpp"
 #include "hairlut/report/compare.hpp"
 #include "hairlut/report/model_kind_report.hpp"
+#include "hairlut/report/svg_plot.hpp"
 #include "hairlut/util/angles.hpp"
 #include "hairlut/util/quadrature.hpp"
+#include "report/report_html.hpp"
 #include "report/validate_sections.hpp"
 
 namespace hairlut::models::marschner2003 {
 namespace {
 
 using namespace detail::validation;
+using detail::html::lobe_colour;
+using detail::html::vec;
+using svg::escape;
 
 // Marschner 2003 is not energy conserving: its E(θi) (per lobe, direct) is shown, and the same
 // from the tables (the sampled N_p integrated over φ, the sampled M_p over θr) is checked against it.
@@ -133,6 +140,33 @@ class Report final : public ModelKindReport {
     report["marschner_energy"] = marschner_energy_section(set, info, opt, checks);
     if (opt.progress) opt.progress("compare", 2, 6);
     report["compare"] = compare_for(set, info, opt);
+  }
+  // Marschner's Gaussian: measure cos²θr, shift α of θh, width beta_ratio·β.
+  MpEnergy mp_energy(const Table& t, double beta, double theta_i) const override {
+    const double alpha = t.attributes.value("alpha_theta_h", 0.0);
+    const double ratio = t.attributes.value("beta_ratio", 1.0);
+    const GaussianArgument argument =
+        t.attributes.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
+    return {longitudinal_energy_gaussian(ratio * beta, alpha, theta_i, argument).value[0], 2, 2.0 * alpha - theta_i, alpha};
+  }
+  std::string html(const json& r) const override {
+    if (!r.contains("marschner_energy")) return {};
+    std::ostringstream o;
+    const json& me = r["marschner_energy"];
+    o << "<h2>Energy of Marschner's model: E(&theta;<sub>i</sub>) per lobe</h2>\n<p>Marschner 2003 does not conserve energy: "
+      << escape(me["measure"].get<std::string>()) << ", &sigma;<sub>a</sub> = " << detail::html::fmt(me["sigma_a"])
+      << ". Solid: direct evaluation; dashed: from the sampled tables (N<sub>p</sub> integrated over &phi;, M<sub>p</sub> over &theta;<sub>r</sub>).</p>"
+         "<div class=\"plots\">\n";
+    const auto th = vec(me["theta_i_deg"]);
+    for (const json& c : me["curves"]) {
+      svg::LinePlot p = detail::html::energy_plot("E(theta_i), beta_R = " + detail::html::fmt(c["beta_R_deg"]) + " deg");
+      for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k, th, vec(v), lobe_colour(k), false});
+      if (c.contains("table")) p.series.push_back({"total (tables)", th, vec(c["table"]["total"]), lobe_colour("total"), true});
+      o << svg::line_plot(p) << "\n";
+    }
+    o << "</div>\n";
+    if (r.contains("compare")) o << render_compare_html_sections(r["compare"]);
+    return o.str();
   }
 };
 

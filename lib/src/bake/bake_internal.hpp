@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <atomic>
+#include <chrono>
 #include <exception>
 #include <mutex>
 #include <string>
@@ -12,7 +13,9 @@
 #include <vector>
 
 #include "hairlut/bake/bake.hpp"
+#include "hairlut/tables/table_sampling.hpp"
 #include "hairlut/util/error.hpp"
+#include "hairlut/util/version.hpp"
 
 namespace hairlut::detail {
 
@@ -66,6 +69,37 @@ inline const GridAxis& axis_named(const std::vector<GridAxis>& axes, const std::
   for (const GridAxis& a : axes)
     if (a.name == name) return a;
   throw DomainError("internal: no axis named " + name);
+}
+
+// The metadata a model's set opens with (hairlut_version, model, name, description, conventions,
+// eta, absorption_path) and closes with (config_hash, config, precision), in the order the files
+// keep; the model writes its own keys between the two.
+inline void open_set_description(const BakeConfig& c, std::string_view conventions, TableSet& set) {
+  set.metadata["hairlut_version"] = kVersion;
+  set.metadata["model"] = c.model;
+  set.metadata["name"] = c.name;
+  set.metadata["description"] = c.description;
+  set.metadata["conventions"] = std::string(conventions);
+  set.metadata["eta"] = c.eta;
+  set.metadata["absorption_path"] = to_string(c.path);
+}
+inline void close_set_description(const BakeConfig& c, Precision precision, TableSet& set) {
+  set.metadata["config_hash"] = c.hash;
+  set.metadata["config"] = c.normalized.dump();
+  set.metadata["precision"] = precision == Precision::float32 ? "float32" : "float64";
+}
+
+// The end of a model's bake after its own tables: the kinds of lib/kinds/, the importance
+// sampler's data next to every N_p and M_p table, the time and the notes.
+inline TableSet finish_model_bake(const BakeConfig& c, const BakeOptions& opt, std::chrono::steady_clock::time_point t0, Precision precision,
+                                  TableSet set, BakeReport& report, BakeReport* report_out) {
+  for (const TableKindRequest& k : c.kinds) k.kind->bake(*k.settings, precision, set, report);
+  if (c.output.sampling_data) append_sampling_tables(set, opt.threads, opt.progress);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  report.threads = opt.threads;
+  set.metadata["notes"] = report.notes;
+  if (report_out) *report_out = report;
+  return set;
 }
 
 }  // namespace hairlut::detail

@@ -170,6 +170,8 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
     fail("tables", "must ask for at least one table (" + known + ")");
   }
 
+  model->check(c);
+
   if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", nlohmann::json::object());
   // A bake for a target error is judged by that target unless the config says otherwise: the
   // validator's accuracy_max_rel for the N_p tables is the target (target_error accepts the

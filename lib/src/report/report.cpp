@@ -10,16 +10,16 @@
 #include "hairlut/report/compare.hpp"
 #include "hairlut/io/hdf5_io.hpp"  // IoError
 #include "hairlut/report/svg_plot.hpp"
+#include "hairlut/report/model_kind_report.hpp"
 #include "hairlut/report/table_kind_report.hpp"
+#include "report_html.hpp"
 #include "validate_sections.hpp"
 
 namespace hairlut {
-namespace {
 
-using json = nlohmann::ordered_json;
-using svg::escape;
+namespace detail::html {
 
-std::string fmt(const json& v) {
+std::string fmt(const nlohmann::ordered_json& v) {
   if (v.is_null()) return "-";
   if (v.is_number()) {
     char buf[32];
@@ -29,9 +29,8 @@ std::string fmt(const json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
-std::vector<double> vec(const json& j) { return j.get<std::vector<double>>(); }
+std::vector<double> vec(const nlohmann::ordered_json& j) { return j.get<std::vector<double>>(); }
 
-// One colour per lobe name, the same in every plot.
 std::string lobe_colour(const std::string& key) {
   static const std::pair<const char*, const char*> colours[] = {{"total", "#000000"}, {"R", "#d62728"},  {"TT", "#2ca02c"},
                                                                 {"TRT", "#9467bd"},   {"TRRT", "#ff7f0e"}, {"residual", "#17becf"}};
@@ -39,6 +38,25 @@ std::string lobe_colour(const std::string& key) {
     if (key == k) return c;
   return "";
 }
+
+svg::LinePlot energy_plot(std::string title) {
+  svg::LinePlot p;
+  p.title = std::move(title);
+  p.xlabel = "theta_i [deg]";
+  p.ylabel = "energy";
+  p.y_reference = 1.0;
+  return p;
+}
+
+}  // namespace detail::html
+
+namespace {
+
+using json = nlohmann::ordered_json;
+using svg::escape;
+using detail::html::fmt;
+using detail::html::lobe_colour;
+using detail::html::vec;
 
 std::string status_badge(const std::string& s) {
   const char* colour = s == "pass" ? "#1a7f37" : s == "fail" ? "#cf222e" : "#6e7781";
@@ -144,65 +162,9 @@ std::string render_report_html(const json& r) {
       << ' ' << fmt(c["threshold"]) << "</td><td>" << escape(c["detail"].get<std::string>()) << "</td></tr>\n";
   o << "</table>\n";
 
-  if (r.contains("furnace")) {
-    // White furnace.
-    const json& f = r["furnace"];
-    o << "<h2>White furnace: E(&theta;<sub>i</sub>) per lobe</h2>\n<p>Directional albedo of the model for a non-absorbing fiber with all lobes, "
-         "the same roughness for every lobe and no tilt (d'Eon 2011 &sect;4): the total must be 1. Dashed: the same from the sampled N<sub>p</sub> "
-         "tables at &sigma;<sub>a</sub> = "
-      << fmt(f["table_sigma_a"]) << ".</p><div class=\"plots\">\n";
-    const auto thetas = vec(f["theta_i_deg"]);
-    for (const json& c : f["curves"]) {
-      svg::LinePlot p;
-      p.title = "E(theta_i), beta = " + fmt(c["beta_deg"]) + " deg";
-      p.xlabel = "theta_i [deg]";
-      p.ylabel = "energy";
-      p.y_reference = 1.0;
-      p.min_span = 0.2;
-      for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k, thetas, vec(v), lobe_colour(k), false});
-      if (c.contains("table"))
-        for (const auto& [k, v] : c["table"].items())
-          if (k != "direct_at_table_sigma_a") p.series.push_back({k + " (tables)", thetas, vec(v), lobe_colour(k), true});
-      o << svg::line_plot(p) << "\n";
-    }
-    o << "</div>\n";
-    // Truncation.
-    const json& t = r["truncation"];
-    o << "<h2>Truncation: energy kept by R + TT + TRT</h2>\n<p>White fiber, &eta; = " << fmt(t["eta"]) << ", &beta; = " << fmt(t["beta_deg"])
-      << "&deg;. d'Eon 2011 Fig. 5: the first three lobes miss close to 15% at grazing angles; TRRT recovers part of it and the residual the rest. "
-         "Largest loss: "
-      << fmt(t["largest_loss"]) << " at &theta;<sub>i</sub> = " << fmt(t["largest_loss_theta_i_deg"]) << "&deg;.</p>\n";
-    {
-      svg::LinePlot p;
-      p.title = "E(theta_i) with truncated lobe sets";
-      p.xlabel = "theta_i [deg]";
-      p.ylabel = "energy";
-      p.y_reference = 1.0;
-      const auto th = vec(t["theta_i_deg"]);
-      for (const char* k : {"R+TT+TRT", "R+TT+TRT+TRRT", "R+TT+TRT+residual"}) p.series.push_back({k, th, vec(t[k]), "", false});
-      o << svg::line_plot(p) << "\n";
-    }
-}
-  if (r.contains("marschner_energy")) {
-    const json& me = r["marschner_energy"];
-    o << "<h2>Energy of Marschner's model: E(&theta;<sub>i</sub>) per lobe</h2>\n<p>Marschner 2003 does not conserve energy: "
-      << escape(me["measure"].get<std::string>()) << ", &sigma;<sub>a</sub> = " << fmt(me["sigma_a"])
-      << ". Solid: direct evaluation; dashed: from the sampled tables (N<sub>p</sub> integrated over &phi;, M<sub>p</sub> over &theta;<sub>r</sub>).</p>"
-         "<div class=\"plots\">\n";
-    const auto th = vec(me["theta_i_deg"]);
-    for (const json& c : me["curves"]) {
-      svg::LinePlot p;
-      p.title = "E(theta_i), beta_R = " + fmt(c["beta_R_deg"]) + " deg";
-      p.xlabel = "theta_i [deg]";
-      p.ylabel = "energy";
-      p.y_reference = 1.0;
-      for (const auto& [k, v] : c["direct"].items()) p.series.push_back({k, th, vec(v), lobe_colour(k), false});
-      if (c.contains("table")) p.series.push_back({"total (tables)", th, vec(c["table"]["total"]), lobe_colour("total"), true});
-      o << svg::line_plot(p) << "\n";
-    }
-    o << "</div>\n";
-  }
-  if (r.contains("compare")) o << render_compare_html_sections(r["compare"]);
+  const std::string model = m.value("model", std::string());
+  for (const ModelKindReport* k : model_kind_reports())  // lib/models/: the model's energy sections
+    if (k->name() == model) o << k->html(r);
   // Longitudinal.
   const json& l = r["longitudinal"];
   o << "<h2>Longitudinal energy: &int; M cos &theta;<sub>r</sub> d&theta;<sub>r</sub></h2>\n<p>d'Eon's M<sub>p</sub> (solid) is 1 everywhere; "
@@ -224,9 +186,10 @@ std::string render_report_html(const json& r) {
     p.title = tb["path"].get<std::string>() + ": table vs exact";
     p.xlabel = "theta_i [deg]";
     p.ylabel = "int M cos(theta_r)";
+    const auto tth = tb.contains("theta_i_deg") ? vec(tb["theta_i_deg"]) : lth;
     for (const json& c : tb["curves"]) {
-      p.series.push_back({"table, beta " + fmt(c["beta_deg"]), lth, vec(c["table"]), "", true});
-      p.series.push_back({"exact, beta " + fmt(c["beta_deg"]), lth, vec(c["exact"]), "", false});
+      p.series.push_back({"table, beta " + fmt(c["beta_deg"]), tth, vec(c["table"]), "", true});
+      p.series.push_back({"exact, beta " + fmt(c["beta_deg"]), tth, vec(c["exact"]), "", false});
     }
     o << svg::line_plot(p) << "\n";
   }

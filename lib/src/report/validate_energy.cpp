@@ -60,7 +60,6 @@ double marschner_table_energy(const Table& t, double sigma, double theta_d, doub
 
 
 json longitudinal_section(const TableSet& set, const ModelInfo& info, const ValidationOptions& opt, std::vector<json>& checks) {
-  (void)info;
   json out;
   const auto thetas = theta_grid_deg();
   out["theta_i_deg"] = thetas;
@@ -95,31 +94,37 @@ json longitudinal_section(const TableSet& set, const ModelInfo& info, const Vali
   json tables = json::array();
   double worst_table = 0.0;
   std::string worst_where;
+  const ModelKindReport* model = nullptr;
+  for (const ModelKindReport* m : model_kind_reports())
+    if (m->name() == info.model) model = m;
   for (const Table& tb : set.tables) {
-    if (tb.quantity != "M_p" || tb.axes.size() != 3 || tb.axes[0].name != "beta") continue;
-    // d'Eon's tilted M (measure cos θr, tilt α of θr) or Marschner's Gaussian (measure cos²θr,
-    // shift α of θh, width beta_ratio·β).
-    const bool gaussian = tb.attributes.value("function", std::string()) == "gaussian";
-    const double alpha = gaussian ? tb.attributes.value("alpha_theta_h", 0.0) : tb.attributes.value("alpha", 0.0);
-    const double ratio = tb.attributes.value("beta_ratio", 1.0);
-    const GaussianArgument argument =
-        tb.attributes.value("argument", std::string("theta-h")) == "2theta-h" ? GaussianArgument::two_theta_h : GaussianArgument::theta_h;
-    json tj = {{"path", tb.path()}, {"alpha", alpha}, {"curves", json::array()}};
+    if (!model || tb.quantity != "M_p" || tb.axes.size() != 3 || tb.axes[0].name != "beta") continue;
+    // The model says what the table's energy is and with which measure (d'Eon's tilted M: cos θr;
+    // Marschner's Gaussian: cos²θr).
+    // θi over the table's own range (a model may keep it off the poles: Kajiya–Kay's).
+    std::vector<double> table_thetas;
+    for (double td : thetas)
+      if (radians(td) >= tb.axes[1].lo - 1e-12 && radians(td) <= tb.axes[1].hi + 1e-12) table_thetas.push_back(td);
+    json tj = {{"path", tb.path()}, {"alpha", model->mp_energy(tb, tb.axes[0].nodes().front(), 0.0).shift}, {"theta_i_deg", table_thetas},
+               {"curves", json::array()}};
     for (double beta : representative(tb.axes[0])) {
       std::vector<double> sampled, exact;
-      for (double td : thetas) {
+      for (double td : table_thetas) {
         const double ti = radians(td);
+        const ModelKindReport::MpEnergy e = model->mp_energy(tb, beta, ti);
         AdaptiveOptions ao;
         ao.rel_tol = 1e-7;
         ao.max_intervals = 400;
         std::vector<double> bp = {-kHalfPi, kHalfPi};
-        const double centre = gaussian ? 2.0 * alpha - ti : fold_inclination(-ti + alpha);
-        if (std::abs(centre) < kHalfPi) bp.insert(bp.begin() + 1, centre);
+        if (std::abs(e.peak) < kHalfPi) bp.insert(bp.begin() + 1, e.peak);
         const AdaptiveResult r = integrate_adaptive(
-            [&](double tr, std::span<double> o) { o[0] = tb.sample({beta, ti, tr}) * std::cos(tr) * (gaussian ? std::cos(tr) : 1.0); }, 1, bp, ao);
+            [&](double tr, std::span<double> o) {
+              o[0] = tb.sample({beta, ti, tr}) * std::cos(tr);
+              for (int k = 1; k < e.cos_power; ++k) o[0] *= std::cos(tr);
+            },
+            1, bp, ao);
         sampled.push_back(r.value[0]);
-        exact.push_back(gaussian ? longitudinal_energy_gaussian(ratio * beta, alpha, ti, argument).value[0]
-                                 : longitudinal_energy_deon(beta * beta, alpha, ti).value[0]);
+        exact.push_back(e.exact);
         if (std::abs(sampled.back() - exact.back()) > worst_table)
           worst_table = std::abs(sampled.back() - exact.back()), worst_where = tb.path() + " at theta_i = " + fmt(td) + " deg, beta = " + fmt(degrees(beta)) + " deg";
       }

@@ -83,6 +83,9 @@ class ModelKind {
   /// A scene material's roughness per lobe (beta_m, beta_n and the residual's) from its entry.
   virtual void material_roughness(const nlohmann::json& material, const std::string& path, const BakeConfig& c,
                                   MaterialConfig& m) const = 0;
+  /// Its rules over the whole parsed config that need arithmetic (JSON Schema states the rest):
+  /// throws through config_error(), naming the key.
+  virtual void check(const BakeConfig& c) const = 0;
 
   // ---- sizes and the bake
   /// Whether tables over the memory budget can be baked slab by slab (bake.hpp's SlabbedTables).

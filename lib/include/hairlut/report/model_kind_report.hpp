@@ -41,6 +41,20 @@ class ModelKindReport {
   /// progress as steps 1 and 2 of the validator's 6.
   virtual void energy_sections(const TableSet& set, const TableSetModel& model, const ValidationOptions& opt,
                                std::vector<nlohmann::ordered_json>& checks, nlohmann::ordered_json& report) const = 0;
+  /// Those sections as HTML for report.html, from the whole report.json.
+  virtual std::string html(const nlohmann::ordered_json& report) const = 0;
+
+  /// The exact longitudinal energy of one of its M_p tables over (β, θi, θr), for the check of the
+  /// tables' ∫ M cos^k θr dθr: the value at (β, θi), the model's measure k (1: d'Eon's M_p; 2: the
+  /// curve scattering functions of Marschner and Kajiya–Kay), where along θr the lobe peaks (a
+  /// breakpoint of the integration) and the table's shift α as its attributes record it.
+  struct MpEnergy {
+    double exact = 0.0;
+    int cos_power = 1;
+    double peak = 0.0;
+    double shift = 0.0;
+  };
+  virtual MpEnergy mp_energy(const Table& t, double beta, double theta_i) const = 0;
 };
 
 /// Every model under lib/models/ with a validator side, in the order of their folders' names.
