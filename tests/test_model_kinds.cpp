@@ -127,6 +127,23 @@ TEST_CASE("models: each model's example bakes what the estimate counts, and its 
         CHECK(c.normalized[key] == recorded);
       }
 
+    // Read back from a hostile file: the settings missing or malformed are refused (DomainError,
+    // which the validator reports in one line), and so is a model no folder has.
+    if (fragment.contains("properties"))
+      for (const auto& [key, value] : fragment["properties"].items()) {
+        INFO("settings key " << key);
+        json meta = set.metadata;
+        meta.erase(key);
+        CHECK_THROWS_AS(m->from_metadata(meta, c.eta, c.path), DomainError);
+        meta[key] = "not an object";
+        CHECK_THROWS_AS(m->from_metadata(meta, c.eta, c.path), DomainError);
+        meta[key] = json::object();
+        CHECK_THROWS_AS(m->from_metadata(meta, c.eta, c.path), DomainError);
+      }
+    TableSet unknown = set;
+    unknown.metadata["model"] = "no-such-model";
+    CHECK_THROWS_WITH(validate_tables(unknown, "unknown.h5", ValidationOptions{}), Catch::Contains("unknown model \"no-such-model\""));
+
     // Every N_p, energy and M_p table has its reference, and stores it at the nodes (to float
     // rounding and the bake's quadrature, relative to the table's largest value).
     const TruthModel truth_model{c.eta, c.path, c.lobe_count, m, back};
