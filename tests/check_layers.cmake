@@ -11,7 +11,8 @@
 #   bake     hairlut::bake     configs, the bakers, engine presets, the resolution planner, a config's outputs
 #   report   hairlut::report   validation, comparison, reports, plots, benchmark pieces
 #
-# A table kind's folder, lib/kinds/<kind>/, and a model's, lib/models/<model>/, span layers by file:
+# A table kind's folder, lib/kinds/<kind>/, a model's, lib/models/<model>/, and an engine preset's,
+# lib/presets/<preset>/, span layers by file:
 # <name>_<layer>.cpp belongs to that layer (bake or report; bake/table_kind.hpp, bake/model_kind.hpp)
 # and may include that layer's private headers by folder ("bake/bake_internal.hpp"); a header there
 # is private to the folder.
@@ -32,7 +33,7 @@ set(include_root ${ROOT}/lib/include/hairlut)
 set(src_root ${ROOT}/lib/src)
 
 set(violations "")
-file(GLOB_RECURSE files RELATIVE ${ROOT}/lib ${include_root}/* ${src_root}/* ${ROOT}/lib/kinds/* ${ROOT}/lib/models/*)
+file(GLOB_RECURSE files RELATIVE ${ROOT}/lib ${include_root}/* ${src_root}/* ${ROOT}/lib/kinds/* ${ROOT}/lib/models/* ${ROOT}/lib/presets/*)
 list(FILTER files INCLUDE REGEX "\\.(hpp|cpp|hpp\\.in)$")
 if(NOT files)
   message(FATAL_ERROR "no library files under ${ROOT}/lib")
@@ -42,7 +43,7 @@ foreach(f IN LISTS files)
     continue()
   endif()
   set(folder_file FALSE)
-  if(f MATCHES "^(kinds|models)/([a-z][a-z0-9_]*)/([^/]+)$")
+  if(f MATCHES "^(kinds|models|presets)/([a-z][a-z0-9_]*)/([^/]+)$")
     set(folder_file TRUE)
     set(kind ${CMAKE_MATCH_2})
     set(name ${CMAKE_MATCH_3})
@@ -51,7 +52,7 @@ foreach(f IN LISTS files)
     elseif(name MATCHES "^${kind}_(bake|report)\\.cpp$")
       set(layer ${CMAKE_MATCH_1})
     else()
-      list(APPEND violations "lib/${f}: a kind's or model's source is <name>_bake.cpp or <name>_report.cpp")
+      list(APPEND violations "lib/${f}: a kind's, model's or preset's source is <name>_bake.cpp or <name>_report.cpp")
       continue()
     endif()
   elseif(NOT f MATCHES "^(include/hairlut|src)/([a-z_]+)/[^/]+$")

@@ -47,5 +47,5 @@ expect(model_up "includes \"report/validate_sections.hpp\", not a private header
 fixture(model_upward lib/models/m/m_bake.cpp "#include \"hairlut/report/validate.hpp\"" lib/include/hairlut/report/validate.hpp "")
 expect(model_upward "bake/ includes hairlut/report/validate.hpp, a higher layer")
 fixture(model_name lib/models/m/helpers.cpp "")
-expect(model_name "a kind's or model's source is <name>_bake.cpp or <name>_report.cpp")
+expect(model_name "a kind's, model's or preset's source is <name>_bake.cpp or <name>_report.cpp")
 message(STATUS "the layering check passes a clean tree and reports each kind of violation")

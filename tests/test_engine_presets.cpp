@@ -7,12 +7,15 @@
 #include <filesystem>
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
+#include <hairlut/bake/engine_preset.hpp>
+#include <hairlut/report/engine_preset_report.hpp>
 #include <hairlut/physics/dual_scattering.hpp>
 #include <hairlut/bake/outputs.hpp>
 #include <hairlut/io/engine_exr.hpp>
 #include <hairlut/physics/longitudinal_mp.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <numbers>
+#include <set>
 #include <unistd.h>
 
 #include "catch.hpp"
@@ -134,10 +137,11 @@ TEST_CASE("Unity preset: 64^3 attenuation (RG), azimuthal and longitudinal (RGBA
     CHECK(px[0] == 3 + 64 * 2);  // slice 10 is cell (10 mod 8, 10 / 8)
     CHECK(px[1] == 63 + 64);     // texel row 0 is the bottom row of its cell
   }
-  // HDRP's constants are fixed by its kernels: the preset refuses others.
-  EngineConfig other = *c.engine;
-  other.radial_smoothness = 0.5;
-  CHECK_THROWS_AS(engine_preset_textures(other), DomainError);
+  // HDRP's constants are fixed by its kernels: the preset refuses others, naming its block.
+  CHECK_THAT(config_error(R"({ "name": "t", "lobes": { "explicit": ["R", "TT", "TRT"] }, "tables": { "engine": { "preset": "unity-hdrp-hair", "unity": { "radial_smoothness": 0.5 } } }, "output": { "basename": "t", "formats": ["hdf5"] } })"),
+             Catch::Matchers::Contains("tables.engine.unity: unity-hdrp-hair reproduces HDRP's kernels"));
+  CHECK_THAT(config_error(R"({ "name": "t", "fiber": { "eta": 1.6 }, "lobes": { "explicit": ["R", "TT", "TRT"] }, "tables": { "engine": { "preset": "unity-hdrp-hair-deon" } }, "output": { "basename": "t", "formats": ["hdf5"] } })"),
+             Catch::Matchers::Contains("fiber.eta: unity-hdrp-hair-deon reproduces HDRP's kernels, which fix eta = 1.55"));
   // Azimuthal: N is 2π-periodic and even (x + 32 is φ + 2π; 63 − x is −φ), computed independently at
   // each node, and integrates to 1 over a period (the trimmed logistic does). The wrapped logistic has
   // kinks at ±π, so the 32-point rectangle rule errs by about h²/12 times the jump of N' (at most the
@@ -194,11 +198,60 @@ TEST_CASE("Engine configs: one-line errors naming the key", "[presets][config]")
   CHECK_THAT(config_error(R"({ "name": "t", "lobes": { "explicit": ["R", "TT", "TRT"] }, "tables": { "engine": { "preset": "unreal-hair-strands", "textures": ["attenuation"] } })" + out),
              Catch::Matchers::Contains("tables.engine.textures: \"attenuation\" is not a texture of unreal-hair-strands"));
   CHECK_THAT(config_error(R"({ "name": "t", "lobes": { "explicit": ["R", "TT", "TRT"] }, "tables": { "engine": { "preset": "unreal-hair-strands", "unity": { "cuticle_angle_deg": 2 } } })" + out),
-             Catch::Matchers::Contains("tables.engine.unity: applies to the unity-hdrp-hair preset only"));
+             Catch::Matchers::Contains("tables.engine.unity: must not be given with another preset (applies to the unity-hdrp-hair preset only)"));
   CHECK_THAT(config_error(R"({ "name": "t", "lobes": { "explicit": ["R", "TT", "TRT"] }, "tables": { "engine": { "preset": "godot" } })" + out),
              Catch::Matchers::Contains("tables.engine.preset"));
   CHECK_THAT(config_error(R"({ "name": "t", "lobes": { "explicit": ["R", "TT"], "residual": false }, "tables": { "dual_scattering": { "axes": { "theta_i": { "count": 3, "range_deg": [0, 90] }, "beta": { "count": 2, "range_deg": [2, 10] }, "sigma_a": { "count": 2, "range": [0, 1] } }, "lobe_scale": { "residual": 2 } } })" + out),
              Catch::Matchers::Contains("tables.dual_scattering.lobe_scale.residual: is given but lobes.residual is false"));
   CHECK_THAT(config_error(R"({ "name": "t", "tables": { "dual_scattering": { "axes": { "theta_i": { "count": 3, "range_deg": [0, 100] }, "beta": { "count": 2, "range_deg": [2, 10] }, "sigma_a": { "count": 2, "range": [0, 1] } } } })" + out),
              Catch::Matchers::Contains("tables.dual_scattering.axes.theta_i.range_deg: must lie within [-90, 90] degrees"));
+}
+
+// The contract every preset of lib/presets/ keeps (hairlut/bake/engine_preset.hpp,
+// hairlut/report/engine_preset_report.hpp), for each preset the build found: the config schema
+// carries its name, textures, keys and rules; its textures read tables of its own groups; the
+// validator knows how to recompute its texels; its settings are what the normalized config records.
+TEST_CASE("presets: every preset folder joins the config schema and keeps the contract", "[presets][config]") {
+  const nlohmann::ordered_json schema = config_schema();
+  const auto& engine = schema["properties"]["tables"]["properties"]["engine"];
+  REQUIRE(engine_presets().size() >= 3);
+  std::set<std::string> names;
+  for (const EnginePreset* p : engine_presets()) {
+    const std::string name(p->name());
+    INFO("preset " << name);
+    CHECK(names.insert(name).second);
+    CHECK(&engine_preset(name) == p);
+    const auto& presets = engine["properties"]["preset"]["enum"];
+    CHECK(std::find(presets.begin(), presets.end(), name) != presets.end());
+    const json fragment = json::parse(p->schema());
+    CHECK(engine["properties"]["preset"]["description"].get<std::string>().find(fragment.at("description").get<std::string>()) != std::string::npos);
+    if (fragment.contains("properties"))
+      for (const auto& [key, value] : fragment["properties"].items()) CHECK(engine["properties"].contains(key));
+    // Textures: the names it lists, each reading tables of one of its groups.
+    const std::vector<std::string> texture_names = p->texture_names();
+    const auto& allowed = engine["properties"]["textures"]["items"]["enum"];
+    std::vector<std::string> listed;
+    for (const EngineTexture& t : p->textures()) {
+      listed.push_back(t.name);
+      CHECK(t.preset == name);
+      CHECK(std::find(allowed.begin(), allowed.end(), t.name) != allowed.end());
+      bool group_found = false;
+      for (const EngineTableSpec& g : p->tables(true)) group_found = group_found || g.group == t.group;
+      CHECK(group_found);
+      for (int c = 0; c < t.channel_count; ++c)
+        if (!t.channels[c].table.empty()) CHECK(t.channels[c].table.rfind(t.group + "/", 0) == 0);
+    }
+    CHECK(listed == texture_names);
+    // The validator's side.
+    bool reported = false;
+    for (const EnginePresetReport* r : engine_preset_reports()) reported = reported || r->name() == name;
+    CHECK(reported);
+    // Its settings with every default are what the normalized config records.
+    const std::string out = R"(, "output": { "basename": "t", "formats": ["hdf5"] } })";
+    const BakeConfig c = parse_config(json::parse(R"({ "name": "t", "lobes": { "explicit": ["R", "TT", "TRT"] }, "tables": { "engine": { "preset": ")" + name + "\" } }" + out),
+                                      "preset.json", std::filesystem::temp_directory_path());
+    for (const auto& [key, value] : c.engine->settings.items()) CHECK(c.normalized["tables"]["engine"][key] == value);
+  }
+  for (const EnginePresetReport* r : engine_preset_reports()) CHECK_NOTHROW(engine_preset(r->name()));
+  CHECK_THROWS_WITH(engine_preset("godot"), Catch::Matchers::Contains("tables.engine.preset must be one of"));
 }

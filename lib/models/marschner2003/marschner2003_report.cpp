@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "hairlut/physics/directional_albedo.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "hairlut/physics/marschner.hpp"
 #include "hairlut/report/compare.hpp"

@@ -8,8 +8,8 @@
 #include "hairlut/util/angles.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
 #include "hairlut/bake/dual_scattering_grid.hpp"
+#include "hairlut/bake/engine_preset.hpp"
 #include "hairlut/bake/engine_presets.hpp"
-#include "hairlut/bake/hdrp_kernels.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/physics/longitudinal_mp.hpp"
 #include "bake_internal.hpp"
@@ -169,98 +169,6 @@ void bake_ds_group(const BakeConfig& c, const DsGroup& g, const BakeOptions& opt
   groups[g.ds_group.empty() ? g.me_group : g.ds_group] = entry;
 }
 
-// ---- HDRP's textures, as its pre-integration kernels define them (hdrp_kernels.hpp) --------------
-
-constexpr double kHdrpTolerance = 1e-10;  // relative accuracy of every integral of the HDRP kernels
-
-json hdrp_source() {
-  return {{"engine", "Unity HDRP (Unity-Technologies/Graphics)"},
-          {"kernel", "Packages/com.unity.render-pipelines.high-definition/Runtime/Material/Hair/MultipleScattering/"
-                     "HairMultipleScatteringPreIntegration.compute"},
-          {"commit", "e3089c7ac636a15826cef489539d9d7e5da11820"},
-          {"documentation", "docs/presets/unity-hdrp-hair.md"}};
-}
-
-// What the exact variant changes, for the tables' attributes.
-const char* kExactNote = "unity-hdrp-hair-deon: HDRP's axes, mappings and integrals with exact functions: d'Eon's M_p with the exact I0 and "
-                         "csch and no guard epsilon, the exact Bravais index sqrt(eta^2 - sin^2 theta_d) / cos theta_d, exact dielectric Fresnel";
-
-void bake_hdrp_attenuation(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, TableSet& set, BakeReport& report) {
-  const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
-  std::vector<double> d = s.axes[0].nodes(), sin_t = s.axes[1].nodes(), sm = s.axes[2].nodes();
-  for (double& t : sin_t) t = std::sin(t);
-  std::vector<double> front, back;
-  hdrp::attenuation_table(sm, sin_t, d, front, back, kHdrpTolerance, fn);
-  const char* what[2] = {"front", "back"};
-  for (int k = 0; k < 2; ++k) {
-    json attributes = {
-        {"definition", std::string("(1/pi) int_0^pi dphi int_{") + (k ? "back" : "front") +
-                           " half sphere} dw 1/2 int_{-1}^{1} dh S_HDRP(w, l(phi), h): ComputeAttenuation" + (k ? "Backward" : "Forward") +
-                           " with HDRP's reference hair model (EvaluateHairReference: R, TT, TRT, residual; eta 1.55, Schlick Fresnel, "
-                           "Chiang variances, trimmed logistic of radial roughness 0.3, cuticle 3 deg), integrated exactly"},
-        {"source", hdrp_source()}};
-    if (fn == hdrp::Functions::exact) attributes["variant"] = kExactNote;
-    Table t = new_table(s.group, what[k], "attenuation", "1", std::string(what[k]) + " average attenuation as HDRP stores it", s.axes, precision,
-                        attributes);
-    const std::vector<double>& v = k ? back : front;
-    for (std::size_t i = 0; i < v.size(); ++i) t.set(i, v[i]);
-    set.tables.push_back(std::move(t));
-  }
-  report.entries += 2 * front.size();
-}
-
-void bake_hdrp_azimuthal(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, const BakeOptions& opt, TableSet& set,
-                         BakeReport& report) {
-  const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
-  const std::vector<double> b_nodes = s.axes[0].nodes(), cos_nodes = s.axes[1].nodes(), phis = s.axes[2].nodes();
-  const std::size_t first = set.tables.size();
-  for (int p = 0; p < 3; ++p)
-    set.tables.push_back(new_table(s.group, "N_" + lobe_name(p), "N_p", "1/rad", "HDRP's azimuthal distribution of lobe " + lobe_name(p), s.axes,
-                                   precision,
-                                   {{"lobe", lobe_name(p)}, {"p", p},
-                                    {"definition", "1/2 int_{-1}^{1} TrimmedLogistic(wrap(phi - Phi(p, asin h, asin(h / eta'))), s, -pi, pi) dh, "
-                                                   "eta' = 1.19 / cos(theta_d) + 0.36 cos(theta_d), s = sqrt(pi/8)(0.265 b + 1.194 b^2 + 5.372 b^22) "
-                                                   "(ComputeAzimuthalScattering), integrated exactly"},
-                                    {"source", hdrp_source()}}));
-  if (fn == hdrp::Functions::exact)
-    for (std::size_t k = first; k < set.tables.size(); ++k) set.tables[k].attributes["variant"] = kExactNote;
-  const std::size_t nb = b_nodes.size(), nc = cos_nodes.size(), nphi = phis.size();
-  detail::parallel_for(nc * 3, opt, s.group, 1, [&](std::size_t item) {
-    const std::size_t y = item / 3;
-    const int p = static_cast<int>(item % 3);
-    Table& t = set.tables[first + static_cast<std::size_t>(p)];
-    for (std::size_t z = 0; z < nb; ++z)
-      for (std::size_t x = 0; x < nphi; ++x)
-        t.set((z * nc + y) * nphi + x, hdrp::azimuthal_texel(p, phis[x], cos_nodes[y], b_nodes[z], kHdrpTolerance, fn));
-  });
-  report.entries += 3 * nb * nc * nphi;
-}
-
-void bake_hdrp_longitudinal(const BakeConfig& c, const EngineTableSpec& s, hdrp::Functions fn, const BakeOptions& opt, TableSet& set,
-                            BakeReport& report) {
-  const Precision precision = c.output.hdf5_double ? Precision::float64 : Precision::float32;
-  const std::vector<double> beta = s.axes[0].nodes(), to = s.axes[1].nodes(), ti = s.axes[2].nodes();
-  const std::size_t first = set.tables.size();
-  for (int p = 0; p < 3; ++p)
-    set.tables.push_back(new_table(s.group, "M_" + lobe_name(p), "M_p", "1/rad", "HDRP's longitudinal scattering of lobe " + lobe_name(p), s.axes,
-                                   precision,
-                                   {{"lobe", lobe_name(p)}, {"p", p},
-                                    {"definition", "LongitudinalScattering(cos_i, cos_o', sin_i, sin_o', v_p): d'Eon's M with HDRP's 10-term I0 "
-                                                   "series, v_p from LongitudinalVarianceFromBeta (v, v/4, 4v), theta_o turned by -2a, +a, +4a, "
-                                                   "a = 3 deg (ComputeLongitudinalScattering)"},
-                                    {"source", hdrp_source()}}));
-  if (fn == hdrp::Functions::exact)
-    for (std::size_t k = first; k < set.tables.size(); ++k) set.tables[k].attributes["variant"] = kExactNote;
-  detail::parallel_for(beta.size(), opt, s.group, 1, [&](std::size_t z) {
-    for (std::size_t y = 0; y < to.size(); ++y)
-      for (std::size_t x = 0; x < ti.size(); ++x) {
-        const auto m = hdrp::longitudinal_texel(std::sin(ti[x]), std::sin(to[y]), beta[z], fn);
-        for (std::size_t p = 0; p < 3; ++p) set.tables[first + p].set((z * to.size() + y) * ti.size() + x, m[p]);
-      }
-  });
-  report.entries += 3 * beta.size() * to.size() * ti.size();
-}
-
 }  // namespace
 
 void unit_attenuation_np(double eta, int p, double theta_d, std::span<const double> betas, std::span<const double> phis,
@@ -343,14 +251,12 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
     bake_ds_group(c, g, opt, set, report, groups);
   }
   if (c.engine) {
-    if (c.engine->preset.rfind("unity-hdrp-hair", 0) == 0 && c.eta != hdrp::kEta)
-      throw DomainError("fiber.eta: " + c.engine->preset + " reproduces HDRP's kernels, which fix eta = 1.55 (got " + std::to_string(c.eta) + ")");
+    const EnginePreset& preset = engine_preset(c.engine->preset);
     const std::vector<EngineTexture> textures = engine_preset_textures(*c.engine);
-    const hdrp::Functions fn = c.engine->preset == "unity-hdrp-hair-deon" ? hdrp::Functions::exact : hdrp::Functions::hdrp;
     auto needed = [&](const std::string& group) {
       return std::any_of(textures.begin(), textures.end(), [&](const EngineTexture& t) { return t.group == group; });
     };
-    for (const EngineTableSpec& s : engine_preset_tables(*c.engine, c.residual)) {
+    for (const EngineTableSpec& s : preset.tables(c.residual)) {
       if (s.kind == "dual_scattering" || s.kind == "mean_energy") {
         // Dual scattering and mean energy share the grid: bake them together when either is wanted
         // (the mean energy of HDRP's axes has no texture but stays in the generic files).
@@ -365,12 +271,8 @@ void bake_dual_scattering_tables(const BakeConfig& c, const BakeOptions& opt, Ta
         g.absorption = s.absorption;
         g.density_factor = c.engine->density_factor;
         bake_ds_group(c, g, opt, set, report, groups);
-      } else if (s.kind == "hdrp_attenuation" && needed(s.group)) {
-        bake_hdrp_attenuation(c, s, fn, set, report);
-      } else if (s.kind == "hdrp_azimuthal" && needed(s.group)) {
-        bake_hdrp_azimuthal(c, s, fn, opt, set, report);
-      } else if (s.kind == "hdrp_longitudinal" && needed(s.group)) {
-        bake_hdrp_longitudinal(c, s, fn, opt, set, report);
+      } else if (needed(s.group)) {
+        preset.bake(c, s, opt, set, report);  // a kind of the preset's own (lib/presets/)
       }
     }
     json tex = json::array();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hairlut/bake/dual_scattering_grid.hpp"
+#include "hairlut/bake/engine_preset.hpp"
 #include "hairlut/bake/engine_presets.hpp"
 #include "hairlut/bake/model_kind.hpp"
 #include "hairlut/physics/azimuthal_fourier.hpp"
@@ -175,16 +176,14 @@ BakeEstimate estimate_bake(const BakeConfig& c, int threads) {
     try {
       for (const EngineTableSpec& spec : engine_preset_tables(*c.engine, c.residual)) {
         const std::uint64_t n = grid(spec.axes);
+        // The dual-scattering and mean-energy groups every preset may have; the others, the preset's own kinds.
+        const bool shared = spec.kind == "dual_scattering" || spec.kind == "mean_energy";
+        const EnginePreset::GroupSize own = shared ? EnginePreset::GroupSize{} : engine_preset(c.engine->preset).group_size(spec);
         const std::uint64_t count = spec.kind == "dual_scattering" ? dual_scattering_tables(lobes)
                                     : spec.kind == "mean_energy"   ? mean_energy_tables(lobes)
-                                    : spec.kind == "hdrp_attenuation" ? 2
-                                                                      : explicit_lobes;
-        // d'Eon's M_p is normalised (∫ M_p cos θi dθi = 1 at every β), so the exact variant's
-        // attenuation does not vary along smoothness: deflate and zip keep one smoothness row and
-        // code the others as repeats (measured: 2.3% of the bytes in HDF5 and 2.4% of the
-        // texture, against 43% and 11% for HDRP's own).
+                                                                   : own.tables;
         const GridAxis* rough = named(spec.axes, spec.roughness_axis);
-        const bool flat = spec.kind == "hdrp_attenuation" && c.engine->preset == "unity-hdrp-hair-deon" && rough && rough->count > 0;
+        const bool flat = own.repeats_along_roughness && rough && rough->count > 0;
         auto repeated = [&](double fraction) { return flat ? fraction / rough->count + kDeflatedRepeatFraction : fraction; };
         t.table(n, count, 0, repeated(kDeflatedFraction));
         if (spec.kind == "dual_scattering") {  // its grid serves the preset's mean energy too

@@ -12,6 +12,7 @@
 #include "hairlut/util/error.hpp"
 #include "hairlut/physics/hair_model.hpp"
 #include "hairlut/bake/json_schema.hpp"
+#include "hairlut/bake/engine_preset.hpp"
 #include "hairlut/bake/model_kind.hpp"
 #include "hairlut/util/version.hpp"
 #include "config_parse.hpp"
@@ -45,6 +46,31 @@ nlohmann::ordered_json config_schema() {
   nlohmann::ordered_json& model = s.at("properties").at("model");
   model["enum"] = names;
   model["description"] = "Scattering model: " + described + ". " + shorts + " are accepted as short names and recorded as the full ones.";
+  // The engine presets: their names in tables.engine.preset's enum, their textures' names, their
+  // own keys of tables.engine and their rules.
+  {
+    nlohmann::ordered_json preset_names = nlohmann::ordered_json::array(), texture_names = nlohmann::ordered_json::array();
+    std::string presets_described;
+    nlohmann::ordered_json engine = s.at("properties").at("tables").at("properties").at("engine");
+    for (const EnginePreset* p : engine_presets()) {
+      const nlohmann::ordered_json f = nlohmann::ordered_json::parse(p->schema());
+      preset_names.push_back(std::string(p->name()));
+      presets_described += (presets_described.empty() ? "" : "; ") + f.at("description").get<std::string>();
+      for (const std::string& t : p->texture_names())
+        if (std::find(texture_names.begin(), texture_names.end(), t) == texture_names.end()) texture_names.push_back(t);
+      if (f.contains("properties"))
+        for (const auto& [key, value] : f.at("properties").items()) {
+          if (engine.at("properties").contains(key)) throw std::logic_error("preset " + std::string(p->name()) + ": key " + key + " is also in the config schema");
+          engine.at("properties")[key] = value;
+        }
+      if (f.contains("allOf"))
+        for (const auto& rule : f.at("allOf")) engine["allOf"].push_back(rule);
+    }
+    engine.at("properties").at("preset")["enum"] = preset_names;
+    engine.at("properties").at("preset")["description"] = "The preset: " + presets_described + ".";
+    engine.at("properties").at("textures").at("items")["enum"] = texture_names;
+    s.at("properties").at("tables").at("properties")["engine"] = engine;
+  }
   nlohmann::ordered_json& tables = s.at("properties").at("tables").at("properties");
   nlohmann::ordered_json& thresholds = s.at("properties").at("validate").at("properties").at("thresholds").at("properties");
   for (const TableKind* k : table_kinds()) {
@@ -171,6 +197,7 @@ BakeConfig parse_checked(const nlohmann::json& doc, const std::filesystem::path&
   }
 
   model->check(c);
+  if (c.engine) engine_preset(c.engine->preset).check(c);
 
   if (doc.contains("validate")) c.validate_thresholds = doc.at("validate").value("thresholds", nlohmann::json::object());
   // A bake for a target error is judged by that target unless the config says otherwise: the

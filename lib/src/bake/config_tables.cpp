@@ -7,6 +7,7 @@
 #include <string>
 
 #include "config_parse.hpp"
+#include "hairlut/bake/engine_preset.hpp"
 #include "hairlut/bake/model_kind.hpp"
 #include "hairlut/physics/hair_model.hpp"
 #include "hairlut/physics/melanin.hpp"
@@ -222,13 +223,8 @@ EngineConfig parse_engine(const nlohmann::json& j, const std::vector<std::string
   e.preset = j.at("preset").get<std::string>();
   if (j.contains("textures")) e.textures = j.at("textures").get<std::vector<std::string>>();
   e.density_factor = get_number(j, "density_factor", 0.7);
-  if (j.contains("unity")) {
-    if (e.preset != "unity-hdrp-hair") fail("tables.engine.unity", "applies to the unity-hdrp-hair preset only (preset is " + e.preset + ")");
-    const nlohmann::json& u = j.at("unity");
-    e.radial_smoothness = get_number(u, "radial_smoothness", e.radial_smoothness);
-    e.cuticle_angle_deg = get_number(u, "cuticle_angle_deg", e.cuticle_angle_deg);
-    e.attenuation_scale = get_number(u, "attenuation_scale", e.attenuation_scale);
-  }
+  // The preset's own keys (lib/presets/<preset>/; another preset's keys: its schema rules).
+  checked([&] { e.settings = engine_preset(e.preset).settings(j); });
   if (lobe_names != std::vector<std::string>{"R", "TT", "TRT"}) {
     std::string got;
     for (const auto& n : lobe_names) got += (got.empty() ? "" : ", ") + n;
@@ -252,8 +248,7 @@ nlohmann::json dual_scattering_json(const DualScatteringTablesConfig& d) {
 
 nlohmann::json engine_json(const EngineConfig& e) {
   nlohmann::json j = {{"preset", e.preset}, {"textures", e.textures}, {"density_factor", e.density_factor}};
-  if (e.preset == "unity-hdrp-hair")
-    j["unity"] = {{"radial_smoothness", e.radial_smoothness}, {"cuticle_angle_deg", e.cuticle_angle_deg}, {"attenuation_scale", e.attenuation_scale}};
+  j.update(e.settings);
   return j;
 }
 

@@ -10,9 +10,9 @@
 #include "hairlut/physics/dual_scattering.hpp"
 #include "hairlut/io/engine_exr.hpp"
 #include "hairlut/bake/engine_presets.hpp"
+#include "hairlut/report/engine_preset_report.hpp"
 #include "hairlut/util/error.hpp"
 #include "hairlut/io/hdf5_io.hpp"  // IoError
-#include "hairlut/bake/hdrp_kernels.hpp"
 #include "hairlut/report/report.hpp"
 
 namespace hairlut {
@@ -33,8 +33,16 @@ double half_ulp(double v) {
   return std::ldexp(1.0, std::ilogb(a) - 11);
 }
 
+void check_cancel(const ValidationOptions& o) {
+  if (o.cancel && o.cancel->load()) throw BakeCancelled();
+}
+
+}  // namespace
+
+namespace detail::validation {
+
 // Texel indices to recompute along an axis of n texels: all, or k evenly spread including both ends.
-std::vector<int> spread(int n, int k) {
+std::vector<int> texel_spread(int n, int k) {
   std::vector<int> out;
   if (k >= n) {
     for (int i = 0; i < n; ++i) out.push_back(i);
@@ -45,11 +53,7 @@ std::vector<int> spread(int n, int k) {
   return out;
 }
 
-void check_cancel(const ValidationOptions& o) {
-  if (o.cancel && o.cancel->load()) throw BakeCancelled();
-}
-
-}  // namespace
+}  // namespace detail::validation
 
 json validate_engine_texture(const std::filesystem::path& file, const ValidationOptions& opt) {
   const EngineImage img = read_engine_texture(file);
@@ -137,75 +141,12 @@ json validate_engine_texture(const std::filesystem::path& file, const Validation
   };
   const std::size_t budget = std::max<std::size_t>(opt.max_points / 8, 8);
   const int per_axis = std::max(2, static_cast<int>(std::cbrt(static_cast<double>(budget))));
-  std::vector<double> nz = spec->axes[0].nodes(), ny = spec->axes[1].nodes(), nx = spec->axes[2].nodes();
-  std::string definition;
-  constexpr double kTol = 1e-9;  // HDRP's textures: the preset's quadrature is relative 1e-10
-  const hdrp::Functions fn = preset == "unity-hdrp-hair-deon" ? hdrp::Functions::exact : hdrp::Functions::hdrp;
-  if (t.group == "unity/longitudinal") {
-    definition = "HDRP ComputeLongitudinalScattering at every texel";
-    for (int z = 0; z < Z; ++z) {
-      check_cancel(opt);
-      for (int y = 0; y < Y; ++y)
-        for (int x = 0; x < X; ++x) {
-          const auto m = hdrp::longitudinal_texel(std::sin(nx[static_cast<std::size_t>(x)]), std::sin(ny[static_cast<std::size_t>(y)]),
-                                                  nz[static_cast<std::size_t>(z)], fn);
-          for (int c = 0; c < 3; ++c) compare(x, y, z, c, m[static_cast<std::size_t>(c)], kTol, 0.0);
-        }
-    }
-  } else if (t.group == "unity/attenuation") {
-    definition = "HDRP ComputeAttenuationForward/Backward (exact integrals) at every texel";
-    std::vector<double> sin_t = ny;
-    for (double& s : sin_t) s = std::sin(s);
-    std::vector<double> front, back;
-    hdrp::attenuation_table(nx, sin_t, nz, front, back, 1e-10, fn);
-    for (int z = 0; z < Z; ++z)
-      for (int y = 0; y < Y; ++y)
-        for (int x = 0; x < X; ++x) {
-          const std::size_t i = (static_cast<std::size_t>(z) * static_cast<std::size_t>(Y) + static_cast<std::size_t>(y)) * static_cast<std::size_t>(X) +
-                                static_cast<std::size_t>(x);
-          compare(x, y, z, 0, front[i], kTol, 0.0);
-          compare(x, y, z, 1, back[i], kTol, 0.0);
-        }
-  } else if (t.group == "unity/azimuthal") {
-    definition = "HDRP ComputeAzimuthalScattering (exact integral over h) at " + std::to_string(per_axis) + "^3 texels";
-    for (int z : spread(Z, per_axis)) {
-      check_cancel(opt);
-      for (int y : spread(Y, per_axis))
-        for (int x : spread(X, per_axis))
-          for (int c = 0; c < 3; ++c)
-            compare(x, y, z, c,
-                    hdrp::azimuthal_texel(c, nx[static_cast<std::size_t>(x)], ny[static_cast<std::size_t>(y)], nz[static_cast<std::size_t>(z)], 1e-10, fn),
-                    kTol, 0.0);
-    }
-  } else {
-    // Unreal: the mean-energy and dual-scattering quantities from dual_scattering() at the texel's model.
-    const double tol = opt.thresholds.ds_accuracy;
-    const int k = std::max(2, per_axis / 3);
-    definition = "dual_scattering() of the preset's model at " + std::to_string(k) + "^3 texels (tolerance ds_accuracy)";
-    for (int z : spread(Z, k)) {
-      check_cancel(opt);
-      for (int y : spread(Y, k)) {
-        const std::vector<LobeParams> lobes = spec->roughness.lobes_at(ny[static_cast<std::size_t>(y)]);
-        HairModel m;
-        m.sigma_a = spec->absorption.sigma_a(nz[static_cast<std::size_t>(z)]);
-        m.lobes.assign(lobes.begin(), lobes.begin() + spec->roughness.lobes);
-        if (spec->roughness.residual) m.residual = lobes.back();
-        for (int x : spread(X, k)) {
-          const DualScatteringPoint p = dual_scattering(m, nx[static_cast<std::size_t>(x)]);
-          for (int c = 0; c < t.channel_count; ++c) {
-            const std::string& tb = t.channels[c].table;
-            if (tb.empty()) continue;
-            const std::string q = tb.substr(tb.rfind('/') + 1);
-            double v = q == "a_f" ? p.a_f : q == "a_b" ? p.a_b : q == "E_R" ? p.energy[0] : q == "E_TT" ? p.energy[1] : q == "E_TRT" ? p.energy[2] : NAN;
-            if (!std::isfinite(v)) throw DomainError(file.string() + ": no definition for channel table " + tb);
-            v = t.channels[c].scale * v;
-            if (t.channels[c].saturate) v = std::clamp(v, 0.0, 1.0);
-            compare(x, y, z, c, v, 0.0, tol);
-          }
-        }
-      }
-    }
-  }
+  const EnginePresetReport* preset_report = nullptr;
+  for (const EnginePresetReport* r : engine_preset_reports())  // lib/presets/
+    if (r->name() == preset) preset_report = r;
+  if (!preset_report) throw DomainError(file.string() + ": preset " + preset + " has no definition of its texels to check");
+  check_cancel(opt);
+  const std::string definition = preset_report->recompute(t, *spec, per_axis, opt, compare);
   checks.push_back(check("engine_values", "texels against their definition (half rounding allowed)", w.ratio <= 1.0, w.ratio, 1.0, "<=",
                          definition + "; " + std::to_string(w.count) + " values; worst " + w.where));
   int passed = 0, failed = 0;

@@ -10,6 +10,8 @@
 #include "hairlut/tables/tables.hpp"
 #include "hairlut/report/validate.hpp"
 #include "hairlut/bake/config.hpp"
+#include "hairlut/bake/hdrp_kernels.hpp"
+#include "hairlut/report/engine_preset_report.hpp"
 #include "hairlut/report/model_kind_report.hpp"
 #include "hairlut/util/angles.hpp"
 
@@ -53,6 +55,27 @@ struct EnergyCurve {
     const double w = s - static_cast<double>(k);
     return (1.0 - w) * values[k] + w * values[k + 1];
   }
+};
+
+// Engine textures (validate_engine.cpp, hdrp_texels.cpp; the presets' <name>_report.cpp).
+/// Texel indices to recompute along an axis of n texels: all, or k evenly spread including both ends.
+std::vector<int> texel_spread(int n, int k);
+/// Unity HDRP's textures recomputed from HDRP's kernels with `fn` (EnginePresetReport::recompute).
+std::string hdrp_texels(const EngineTexture& t, const EngineTableSpec& spec, int per_axis, hdrp::Functions fn, const ValidationOptions& opt,
+                        const EnginePresetReport::Compare& compare);
+/// The validator's side of an HDRP preset (lib/presets/unity_hdrp_hair*/): hdrp_texels with its functions.
+class HdrpPresetReport final : public EnginePresetReport {
+ public:
+  HdrpPresetReport(std::string_view name, hdrp::Functions fn) : name_(name), fn_(fn) {}
+  std::string_view name() const override { return name_; }
+  std::string recompute(const EngineTexture& t, const EngineTableSpec& group, int per_axis, const ValidationOptions& opt,
+                        const Compare& compare) const override {
+    return hdrp_texels(t, group, per_axis, fn_, opt, compare);
+  }
+
+ private:
+  std::string_view name_;
+  hdrp::Functions fn_;
 };
 
 // Sections: each appends its checks and returns its part of the report.

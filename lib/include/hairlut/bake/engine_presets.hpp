@@ -62,13 +62,12 @@ HairModel table_model(const RoughnessMapping& roughness, const AbsorptionMapping
 /// tables.engine of a config: which preset, which of its textures, and the few constants an engine
 /// team may need to match its own build.
 struct EngineConfig {
-  std::string preset;                  ///< "unreal-hair-strands" or "unity-hdrp-hair"
+  std::string preset;                  ///< a preset of lib/presets/ by name ("unreal-hair-strands", "unity-hdrp-hair", ...)
   std::vector<std::string> textures;   ///< a subset of the preset's textures (empty: all)
   double density_factor = 0.7;         ///< d_b of Zinke eq. 17 (also recorded for d_f)
-  // unity-hdrp-hair: HDRP's kernels fix these; the preset refuses other values (hdrp_kernels.hpp)
-  double radial_smoothness = 0.7;      ///< ConfigureFiberSurface's perceptualRadialSmoothness
-  double cuticle_angle_deg = 3.0;      ///< α of the kernels (cuticleAngle −3° negated by Hair.hlsl)
-  double attenuation_scale = 0.31830988618379067;  ///< the kernels' final 1/π
+  /// The preset's own keys of tables.engine, every default filled in (EnginePreset::settings):
+  /// unity-hdrp-hair's "unity" block; an empty object for the others.
+  nlohmann::json settings = nlohmann::json::object();
 };
 
 /// One group of tables of a preset, over one set of axes (storage order: the texture's Z, Y, X).
@@ -81,8 +80,11 @@ struct EngineTableSpec {
   std::string roughness_axis, absorption_axis, theta_axis;  ///< axis names of the three parameters
 };
 
-/// Names of the presets.
-const std::vector<std::string>& engine_preset_names();
+/// An axis of an engine texture: texel-centred ((i + 1/2)/count of the mapped range), clamped.
+GridAxis texel_axis(std::string name, std::string units, std::string long_name, Spacing spacing, double lo, double hi, int count);
+
+/// Names of the presets (lib/presets/, engine_preset.hpp).
+std::vector<std::string> engine_preset_names();
 
 /// The table groups a preset bakes for explicit lobes R, TT, TRT (the presets' lobes) and the
 /// residual if `residual`. Throws DomainError for an unknown preset.
