@@ -35,7 +35,7 @@ class EnginePreset {
   /// normalized config records them (an empty object: none).
   virtual nlohmann::json settings(const nlohmann::json& engine) const = 0;
   /// Its rules over the whole parsed config (the fiber's η its kernels fix, its settings' values):
-  /// throws DomainError whose message starts with the key path.
+  /// throws through config_error() (table_kind.hpp), naming the key.
   virtual void check(const BakeConfig& c) const = 0;
 
   /// Its table groups over the engine's axes, for explicit lobes R, TT, TRT and the residual if

@@ -1,7 +1,8 @@
 // Roughness and absorption parameterisations (one engine parameter → hairlut's per-lobe β_m, β_n,
-// tilt and σa) and the export presets that reproduce the axes, resolutions, encodings and texel
-// placement of real-time engines' hair look-up textures (a texture's layout: io/engine_texture.hpp). docs/presets/<name>.md describes each preset
-// and the engine source files it follows.
+// tilt and σa), the table groups and config of the export presets, and the calls that reach the
+// presets of lib/presets/ (engine_preset.hpp) by name. A preset reproduces the axes, resolutions,
+// encodings and texel placement of a real-time engine's hair look-up textures (a texture's layout:
+// io/engine_texture.hpp); docs/presets/<name>.md describes each and the engine files it follows.
 #pragma once
 
 #include <nlohmann/json.hpp>
