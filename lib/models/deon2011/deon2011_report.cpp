@@ -209,11 +209,7 @@ class Report final : public ModelKindReport {
          "Largest loss: "
       << detail::html::fmt(t["largest_loss"]) << " at &theta;<sub>i</sub> = " << detail::html::fmt(t["largest_loss_theta_i_deg"]) << "&deg;.</p>\n";
     {
-      svg::LinePlot p;
-      p.title = "E(theta_i) with truncated lobe sets";
-      p.xlabel = "theta_i [deg]";
-      p.ylabel = "energy";
-      p.y_reference = 1.0;
+      svg::LinePlot p = detail::html::energy_plot("E(theta_i) with truncated lobe sets");
       const auto th = vec(t["theta_i_deg"]);
       for (const char* k : {"R+TT+TRT", "R+TT+TRT+TRRT", "R+TT+TRT+residual"}) p.series.push_back({k, th, vec(t[k]), "", false});
       o << svg::line_plot(p) << "\n";
