@@ -1,6 +1,7 @@
 // What the ports of pbrt-v4's and Mitsuba 3's hair tests share (test_hair_scattering.cpp,
 // test_fourier_scattering.cpp, test_material_scattering.cpp): the peers' roughness mappings, their
 // direction sampling, pbrt's HOnTheEdge, Mitsuba's per-lane weights and its χ² test on the sphere.
+// A fiber F is a Fiber, or a prepared runtime's PreparedFiber (HairScattering::fiber).
 //   pbrt-v4 src/pbrt/bsdfs_test.cpp at commit 00aad0a68d6672d0e52f3d9c730406eee720f2b5;
 //   Mitsuba 3 src/bsdfs/tests/test_hair.py and src/python/python/chi2.py at commit
 //   0fec507e35a820a2fc0f3079686a3ee34b5697ad.
@@ -48,8 +49,8 @@ inline double average(const double* rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3
 struct Furnaces {
   double uniform = 0.0, sampled = 0.0;
 };
-template <class T>
-Furnaces white_furnaces(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, const double* wo, Rng& rng, int count) {
+template <class T, class F>
+Furnaces white_furnaces(const hairlut::sampler::HairScattering<T>& rt, const F& f, const double* wo, Rng& rng, int count) {
   Furnaces r;
   double sum = 0.0;
   for (int i = 0; i < count; ++i) {
@@ -78,8 +79,8 @@ struct EdgeChecks {
     if (failures++ == 0) first = what;
   }
 };
-template <class T>
-EdgeChecks h_on_the_edge(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f) {
+template <class T, class F>
+EdgeChecks h_on_the_edge(const hairlut::sampler::HairScattering<T>& rt, const F& f) {
   EdgeChecks r;
   // pbrt's vectors (its z is the fiber's normal, x along the fiber as here).
   const double wo[3] = {0.54986966, 0.03359017, 0.83457476}, wi[3] = {-0.37383357, -0.91920084, 0.12376696};
@@ -136,8 +137,8 @@ struct LaneWeights {
   long lanes = 0, bad = 0;
   double worst = 0.0;
 };
-template <class T>
-void sample_numeric(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, Rng& rng, long lanes, LaneWeights& acc) {
+template <class T, class F>
+void sample_numeric(const hairlut::sampler::HairScattering<T>& rt, const F& f, Rng& rng, long lanes, LaneWeights& acc) {
   for (long i = 0; i < lanes; ++i) {
     double wo[3];
     uniform_sphere(rng(), rng(), wo);
@@ -157,8 +158,8 @@ struct WeightSpread {
   long total = 0, outside = 0;
   double lo = 1.0, hi = 1.0;
 };
-template <class T>
-void sampling_weights(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, Rng& rng, long count, bool over_albedo,
+template <class T, class F>
+void sampling_weights(const hairlut::sampler::HairScattering<T>& rt, const F& f, Rng& rng, long count, bool over_albedo,
                       WeightSpread& acc) {
   for (long i = 0; i < count; ++i) {
     double wo[3];
@@ -177,8 +178,8 @@ void sampling_weights(const hairlut::sampler::HairScattering<T>& rt, const hairl
 // pbrt-v4's Hair.SamplingConsistency at one shading point (f, wo): `count` draws, each giving an
 // importance-sampled term S cos Li / pdf and a uniform one S cos Li 4π at a direction uniform on
 // the sphere, with pbrt's Li(w) = w_z² (its z is our y). Returns the two estimates (pbrt: within 5%).
-template <class T>
-std::pair<double, double> sampling_consistency(const hairlut::sampler::HairScattering<T>& rt, const hairlut::sampler::Fiber& f, const double* wo,
+template <class T, class F>
+std::pair<double, double> sampling_consistency(const hairlut::sampler::HairScattering<T>& rt, const F& f, const double* wo,
                                                Rng& rng, int count) {
   auto li = [](const double* w) { return w[1] * w[1]; };
   double importance = 0.0, uniform = 0.0;

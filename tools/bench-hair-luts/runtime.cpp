@@ -2,14 +2,18 @@
 // pdf) against pbrt-v4's analytic HairBxDF::f, Sample_f and PDF (pbrt_hair.cpp) in the same run, on
 // the same directions and random numbers, for both kinds of tables a renderer loads: the shipped
 // generic default tables (σa and β per call), the 1e-3 set's Fourier N_p (tables/configs/generic-1e-3.json,
-// with the default config's M_p and tilts), and the tables of one material (σa and β baked); and
-// the per-sample weight S / pdf of a white fiber (σa = 0), the quantity pbrt-v4's SamplingWeights
-// test bounds.
+// with the default config's M_p and tilts), the tables of one material (σa and β baked), and the
+// generic and Fourier sets prepared for the fiber's roughness (prepared_scattering.hpp: σa per
+// fiber); the prepared runtimes' S against the runtimes they were prepared from; and the per-sample
+// weight S / pdf of a white fiber (σa = 0), the quantity pbrt-v4's SamplingWeights test bounds.
 #include <hairlut/bake/bake.hpp>
 #include <hairlut/bake/config.hpp>
 #include <hairlut/io/table_io.hpp>
 #include <hairlut/physics/melanin.hpp>
 #include <hairlut/tables/hair_views.hpp>
+
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -90,8 +94,8 @@ struct Costs {
   double sample = 0.0, pdf = 0.0, eval = 0.0, point = 0.0;
 };
 // The four costs of one runtime at the points; pdf and eval at its own drawn directions.
-template <class R>
-Costs time_runtime(const R& rt, const hairlut::sampler::Fiber& fiber, const std::vector<Point>& pts, int repeats) {
+template <class R, class F>
+Costs time_runtime(const R& rt, const F& fiber, const std::vector<Point>& pts, int repeats) {
   const std::size_t n = pts.size();
   std::vector<std::array<double, 3>> wi(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -137,7 +141,8 @@ Costs time_runtime(const R& rt, const hairlut::sampler::Fiber& fiber, const std:
 
 // Weights of a white fiber at the points: their range, the share outside 1% and 10%, and the same
 // for weight / albedo(wo).
-json white_weights(const Runtime& rt, const hairlut::sampler::Fiber& white, const std::vector<Point>& pts, const std::string& label, std::ostringstream& md) {
+template <class F>
+json white_weights(const Runtime& rt, const F& white, const std::vector<Point>& pts, const std::string& label, std::ostringstream& md) {
   double lo = 1e300, hi = 0.0, rlo = 1e300, rhi = 0.0;
   std::size_t out1 = 0, out10 = 0, rout1 = 0, count = 0;
   for (const Point& p : pts) {
@@ -154,6 +159,51 @@ json white_weights(const Runtime& rt, const hairlut::sampler::Fiber& white, cons
           {"fraction_outside_1_percent", static_cast<double>(out1) / c}, {"fraction_outside_10_percent", static_cast<double>(out10) / c},
           {"weight_over_albedo_min", rlo}, {"weight_over_albedo_max", rhi},
           {"weight_over_albedo_fraction_outside_1_percent", static_cast<double>(rout1) / c}};
+}
+
+// S of a prepared runtime against the runtime it was prepared from, per channel at the directions the
+// prepared runtime draws at the points (where a path tracer evaluates it): the relative error's
+// median, 99th percentile and maximum, and the largest error relative to the largest S drawn at
+// the same wo (of 8 draws per wo).
+json prepared_error(const Runtime& from, const Runtime& prepared, const hairlut::sampler::Fiber& fiber, const std::vector<Point>& pts) {
+  const hairlut::sampler::PreparedFiber pf = prepared.fiber(fiber);
+  std::vector<double> rel;
+  double to_peak = 0.0;
+  SplitMix uniform{99};
+  for (const Point& p : pts) {
+    double peak = 0.0, worst = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      const double u[3] = {uniform(), uniform(), uniform()};
+      const auto s = prepared.sample(pf, p.wo, u);
+      if (!(s.pdf > 0.0)) continue;
+      double a[3], b[3];
+      from.eval(fiber, p.wo, s.wi, a);
+      prepared.eval(pf, p.wo, s.wi, b);
+      for (int c = 0; c < 3; ++c) {
+        peak = std::max(peak, a[c]), worst = std::max(worst, std::fabs(a[c] - b[c]));
+        if (a[c] > 0.0) rel.push_back(std::fabs(a[c] - b[c]) / a[c]);
+      }
+    }
+    if (peak > 0.0) to_peak = std::max(to_peak, worst / peak);
+  }
+  std::sort(rel.begin(), rel.end());
+  auto at = [&](double q) { return rel.empty() ? 0.0 : rel[std::min(rel.size() - 1, static_cast<std::size_t>(q * static_cast<double>(rel.size())))]; };
+  return {{"values", rel.size()}, {"relative_p50", at(0.5)}, {"relative_p99", at(0.99)}, {"relative_max", rel.empty() ? 0.0 : rel.back()}, {"max_over_peak_at_wo", to_peak}};
+}
+
+// Per-fiber setup of a prepared runtime: fiber() for fibers of varying σa [ns].
+double time_fiber(const Runtime& rt, const hairlut::sampler::Fiber& fiber, int repeats) {
+  const std::size_t n = 2000;
+  volatile double sink = 0.0;
+  return best_ns(n, repeats, [&] {
+    double acc = 0.0;
+    hairlut::sampler::Fiber f = fiber;
+    for (std::size_t i = 0; i < n; ++i) {
+      f.sigma_a[0] = fiber.sigma_a[0] * (0.5 + static_cast<double>(i) / static_cast<double>(n));
+      acc += rt.fiber(f).e[0];
+    }
+    sink = acc;
+  });
 }
 
 // The four costs of pbrt-v4's HairBxDF in Float arithmetic at the points (offset h per point):
@@ -219,6 +269,14 @@ json bench_runtime(const Settings& st) {
   t0 = thread_cpu_seconds();
   const Runtime rt_material = hairlut::hair_scattering<float>(material, "materials/pbrt");
   const double prepare_material_ms = (thread_cpu_seconds() - t0) * 1e3;
+  // The generic and Fourier sets prepared for the fiber's roughness (β_m, β_n, no extra tilt).
+  t0 = thread_cpu_seconds();
+  const Runtime rt_prepared(rt_generic, fiber);
+  const double prepare_prepared_ms = (thread_cpu_seconds() - t0) * 1e3;
+  t0 = thread_cpu_seconds();
+  const Runtime rt_prepared_fourier(rt_fourier, fiber);
+  const double prepare_prepared_fourier_ms = (thread_cpu_seconds() - t0) * 1e3;
+  const hairlut::sampler::PreparedFiber pf = rt_prepared.fiber(fiber), pf_fourier = rt_prepared_fourier.fiber(fiber);
   const double zero[3] = {0.0, 0.0, 0.0};
   const hairlut::TableSet white_material = bake_material(st, zero, fiber.beta_m, fiber.beta_n);
   const Runtime rt_white = hairlut::hair_scattering<float>(white_material, "materials/pbrt");
@@ -247,12 +305,17 @@ json bench_runtime(const Settings& st) {
     best.point = std::min(best.point, c.point);
   };
   const Costs none{1e300, 1e300, 1e300, 1e300};
-  Costs peer_best = none, gen = none, four = none, mat = none, peer64 = none, mat64 = none;
+  Costs peer_best = none, gen = none, four = none, mat = none, peer64 = none, mat64 = none, prep = none, prep_four = none;
+  double fiber_ns = 1e300, fiber_fourier_ns = 1e300;
   for (int round = 0; round < repeats; ++round) {
     keep_best(peer_best, time_pbrt(pbrt, sigma, pts, hs));
     keep_best(gen, time_runtime(rt_generic, fiber, pts, 1));
     keep_best(four, time_runtime(rt_fourier, fiber, pts, 1));
     keep_best(mat, time_runtime(rt_material, fiber, pts, 1));
+    keep_best(prep, time_runtime(rt_prepared, pf, pts, 1));
+    keep_best(prep_four, time_runtime(rt_prepared_fourier, pf_fourier, pts, 1));
+    fiber_ns = std::min(fiber_ns, time_fiber(rt_prepared, fiber, 1));
+    fiber_fourier_ns = std::min(fiber_fourier_ns, time_fiber(rt_prepared_fourier, fiber, 1));
     keep_best(peer64, time_pbrt(pbrt64, sigma64, pts, hs));
     keep_best(mat64, time_runtime(rt_material64, fiber, pts, 1));
   }
@@ -267,12 +330,17 @@ json bench_runtime(const Settings& st) {
     hairlut::sampler::Fiber white;
     white.beta_m = bm * kPiD / 180.0, white.beta_n = 12.0 * kPiD / 180.0;
     weights.push_back(white_weights(rt_generic, white, pts, "generic default, beta_m " + fmt(bm) + " deg, beta_n 12 deg", wmd));
+    const Runtime prepared(rt_generic, white);
+    weights.push_back(white_weights(prepared, prepared.fiber(white), pts, "generic default prepared, beta_m " + fmt(bm) + " deg, beta_n 12 deg", wmd));
   }
   {
     hairlut::sampler::Fiber white;
     white.beta_m = 10.0 * kPiD / 180.0, white.beta_n = 12.0 * kPiD / 180.0;
     weights.push_back(white_weights(rt_fourier, white, pts, "Fourier N_p (1e-3 set), beta_m 10 deg, beta_n 12 deg", wmd));
+    const Runtime prepared(rt_fourier, white);
+    weights.push_back(white_weights(prepared, prepared.fiber(white), pts, "Fourier N_p (1e-3 set) prepared, beta_m 10 deg, beta_n 12 deg", wmd));
   }
+  const json error_generic = prepared_error(rt_generic, rt_prepared, fiber, pts), error_fourier = prepared_error(rt_fourier, rt_prepared_fourier, fiber, pts);
   weights.push_back(white_weights(rt_white, hairlut::sampler::Fiber(), pts,
                                   "material, sigma_a 0, beta_m " + fmt(fiber.beta_m * 180.0 / kPiD) + " deg (TT half, TRT twice), beta_n " +
                                       fmt(fiber.beta_n * 180.0 / kPiD) + " deg",
@@ -296,7 +364,19 @@ json bench_runtime(const Settings& st) {
                  {"prepare_generic_ms", prepare_generic_ms},
                  {"prepare_fourier_ms", prepare_fourier_ms},
                  {"prepare_material_ms", prepare_material_ms},
+                 {"prepare_prepared_ms", prepare_prepared_ms},
+                 {"prepare_prepared_fourier_ms", prepare_prepared_fourier_ms},
+                 {"prepared_bytes", rt_prepared.preparation().bytes()},
+                 {"prepared_fourier_bytes", rt_prepared_fourier.preparation().bytes()},
+                 {"prepared_nodes", {{"phi", rt_prepared.preparation().phi_nodes()}, {"theta_i_theta_r", rt_prepared.preparation().theta_nodes()},
+                                     {"theta_d", rt_prepared.preparation().theta_d_nodes()}}},
                  {"per_fiber_setup_ns", 0.0},
+                 {"prepared_per_fiber_setup_ns", fiber_ns},
+                 {"prepared_fourier_per_fiber_setup_ns", fiber_fourier_ns},
+                 {"prepared_error", error_generic},
+                 {"prepared_fourier_error", error_fourier},
+                 {"hairlut_prepared", costs_json(prep)},
+                 {"hairlut_prepared_fourier", costs_json(prep_four)},
                  {"pbrt", costs_json(peer)},
                  {"hairlut_generic", costs_json(gen)},
                  {"hairlut_fourier", costs_json(four)},
@@ -307,22 +387,35 @@ json bench_runtime(const Settings& st) {
   std::ostringstream md, csv;
   md << "Machine: " << st.machine.value("cpu", std::string("?")) << ", load average " << load_average() << "; command: bench-hair-luts --only runtime --out "
      << st.out_dir << (st.quick ? " --quick" : "") << "; " << result["timing"].get<std::string>() << ".\n\n";
-  auto row = [&](const char* call, double p, double g, double f, double m, const char* target) {
+  auto row = [&](const char* call, double p, double g, double f, double m, double q, double qf, const char* target) {
     md << "| " << call << " | " << fmt(p) << " | " << fmt(g) << " | " << fmt(g / p) << " | " << fmt(f) << " | " << fmt(f / p) << " | " << fmt(m) << " | " << fmt(m / p)
-       << " | " << target << " |\n";
-    csv << call << ',' << p << ',' << g << ',' << g / p << ',' << f << ',' << f / p << ',' << m << ',' << m / p << '\n';
+       << " | " << fmt(q) << " | " << fmt(q / p) << " | " << fmt(qf) << " | " << fmt(qf / p) << " | " << target << " |\n";
+    csv << call << ',' << p << ',' << g << ',' << g / p << ',' << f << ',' << f / p << ',' << m << ',' << m / p << ',' << q << ',' << q / p << ',' << qf << ',' << qf / p << '\n';
   };
-  md << "| call | pbrt-v4 (float) ns | generic tables ns | generic / pbrt | Fourier N_p ns | Fourier / pbrt | material tables ns | material / pbrt | target |\n"
-     << "|---|---|---|---|---|---|---|---|---|\n";
-  csv << "call,pbrt_ns,generic_ns,generic_ratio,fourier_ns,fourier_ratio,material_ns,material_ratio\n";
-  row("sample", peer.sample, gen.sample, four.sample, mat.sample, "<= 1");
-  row("pdf", peer.pdf, gen.pdf, four.pdf, mat.pdf, "<= 1");
-  row("eval", peer.eval, gen.eval, four.eval, mat.eval, "<= 0.5");
-  row("shading point: BSDF for (fiber, wo), sample, pdf and eval of a light direction", peer.point, gen.point, four.point, mat.point, "");
-  md << "| per-fiber setup | none | none | | none | | none | | <= 20 us |\n\n"
+  md << "| call | pbrt-v4 (float) ns | generic tables ns | generic / pbrt | Fourier N_p ns | Fourier / pbrt | material tables ns | material / pbrt "
+        "| generic prepared ns | prepared / pbrt | Fourier prepared ns | prepared / pbrt | target |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  csv << "call,pbrt_ns,generic_ns,generic_ratio,fourier_ns,fourier_ratio,material_ns,material_ratio,prepared_ns,prepared_ratio,prepared_fourier_ns,prepared_fourier_ratio\n";
+  row("sample", peer.sample, gen.sample, four.sample, mat.sample, prep.sample, prep_four.sample, "<= 1");
+  row("pdf", peer.pdf, gen.pdf, four.pdf, mat.pdf, prep.pdf, prep_four.pdf, "<= 1");
+  row("eval", peer.eval, gen.eval, four.eval, mat.eval, prep.eval, prep_four.eval, "<= 0.5");
+  row("shading point: BSDF for (fiber, wo), sample, pdf and eval of a light direction", peer.point, gen.point, four.point, mat.point, prep.point, prep_four.point, "");
+  md << "| per-fiber setup | none | none | | none | | none | | " << fmt(fiber_ns) << " | | " << fmt(fiber_fourier_ns) << " | | <= 20 us |\n\n"
      << "Runtimes prepared from the loaded tables in " << fmt(prepare_generic_ms) << " ms (generic: M_p copied with theta_i last; N_p sampling data read from the file and checked), "
      << fmt(prepare_fourier_ms) << " ms (Fourier: the same for M_p, the energies on the coefficients' nodes) and "
      << fmt(prepare_material_ms) << " ms (material: tables interleaved per node, the theta_i rows and phi rows of the sampler tabulated).\n"
+     << "Prepared runtimes: the generic and Fourier runtimes resampled for the fiber's beta_m and beta_n (every lobe's M_p at beta_m, as the generic tables "
+        "read it), sigma_a per fiber, in "
+     << fmt(prepare_prepared_ms) << " ms and " << fmt(prepare_prepared_fourier_ms) << " ms, holding " << fmt(static_cast<double>(rt_prepared.preparation().bytes()) / 1e6)
+     << " MB and " << fmt(static_cast<double>(rt_prepared_fourier.preparation().bytes()) / 1e6) << " MB (" << rt_prepared.preparation().phi_nodes() << " phi x "
+     << rt_prepared.preparation().theta_nodes() << " theta_i = theta_r x " << rt_prepared.preparation().theta_d_nodes()
+     << " theta_d nodes; prepared_scattering.hpp); timed with the fiber's state built once (its setup is the per-fiber row).\n"
+     << "Their S against the runtimes they were prepared from, per channel at their own drawn directions (8 per wo, " << n << " wo): relative error median / p99 / max "
+     << fmt(error_generic["relative_p50"].get<double>(), 3) << " / " << fmt(error_generic["relative_p99"].get<double>(), 3) << " / "
+     << fmt(error_generic["relative_max"].get<double>(), 3) << " (generic), " << fmt(error_fourier["relative_p50"].get<double>(), 3) << " / "
+     << fmt(error_fourier["relative_p99"].get<double>(), 3) << " / " << fmt(error_fourier["relative_max"].get<double>(), 3)
+     << " (Fourier); the largest error over the largest S drawn at the same wo " << fmt(error_generic["max_over_peak_at_wo"].get<double>(), 3) << " and "
+     << fmt(error_fourier["max_over_peak_at_wo"].get<double>(), 3) << ".\n"
      << "Fiber: " << result["fiber"].get<std::string>() << "; generic and Fourier tables read at it per call (Fourier: "
      << result["fourier_tables"].get<std::string>() << "), material tables baked for it (" << result["material_tables"].get<std::string>() << ").\n"
      << "hairlut in double arithmetic over float tables, pbrt in float.\n\n"

@@ -50,6 +50,7 @@
 #include "hairlut/sampler/axis_sampling.hpp"
 #include "hairlut/sampler/fourier_np.hpp"
 #include "hairlut/sampler/material_scattering.hpp"
+#include "hairlut/sampler/prepared_scattering.hpp"
 #include "hairlut/sampler/product_row.hpp"
 #include "hairlut/sampler/sampler_fiber.hpp"
 
@@ -164,6 +165,18 @@ class HairScattering {
     valid_ = mat_.valid();
     lobes_ = mat_.lobes();
   }
+  /// A runtime over a set of any representation (`source`: tensor, β bands or Fourier) prepared
+  /// for one roughness, roughness.beta_m, beta_n and tilt (its σa is not read), with σa free per
+  /// fiber: PreparedScattering (prepared_scattering.hpp says what is resampled and how it
+  /// samples). Every call reads this roughness, not the Fiber's; a fiber's σa is read through
+  /// fiber() (a few µs per fiber), or per call where a Fiber is passed. Holds nothing of `source`.
+  HairScattering(const HairScattering& source, const Fiber& roughness, const PreparedGrid& grid = {}) {
+    prepared_ = true;
+    if (!source.valid_ || source.material_ || source.prepared_) return;
+    prep_ = PreparedScattering<T>(PrepSource{source, roughness}, grid);
+    valid_ = prep_.valid();
+    lobes_ = prep_.lobes();
+  }
   /// From a set whose N_p is a Fourier series (FourierSet) and whose M_p are tables (HairTables'
   /// mp and mp_residual; its np views are not read). Both must outlive this object. Sampling as
   /// for tensor tables, with step 3's φ density the series itself at (β_n, σ̄a, θd), drawn by
@@ -192,12 +205,20 @@ class HairScattering {
   bool valid() const { return valid_; }
   /// True when built from one material's tables (the Fiber's fields are then not read).
   bool material() const { return material_; }
+  /// True when prepared for one roughness (the Fiber's β and tilt are then not read).
+  bool prepared() const { return prepared_; }
+  /// What a prepared runtime reads of a fiber: its σa's energies and weights (built in a few µs,
+  /// for a strand or a shading point; prepared_scattering.hpp). Not ok for other runtimes.
+  PreparedFiber fiber(const Fiber& f) const { return prepared_ ? prep_.fiber(f.sigma_a) : PreparedFiber(); }
+  /// The prepared runtime itself (its node counts and size).
+  const PreparedScattering<T>& preparation() const { return prep_; }
   /// Explicit lobes plus the residual (its index is lobes() − 1 when the tables have one).
   int lobes() const { return lobes_; }
   const HairTables<T, double>& tables() const { return t_; }
 
   /// S(wo, wi) per channel [1/sr] for unit vectors in the fiber frame.
   void eval(const Fiber& f, const double* wo, const double* wi, double* rgb) const {
+    if (prepared_) return eval(fiber(f), wo, wi, rgb);
     if (material_ && valid_ && wo[0] == wo[0] && wi[0] == wi[0]) {
       // The sines are the directions' components along the fiber, and |φ| (all the tables need:
       // N_p is even in φ) is the angle between their projections on the normal plane (0 where one
@@ -214,6 +235,32 @@ class HairScattering {
     fiber_direction_angles(wi, ti, pi);
     eval(f, to, ti, po - pi, rgb);
   }
+  /// The same for a prepared runtime and a fiber's state from fiber(); 0 for other runtimes.
+  void eval(const PreparedFiber& pf, const double* wo, const double* wi, double* rgb) const {
+    rgb[0] = rgb[1] = rgb[2] = 0.0;
+    if (!(wo[0] == wo[0]) || !(wi[0] == wi[0])) {
+      rgb[0] = rgb[1] = rgb[2] = wo[0] + wi[0];
+      return;
+    }
+    if (!prepared_ || !valid_) return;
+    // The angles by fiber_angles' polynomials (≤ 2e-8 rad, far below the nodes' spacing), the
+    // cosines as the lengths of the normal-plane projections: a third of the cost of asin and atan2,
+    // which the shading point keeps so that pdf() reads back sample()'s own angles to rounding.
+    double ti, to, phi;
+    fiber_angles(wi, wo, ti, to, phi);
+    const typename Mat::Incl o{to, std::min(std::max(wo[0], -1.0), 1.0), std::sqrt(wo[1] * wo[1] + wo[2] * wo[2])};
+    const typename Mat::Incl i{ti, std::min(std::max(wi[0], -1.0), 1.0), std::sqrt(wi[1] * wi[1] + wi[2] * wi[2])};
+    if (phi == phi) prep_.eval(pf, o, i, phi, rgb);
+  }
+  /// The same at θo, θi and φ = φo − φi [rad].
+  void eval(const PreparedFiber& pf, double theta_o, double theta_i, double phi, double* rgb) const {
+    rgb[0] = rgb[1] = rgb[2] = 0.0;
+    if (!(theta_o == theta_o) || !(theta_i == theta_i) || !(phi == phi)) {
+      rgb[0] = rgb[1] = rgb[2] = theta_o + theta_i + phi;
+      return;
+    }
+    if (prepared_ && valid_) prep_.eval(pf, Mat::incl(theta_o), Mat::incl(theta_i), phi, rgb);
+  }
   /// S per channel at θo (held), θi (sampled), φ = φo − φi [rad]. NaN in every channel for a
   /// NaN argument; ≥ 0 otherwise.
   void eval(const Fiber& f, double theta_o, double theta_i, double phi, double* rgb) const {
@@ -226,6 +273,7 @@ class HairScattering {
       if (valid_) mat_.eval(Mat::incl(theta_o), Mat::incl(theta_i), phi, rgb);
       return;
     }
+    if (prepared_) return eval(fiber(f), theta_o, theta_i, phi, rgb);
     if (!valid_) return;
     const double theta_d = 0.5 * (theta_o - theta_i);
     const NpLobe<T, double>* np = t_.np_at(f.beta_n);
@@ -267,16 +315,9 @@ class HairScattering {
       ScatteringSample s;
       if (!ok_) return s;
       const HairScattering& r = *rt_;
-      if (r.material_) {
+      if (r.material_ || r.prepared_) {
         const double v[3] = {open_unit(u[0]), open_unit(u[1]), open_unit(u[2])};
-        const typename Mat::Draw d = r.mat_.sample(mpt_, v);
-        if (!(d.pdf > 0.0)) return s;
-        // φi = φo − φ by the angle-difference identities: no atan2 for φo.
-        const double cf = std::cos(d.phi), sf = std::sin(d.phi);
-        s.wi[0] = d.sin_i, s.wi[1] = d.cos_i * (cpo_ * cf + spo_ * sf), s.wi[2] = d.cos_i * (spo_ * cf - cpo_ * sf);
-        s.theta_i = d.theta_i, s.phi = d.phi, s.pdf = d.pdf, s.lobe = d.lobe;
-        for (int c = 0; c < 3; ++c) s.weight[c] = d.rgb[c] / d.pdf;
-        return s;
+        return r.material_ ? drawn(r.mat_.sample(mpt_, v)) : drawn(r.prep_.sample(ppt_, fiber(), v));
       }
       // 1. θi from the mixture: the component by u0, then its inverse CDF at u1.
       double u0 = open_unit(u[0]);
@@ -332,9 +373,11 @@ class HairScattering {
     }
     /// The pdf per unit solid angle with which sample() draws wi.
     double pdf(const double* wi) const {
-      if (ok_ && rt_->material_) {
+      if (ok_ && (rt_->material_ || rt_->prepared_)) {
         const double phi = azimuth(wi);
-        return wi[0] == wi[0] && phi == phi ? rt_->mat_.pdf(mpt_, Mat::incl_of_sin(wi[0]), phi) : 0.0;
+        if (!(wi[0] == wi[0]) || !(phi == phi)) return 0.0;
+        const typename Mat::Incl i = Mat::incl_of_sin(wi[0]);
+        return rt_->material_ ? rt_->mat_.pdf(mpt_, i, phi) : rt_->prep_.pdf(ppt_, fiber(), i, phi);
       }
       double ti, pi;
       fiber_direction_angles(wi, ti, pi);
@@ -345,6 +388,7 @@ class HairScattering {
       if (!ok_ || !(theta_i == theta_i) || !(phi == phi)) return 0.0;
       const HairScattering& r = *rt_;
       if (r.material_) return r.mat_.pdf(mpt_, Mat::incl(theta_i), phi);
+      if (r.prepared_) return r.prep_.pdf(ppt_, fiber(), Mat::incl(theta_i), phi);
       const double m = r.theta_density(*pt_, theta_i);
       if (!(m > 0.0)) return 0.0;
       double share[kMaxLobes];
@@ -354,22 +398,27 @@ class HairScattering {
     }
     /// S(wo, wi) per channel.
     void eval(const double* wi, double* rgb) const {
-      if (rt_->material_ && rt_->valid_ && wi[0] == wi[0]) {
+      if ((rt_->material_ || rt_->prepared_) && rt_->valid_ && wi[0] == wi[0]) {
         const double phi = azimuth(wi);
         if (phi == phi) {
-          rt_->mat_.eval(mpt_.o, Mat::incl_of_sin(wi[0]), phi, rgb);
+          if (rt_->material_) rt_->mat_.eval(mpt_.o, Mat::incl_of_sin(wi[0]), phi, rgb);
+          else rt_->prep_.eval(fiber(), ppt_.o, Mat::incl_of_sin(wi[0]), phi, rgb);
           return;
         }
       }
       double ti, pi;
       fiber_direction_angles(wi, ti, pi);
-      rt_->eval(f_, to_, ti, po_ - pi, rgb);
+      if (rt_->prepared_) rt_->eval(fiber(), to_, ti, po_ - pi, rgb);
+      else rt_->eval(f_, to_, ti, po_ - pi, rgb);
     }
     /// The normalisation of sample()'s θi density: ∫ S dω averaged over the channels, with each
     /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
     /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fiber
     /// the mean of the sample weights at this wo; 0 where nothing can be sampled.
-    double albedo() const { return ok_ ? (rt_->material_ ? rt_->mat_.albedo(mpt_) : pt_->total) : 0.0; }
+    double albedo() const {
+      if (!ok_) return 0.0;
+      return rt_->material_ ? rt_->mat_.albedo(mpt_) : rt_->prepared_ ? rt_->prep_.albedo(ppt_) : pt_->total;
+    }
 
    private:
     friend class HairScattering;
@@ -382,10 +431,28 @@ class HairScattering {
       return std::atan2(std::fabs(cross), dot);
     }
 
+    // A material's or a prepared runtime's draw as a sample: φi = φo − φ by the angle-difference
+    // identities (no atan2 for φo).
+    template <class Draw>
+    ScatteringSample drawn(const Draw& d) const {
+      ScatteringSample s;
+      if (!(d.pdf > 0.0)) return s;
+      const double cf = std::cos(d.phi), sf = std::sin(d.phi);
+      s.wi[0] = d.sin_i, s.wi[1] = d.cos_i * (cpo_ * cf + spo_ * sf), s.wi[2] = d.cos_i * (spo_ * cf - cpo_ * sf);
+      s.theta_i = d.theta_i, s.phi = d.phi, s.pdf = d.pdf, s.lobe = d.lobe;
+      for (int c = 0; c < 3; ++c) s.weight[c] = d.rgb[c] / d.pdf;
+      return s;
+    }
+    // The prepared fiber: the point's own (at() from a Fiber) or the caller's.
+    const PreparedFiber& fiber() const { return own_ ? *own_ : *pf_; }
+
     double po_ = 0.0, to_ = 0.0;
-    double cpo_ = 1.0, spo_ = 0.0;  // cos φo, sin φo (material tables)
+    double cpo_ = 1.0, spo_ = 0.0;  // cos φo, sin φo (material and prepared runtimes)
     std::optional<Point> pt_;  // generic tables (built only for them: its rows are large)
     typename Mat::Point mpt_;
+    typename PreparedScattering<T>::Point ppt_;
+    std::optional<PreparedFiber> own_;
+    const PreparedFiber* pf_ = nullptr;
     bool ok_ = false;
   };
 
@@ -393,6 +460,11 @@ class HairScattering {
   ShadingPoint at(const Fiber& f, const double* wo) const {
     ShadingPoint sp;
     sp.rt_ = this, sp.f_ = f;
+    if (prepared_) {
+      sp.own_ = fiber(f);
+      at_prepared(sp, wo);
+      return sp;
+    }
     if (material_) {
       const typename Mat::Incl o = Mat::incl_of_sin(wo[0]);
       const double r = std::sqrt(wo[1] * wo[1] + wo[2] * wo[2]);
@@ -409,14 +481,55 @@ class HairScattering {
     sp.ok_ = valid_ && to == to && sp.po_ == sp.po_ && at_theta_o(f, to, *sp.pt_);
     return sp;
   }
+  /// The shading point of a prepared runtime for a fiber's state from fiber(), which must outlive
+  /// the point (invalid for other runtimes).
+  ShadingPoint at(const PreparedFiber& pf, const double* wo) const {
+    ShadingPoint sp;
+    sp.rt_ = this, sp.pf_ = &pf;
+    if (prepared_) at_prepared(sp, wo);
+    return sp;
+  }
   /// at(f, wo).sample(u).
   ScatteringSample sample(const Fiber& f, const double* wo, const double* u) const { return at(f, wo).sample(u); }
   /// at(f, wo).pdf(wi).
   double pdf(const Fiber& f, const double* wo, const double* wi) const { return at(f, wo).pdf(wi); }
   /// at(f, wo).albedo().
   double albedo(const Fiber& f, const double* wo) const { return at(f, wo).albedo(); }
+  /// The same three for a prepared runtime's fiber state (fiber()).
+  ScatteringSample sample(const PreparedFiber& f, const double* wo, const double* u) const { return at(f, wo).sample(u); }
+  double pdf(const PreparedFiber& f, const double* wo, const double* wi) const { return at(f, wo).pdf(wi); }
+  double albedo(const PreparedFiber& f, const double* wo) const { return at(f, wo).albedo(); }
 
  private:
+  void at_prepared(ShadingPoint& sp, const double* wo) const {
+    // θo by fast_acos (≤ 2e-8 rad), as eval() reads it: every later call reads the point's θo.
+    const double r = std::sqrt(wo[1] * wo[1] + wo[2] * wo[2]);
+    const typename Mat::Incl o{wo[0] == wo[0] ? 1.57079632679489661923 - fast_acos(wo[0]) : wo[0], std::min(std::max(wo[0], -1.0), 1.0), r};
+    sp.to_ = o.theta;
+    if (r > 0.0) sp.cpo_ = wo[1] / r, sp.spo_ = wo[2] / r;  // else φo = 0, as atan2(0, 0)
+    if (o.theta == o.theta && r == r) sp.ppt_ = prep_.at(sp.fiber(), o);
+    sp.ok_ = valid_ && sp.ppt_.ok;
+  }
+  // The set at one roughness, as PreparedScattering reads it.
+  struct PrepSource {
+    const HairScattering& r;
+    Fiber f;
+    int lobes() const { return r.explicit_; }
+    bool residual() const { return r.t_.has_residual; }
+    double beta_m() const { return f.beta_m; }
+    double beta_n() const { return f.beta_n; }
+    double sigma_max() const { return r.fourier_ ? r.fs_.sigma_a.hi : r.t_.np_at(f.beta_n)[0].table().axis(1).axis().hi; }
+    double mp(int p, double theta_i, double theta_o) const { return r.mp(p, f.beta_m, theta_i, r.held(f, p, theta_o)); }
+    double np(int p, double sigma_a, double theta_d, double phi) const {
+      return r.fourier_ ? r.fs_.np[p](f.beta_n, sigma_a, theta_d, phi) : r.t_.np_at(f.beta_n)[p](f.beta_n, sigma_a, theta_d, phi);
+    }
+    bool has_energy(int p) const { return r.fourier_ || r.t_.np_at(f.beta_n)[p].has_energy(); }
+    double energy(int p, double sigma_a, double theta_d) const {
+      if (p < r.explicit_) return r.fourier_ ? r.fs_.np[p].energy(sigma_a, theta_d) : r.t_.np_at(f.beta_n)[p].energy(sigma_a, theta_d);
+      return r.fourier_ ? r.fs_.residual.energy(sigma_a, theta_d) : 2.0 * 3.14159265358979323846 * r.t_.np_residual(sigma_a, theta_d);
+    }
+  };
+
   static double open_unit(double u) {
     constexpr double eps = 9.094947017729282e-13;  // 2^-40
     if (!(u == u)) u = 0.0;
@@ -482,9 +595,10 @@ class HairScattering {
 
   HairTables<T, double> t_;
   int explicit_ = 0, lobes_ = 0;
-  bool valid_ = false, material_ = false, fourier_ = false;
+  bool valid_ = false, material_ = false, fourier_ = false, prepared_ = false;
   bool mp_shared_ = false;  // every lobe's M_p table on the same axes (eval locates β and θi once)
   MaterialScattering<T> mat_;
+  PreparedScattering<T> prep_;
   FourierSet<T> fs_;
   std::vector<T> mt_[kMaxLobes];
   Axis mt_axes_[kMaxLobes][3];

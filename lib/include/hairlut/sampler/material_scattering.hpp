@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "hairlut/sampler/grazing_factor.hpp"
+#include "hairlut/sampler/linear_rows.hpp"
 #include "hairlut/sampler/sampler.hpp"
 
 namespace hairlut {
@@ -64,17 +65,9 @@ struct MaterialTables {
 template <class T>
 class MaterialScattering {
  public:
-  /// An inclination with its sine and cosine (cos ≥ 0): the runtime reads both, and a caller that
-  /// holds a direction has the sine already.
-  struct Incl {
-    double theta = 0.0, sin = 0.0, cos = 1.0;
-  };
-  static Incl incl(double theta) { return {theta, std::sin(theta), std::cos(theta)}; }
-  /// From the sine (a direction's component along the fiber), clamped to [−1, 1].
-  static Incl incl_of_sin(double s) {
-    s = std::min(std::max(s, -1.0), 1.0);
-    return {std::asin(s), s, std::sqrt(std::max(0.0, 1.0 - s * s))};
-  }
+  using Incl = linear_rows::Incl;
+  static Incl incl(double theta) { return linear_rows::incl(theta); }
+  static Incl incl_of_sin(double s) { return linear_rows::incl_of_sin(s); }
 
   /// What at() holds for one wo: where θo falls on the θr axis and the mixture of step 1.
   struct Point {
@@ -318,32 +311,8 @@ class MaterialScattering {
   }
 
  private:
-  struct Cell {
-    int i = 0;
-    double w = 0.0;
-  };
-  // An axis located in its mapped coordinate t (linear between nodes in t), its ends held.
-  struct Located {
-    Spacing spacing = Spacing::uniform;
-    double lo = 0.0, hi = 1.0, t0 = 0.0, scale = 0.0, h = 0.0;
-    int last = 1;
-    Located() = default;
-    explicit Located(const Axis& a) : spacing(a.spacing), lo(a.lo), hi(a.hi), last(a.count - 1) {
-      t0 = mapped(a.spacing, a.lo);
-      scale = last / (mapped(a.spacing, a.hi) - t0);
-      h = (a.hi - a.lo) / last;
-    }
-    Cell at(double x) const { return at_t(mapped(spacing, std::min(std::max(x, lo), hi))); }
-    // At the mapped coordinate t itself (cos θd for a cos-spaced θd axis).
-    Cell at_t(double t) const {
-      double s = (t - t0) * scale;
-      s = std::min(std::max(s, 0.0), static_cast<double>(last));
-      Cell c;
-      c.i = std::min(static_cast<int>(s), last - 1);
-      c.w = s - c.i;
-      return c;
-    }
-  };
+  using Cell = linear_rows::Cell;
+  using Located = linear_rows::Located;
   // The grazing factors at one cos θd: each explicit lobe's (common to the channels) and the
   // residual's per channel; all 1 where the tables store N_p as is.
   struct Factors {
@@ -488,56 +457,12 @@ class MaterialScattering {
     const double q = (1.0 - pt.w) * (g0[0] + x * (g0[1] + x * g0[2])) + pt.w * (g1[0] + x * (g1[1] + x * g1[2]));
     return q / (pt.a0 + pt.a1) / i.cos * sbar / s.s_phi;
   }
-  // Guide tables: for each of g equal parts of a row's mass, the cell where that part begins, so
-  // that a search starts there and steps forward over a cell or two instead of bisecting the row.
-  static void build_guide(const double* cum, int n, std::uint16_t* guide, int g) {
-    int k = 0;
-    for (int b = 0; b < g; ++b) {
-      const double target = static_cast<double>(b) / g * cum[n - 1];
-      while (k < n - 2 && cum[k + 1] <= target) ++k;
-      guide[b] = static_cast<std::uint16_t>(k);
-    }
-  }
-  // The cell holding `target` (= u · total): cum[k] ≤ target < cum[k + 1], cells of no mass skipped.
-  static int find_cell(const double* cum, int n, const std::uint16_t* guide, int g, double u, double target) {
-    int k = guide[std::min(static_cast<int>(u * g), g - 1)];
-    while (k < n - 2 && cum[k + 1] <= target) ++k;
-    return k;
-  }
-  // The inverse CDF of a piecewise-linear density on n uniform nodes from 0 with step h (values v,
-  // prefix masses cum), at u ∈ [0, 1].
+  static void build_guide(const double* cum, int n, std::uint16_t* guide, int g) { linear_rows::build_guide(cum, n, guide, g); }
   static double invert_row(const double* v, const double* cum, const std::uint16_t* guide, int g, int n, double h, double u) {
-    const double target = u * cum[n - 1];
-    const int k = find_cell(cum, n, guide, g, u, target);
-    const double m = std::max(0.0, target - cum[k]) / h, a = v[k], b = v[k + 1];
-    // (b − a)/2 t² + a t = m, t ∈ [0, 1], in the form without cancellation.
-    const double root = std::sqrt(std::max(0.0, a * a + 2.0 * (b - a) * m));
-    double t = a + root > 0.0 ? 2.0 * m / (a + root) : 0.5;
-    t = std::min(std::max(t, 0.0), 1.0);
-    return (k + t) * h;
+    return linear_rows::invert_row(v, cum, guide, g, n, h, u);
   }
-  // The inverse CDF of a density that is A + B s + C s² on cell k of n uniform nodes (s ∈ [0, 1]
-  // the cell's coordinate, coefficients q[3k…3k+2]), prefix masses cum, at u ∈ [0, 1]: Newton
-  // on the cell's cubic CDF from the root of its quadratic part, kept inside a shrinking bracket.
   static double invert_quadratic_row(const double* q, const double* cum, const std::uint16_t* guide, int g, int n, double x0, double h, double u) {
-    const double target = u * cum[n - 1];
-    const int k = find_cell(cum, n, guide, g, u, target);
-    const double A = q[3 * k], B = q[3 * k + 1], C = q[3 * k + 2];
-    const double m = std::max(0.0, target - cum[k]) / h, total = A + 0.5 * B + C / 3.0;
-    if (!(total > 0.0)) return x0 + (k + 0.5) * h;
-    const double root = std::sqrt(std::max(0.0, A * A + 2.0 * B * m));
-    double lo = 0.0, hi = 1.0, t = A + root > 0.0 ? std::min(1.0, 2.0 * m / (A + root)) : std::min(1.0, m / total);
-    for (int it = 0; it < 12; ++it) {
-      const double f = t * (A + t * (0.5 * B + t * C / 3.0)) - m, d = A + t * (B + t * C);
-      if (f > 0.0) hi = t;
-      else lo = t;
-      double next = d > 0.0 ? t - f / d : 0.5 * (lo + hi);
-      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-      const bool done = std::fabs(next - t) < 1e-10;  // of the cell: far below any table's resolution
-      t = next;
-      if (done) break;
-    }
-    return x0 + (k + t) * h;
+    return linear_rows::invert_quadratic_row(q, cum, guide, g, n, x0, h, u);
   }
 
   static constexpr int kGuideTheta = 64, kGuidePhi = 32;
