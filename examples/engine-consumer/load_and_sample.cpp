@@ -21,5 +21,14 @@ int main(int argc, char** argv) {
   const double pdf = hair.pdf(fiber, wo, s.wi);  // the density sample() drew from (for MIS)
   std::printf("wi (%.3f %.3f %.3f): weight %.4f %.4f %.4f = S / pdf, pdf %.4f = %.4f, S %.4f %.4f %.4f\n", s.wi[0], s.wi[1],
               s.wi[2], s.weight[0], s.weight[1], s.weight[2], s.pdf, pdf, f[0], f[1], f[2]);
-  return s.pdf > 0.0 ? 0 : 1;
+
+  // The same tables prepared for one roughness (a material's beta_m, beta_n): a fraction of a
+  // second once, then a few bilinear lookups per call; sigma_a stays per fiber, read through a
+  // state built once per strand (a few microseconds).
+  const auto material = hairlut::sampler::HairScattering<float>(hair, fiber);
+  const hairlut::sampler::PreparedFiber strand = material.fiber(fiber);
+  const hairlut::sampler::ScatteringSample m = material.sample(strand, wo, u);
+  std::printf("prepared: wi (%.3f %.3f %.3f), weight %.4f %.4f %.4f, pdf %.4f = %.4f\n", m.wi[0], m.wi[1], m.wi[2], m.weight[0],
+              m.weight[1], m.weight[2], m.pdf, material.pdf(strand, wo, m.wi));
+  return s.pdf > 0.0 && m.pdf > 0.0 ? 0 : 1;
 }

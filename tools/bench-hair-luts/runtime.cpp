@@ -357,7 +357,7 @@ json bench_runtime(const Settings& st) {
                           "beta_m 0.3, beta_n 0.3, alpha 2 deg, eta 1.55, 4 spectral samples, 64 offsets h"},
                  {"fiber", "sigma_a of eumelanin 0.8 + pheomelanin 0.2 (RGB), beta_m " + fmt(fiber.beta_m * 180.0 / kPiD) + " deg, beta_n " + fmt(fiber.beta_n * 180.0 / kPiD) +
                                " deg (pbrt's 0.3 in hairlut's units)"},
-                 {"arithmetic", "hairlut: float tables, double arithmetic (the runtime has no float path); pbrt: float. Double: hairlut's material tables "
+                 {"arithmetic", "hairlut: float tables, double arithmetic (the prepared runtimes blend their shapes and energies in float, sum the lobes in double); pbrt: float. Double: hairlut's material tables "
                                 "stored float64 (HairScattering<double>), pbrt in double (a PBRT_FLOAT_AS_DOUBLE build: FastExp stays float)"},
                  {"calls", n},
                  {"timing", "thread CPU time, best of " + std::to_string(repeats) + " rounds that time every call in turn; wo uniform on the sphere, u uniform; pdf and eval at each sampler's own drawn directions"},
@@ -418,7 +418,7 @@ json bench_runtime(const Settings& st) {
      << fmt(error_fourier["max_over_peak_at_wo"].get<double>(), 3) << ".\n"
      << "Fiber: " << result["fiber"].get<std::string>() << "; generic and Fourier tables read at it per call (Fourier: "
      << result["fourier_tables"].get<std::string>() << "), material tables baked for it (" << result["material_tables"].get<std::string>() << ").\n"
-     << "hairlut in double arithmetic over float tables, pbrt in float.\n\n"
+     << "hairlut in double arithmetic over float tables (the prepared runtimes blend their shapes and energies in float), pbrt in float.\n\n"
      << "Double precision: pbrt-v4 with Float = double (its PBRT_FLOAT_AS_DOUBLE build; FastExp stays float, as there) against the\n"
      << "same material's tables stored as float64 (HairScattering<double>), in the same rounds:\n\n"
      << "| call | pbrt-v4 (double) ns | material tables (float64) ns | material / pbrt | target |\n|---|---|---|---|---|\n"

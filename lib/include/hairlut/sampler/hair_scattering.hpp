@@ -6,7 +6,9 @@
 // set whose N_p is a Fourier series (FourierSet, with M_p tables), or from one material's tables
 // (MaterialTables, material_scattering.hpp), then const and shareable between threads. A fiber is plain data (Fiber: RGB σa, β_m, β_n): there is no
 // per-fiber setup, so σa may change per strand or per shading point. Fiber::tilt adds a cuticle
-// scale angle to the tilts the tables were baked with.
+// scale angle to the tilts the tables were baked with. A runtime over a tensor, β-band or Fourier
+// set may be prepared for one roughness (PreparedScattering, prepared_scattering.hpp), at about a
+// material's cost per call, with σa per fiber read through the PreparedFiber that fiber() builds.
 //
 // Frame and angles (pbrt's hair frame): x along the fiber from root to tip, y–z the normal plane;
 // θ = asin x, φ = atan2(z, y). wo is the direction the renderer holds (towards the viewer or the
@@ -414,7 +416,9 @@ class HairScattering {
     /// The normalisation of sample()'s θi density: ∫ S dω averaged over the channels, with each
     /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
     /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fiber
-    /// the mean of the sample weights at this wo; 0 where nothing can be sampled.
+    /// the mean of the sample weights at this wo; 0 where nothing can be sampled. A prepared runtime's:
+    /// its step 1's normalisation, that of a coloured fiber only near its ∫ S dω
+    /// (prepared_scattering.hpp).
     double albedo() const {
       if (!ok_) return 0.0;
       return rt_->material_ ? rt_->mat_.albedo(mpt_) : rt_->prepared_ ? rt_->prep_.albedo(ppt_) : pt_->total;
