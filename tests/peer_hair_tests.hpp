@@ -37,6 +37,14 @@ struct Rng {
   explicit Rng(unsigned long long seed) : g(seed) {}
   double operator()() { return std::uniform_real_distribution<double>(0.0, 1.0)(g); }
 };
+// A grey fiber (σa in every channel) with the peers' roughness, clamped to [lo, hi] (a set's β range).
+inline hairlut::sampler::Fiber grey_fiber(double pbrt_m, double pbrt_n, double sigma_a, double lo, double hi) {
+  hairlut::sampler::Fiber f;
+  f.beta_m = std::clamp(pbrt_beta_m(pbrt_m), lo, hi);
+  f.beta_n = std::clamp(pbrt_beta_n(pbrt_n), lo, hi);
+  f.sigma_a[0] = f.sigma_a[1] = f.sigma_a[2] = sigma_a;
+  return f;
+}
 inline void uniform_sphere(double u0, double u1, double* w) {
   const double z = 1.0 - 2.0 * u0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), a = 2.0 * kPi * u1;
   w[0] = r * std::cos(a), w[1] = r * std::sin(a), w[2] = z;
@@ -250,6 +258,34 @@ Chi2 chi2_sphere(const typename hairlut::sampler::HairScattering<T>::ShadingPoin
   if (pool_e > 0.0) res.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e, ++res.dof;
   res.p = boost::math::gamma_q(0.5 * (res.dof - 1), 0.5 * res.chi2);
   return res;
+}
+
+// Not a peer's test: a prepared runtime's S against the runtime it was prepared from
+// (HairScattering(source, roughness)) at the directions the prepared one draws, `per_wo` at each
+// of `count` wo uniform on the sphere; the largest |difference| per channel over the largest S of
+// the source drawn at the same wo. Returns −1 where a draw fails.
+template <class T>
+double prepared_error_over_peak(const hairlut::sampler::HairScattering<T>& source, const hairlut::sampler::HairScattering<T>& prepared,
+                                const hairlut::sampler::Fiber& f, Rng& rng, int count, int per_wo) {
+  const hairlut::sampler::PreparedFiber pf = prepared.fiber(f);
+  double worst = 0.0;
+  for (int k = 0; k < count; ++k) {
+    double wo[3];
+    uniform_sphere(rng(), rng(), wo);
+    double peak[3] = {0.0, 0.0, 0.0}, err[3] = {0.0, 0.0, 0.0};
+    for (int j = 0; j < per_wo; ++j) {
+      const double u[3] = {rng(), rng(), rng()};
+      const hairlut::sampler::ScatteringSample s = prepared.sample(pf, wo, u);
+      if (!(s.pdf > 0.0)) return -1.0;
+      double a[3], b[3];
+      source.eval(f, wo, s.wi, a);
+      prepared.eval(pf, wo, s.wi, b);
+      for (int c = 0; c < 3; ++c) peak[c] = std::max(peak[c], a[c]), err[c] = std::max(err[c], std::fabs(a[c] - b[c]));
+    }
+    for (int c = 0; c < 3; ++c)
+      if (peak[c] > 0.0) worst = std::max(worst, err[c] / peak[c]);
+  }
+  return worst;
 }
 
 }  // namespace peer

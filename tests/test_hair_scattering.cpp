@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "catch.hpp"
+#include "default_tables.hpp"
 #include "peer_hair_tests.hpp"
 
 using namespace hairlut;
@@ -49,26 +50,8 @@ using peer::uniform_sphere;
 
 namespace {
 
-const TableSet& tilted_tables() {
-  static const TableSet set = load_tables(std::string(HAIRLUT_SOURCE_DIR) + "/tables/default/hairlut-default.h5");
-  return set;
-}
-// The shipped default config with every tilt 0: under ctest the file its fixture baked
-// (HAIRLUT_TEST_UNTILTED), else baked here in memory.
-const TableSet& untilted_tables() {
-  static const TableSet set = [] {
-    if (const char* file = std::getenv("HAIRLUT_TEST_UNTILTED")) return load_tables(file);
-    std::ifstream in(std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs/default.json");
-    nlohmann::json j = nlohmann::json::parse(in);
-    j["lobes"].erase("tilt_deg");
-    j["output"]["formats"] = {"hdf5"};
-    j["output"]["directory"] = ".";
-    BakeOptions options;
-    options.threads = 2;
-    return bake(parse_config(j, "untilted.json", std::string(HAIRLUT_SOURCE_DIR) + "/tables/configs"), options);
-  }();
-  return set;
-}
+const TableSet& tilted_tables() { return test_tables::tilted_default(); }
+const TableSet& untilted_tables() { return test_tables::untilted_default(); }
 const Runtime& runtime(bool tilted) {
   if (tilted) {
     static const Runtime t = hair_scattering<float>(tilted_tables());
