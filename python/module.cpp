@@ -201,6 +201,14 @@ struct Scattering {
   Scattering(SharedTables tables, const std::string& group)
       : set(std::move(tables)),
         hair(group.empty() ? hairlut::hair_scattering<float>(*set) : hairlut::hair_scattering<float>(*set, group)) {}
+  // The runtime `from` prepared for one roughness (its tables are no longer read).
+  Scattering(const Scattering& from, const hairlut::sampler::Fiber& roughness) : set(from.set), hair(from.hair, roughness) {}
+  // f's own loop body, called with the fiber or, for a prepared runtime, with its state built once.
+  template <class Body>
+  void with_fiber(const hairlut::sampler::Fiber& f, Body body) const {
+    if (hair.prepared()) body(hair.fiber(f));
+    else body(f);
+  }
 };
 
 // Arrays of directions, random numbers and points for the runtime bindings, converted to float64
@@ -420,33 +428,52 @@ PYBIND11_MODULE(_core, m) {
            [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo, const Rows& wi) {
              const py::ssize_t n = rows(wo, wi);
              py::array_t<double> out({n, py::ssize_t{3}});
-             for (py::ssize_t i = 0; i < n; ++i) s.hair.eval(f, row3(wo, i, "wo"), row3(wi, i, "wi"), out.mutable_data(i, 0));
+             s.with_fiber(f, [&](const auto& fib) {
+               for (py::ssize_t i = 0; i < n; ++i) s.hair.eval(fib, row3(wo, i, "wo"), row3(wi, i, "wi"), out.mutable_data(i, 0));
+             });
              return out;
            })
       .def("pdf",
            [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo, const Rows& wi) {
              const py::ssize_t n = rows(wo, wi);
              py::array_t<double> out(n);
-             for (py::ssize_t i = 0; i < n; ++i) out.mutable_data()[i] = s.hair.pdf(f, row3(wo, i, "wo"), row3(wi, i, "wi"));
+             s.with_fiber(f, [&](const auto& fib) {
+               for (py::ssize_t i = 0; i < n; ++i) out.mutable_data()[i] = s.hair.pdf(fib, row3(wo, i, "wo"), row3(wi, i, "wi"));
+             });
              return out;
            })
       .def("albedo",
            [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo) {
              py::array_t<double> out(wo.ndim() == 2 ? wo.shape(0) : 0);
-             for (py::ssize_t i = 0; i < out.shape(0); ++i) out.mutable_data()[i] = s.hair.albedo(f, row3(wo, i, "wo"));
+             s.with_fiber(f, [&](const auto& fib) {
+               for (py::ssize_t i = 0; i < out.shape(0); ++i) out.mutable_data()[i] = s.hair.albedo(fib, row3(wo, i, "wo"));
+             });
              return out;
+           })
+      .def("prepared",
+           [](const Scattering& s, const hairlut::sampler::Fiber& roughness) {
+             std::unique_ptr<Scattering> r;
+             {
+               py::gil_scoped_release release;
+               r = std::make_unique<Scattering>(s, roughness);
+             }
+             if (!r->hair.valid())
+               throw hairlut::DomainError("scattering.prepared: cannot prepare this runtime (a material's or a prepared one, or beta_m or beta_n not > 0)");
+             return r;
            })
       .def("sample", [](const Scattering& s, const hairlut::sampler::Fiber& f, const Rows& wo, const Rows& u) {
         const py::ssize_t n = rows(wo, u);
         py::array_t<double> wi({n, py::ssize_t{3}}), weight({n, py::ssize_t{3}}), pdf(n);
         py::array_t<int> lobe(n);
-        for (py::ssize_t i = 0; i < n; ++i) {
-          const hairlut::sampler::ScatteringSample r = s.hair.sample(f, row3(wo, i, "wo"), row3(u, i, "u"));
-          std::copy(r.wi, r.wi + 3, wi.mutable_data(i, 0));
-          std::copy(r.weight, r.weight + 3, weight.mutable_data(i, 0));
-          pdf.mutable_data()[i] = r.pdf;
-          lobe.mutable_data()[i] = r.lobe;
-        }
+        s.with_fiber(f, [&](const auto& fib) {
+          for (py::ssize_t i = 0; i < n; ++i) {
+            const hairlut::sampler::ScatteringSample r = s.hair.sample(fib, row3(wo, i, "wo"), row3(u, i, "u"));
+            std::copy(r.wi, r.wi + 3, wi.mutable_data(i, 0));
+            std::copy(r.weight, r.weight + 3, weight.mutable_data(i, 0));
+            pdf.mutable_data()[i] = r.pdf;
+            lobe.mutable_data()[i] = r.lobe;
+          }
+        });
         py::dict d;
         d["wi"] = wi, d["weight"] = weight, d["pdf"] = pdf, d["lobe"] = lobe;
         return d;

@@ -248,6 +248,13 @@ class Scattering:
         return {"wi": r["wi"].reshape(shape + (3,)), "weight": r["weight"].reshape(shape + (3,)), "pdf": r["pdf"].reshape(shape),
                 "lobe": r["lobe"].reshape(shape)}
 
+    def prepared(self, roughness):
+        """This runtime (generic or Fourier tables) prepared for one roughness: roughness.beta_m,
+        beta_n and tilt are read (its sigma_a is not). The result answers the same calls at about a
+        material's cost, with every fiber's beta and tilt taken as these and its sigma_a its own
+        (docs/library.md, "What a renderer calls")."""
+        return Scattering(self._core.prepared(roughness), self.group)
+
 
 class TableSet(dict):
     """Tables by path ("np/TRT", "mp/R", ...), with the set's provenance in .metadata.

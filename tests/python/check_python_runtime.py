@@ -17,7 +17,8 @@ to NaN.
   relative to its value.
 - TableSet.scattering (HairScattering<float>): for a white fiber every sample's weight S / pdf is
   the albedo at wo up to the energy tables' interpolation (the default tables' accuracy_max_rel), weight x pdf is eval at the drawn direction, and pdf() gives
-  the sample's pdf; the same over one material of a per-material bake, written and loaded back.
+  the sample's pdf; the same prepared for one roughness (Scattering.prepared), and over one
+  material of a per-material bake, written and loaded back.
 """
 
 import math
@@ -146,6 +147,14 @@ def runtime_checks(hair, fiber, label, white):
 hair = tables.scattering()
 runtime_checks(hair, hairlut.Fiber(sigma_a=[0.0, 0.0, 0.0], beta_m=0.2, beta_n=0.25), "generic tables, white fiber", True)
 runtime_checks(hair, hairlut.fiber_from_melanin(0.8, 0.2, beta_m=0.2, beta_n=0.2), "generic tables, brown fiber", False)
+prepared = hair.prepared(hairlut.Fiber(sigma_a=[0.0, 0.0, 0.0], beta_m=0.2, beta_n=0.25))
+runtime_checks(prepared, hairlut.Fiber(sigma_a=[0.0, 0.0, 0.0], beta_m=0.2, beta_n=0.25), "generic tables prepared, white fiber", True)
+runtime_checks(prepared, hairlut.fiber_from_melanin(0.8, 0.2, beta_m=0.2, beta_n=0.25), "generic tables prepared, brown fiber", False)
+try:
+    prepared.prepared(hairlut.Fiber(sigma_a=[0.0, 0.0, 0.0], beta_m=0.2, beta_n=0.25))
+    check(False, "preparing a prepared runtime: nothing raised")
+except hairlut.DomainError:
+    pass
 show = hairlut.bake(show_config, write=True, output_dir=work / "show")
 material = [p for p in show if p.startswith("materials/")][0].split("/")[1]
 runtime_checks(show.scattering(material), hairlut.Fiber(sigma_a=[0.0, 0.0, 0.0], beta_m=0.1, beta_n=0.1), f"material {material}", False)
