@@ -57,6 +57,22 @@ struct Located {
   }
 };
 
+/// A block of n values at the four corners of a cell blended bilinearly: a points to the block at
+/// (i, j) and b to the block at (i + 1, j); each block's neighbour at j + 1 follows it n values on.
+/// out[p] = w00 a[p] + w01 a[n + p] + w10 b[p] + w11 b[n + p] for p < n; N (4 or 8) fixes n at
+/// compile time so that the loop becomes vector operations, 0 takes n at run time.
+template <int N>
+void bilinear_block(const float* a, const float* b, int n_runtime, double w00, double w01, double w10, double w11, double* out) {
+  const int n = N ? N : n_runtime;
+  for (int p = 0; p < n; ++p) out[p] = w00 * a[p] + w01 * a[n + p] + w10 * b[p] + w11 * b[n + p];
+}
+/// bilinear_block with n dispatched to a fixed size where it is 4 or 8.
+inline void bilinear_block(const float* a, const float* b, int n, double w00, double w01, double w10, double w11, double* out) {
+  if (n == 8) return bilinear_block<8>(a, b, n, w00, w01, w10, w11, out);
+  if (n == 4) return bilinear_block<4>(a, b, n, w00, w01, w10, w11, out);
+  bilinear_block<0>(a, b, n, w00, w01, w10, w11, out);
+}
+
 /// Guide tables: for each of g equal parts of a row's mass (prefix masses cum over n nodes), the
 /// cell where that part begins, so that a search starts there and steps forward over a cell or two
 /// instead of bisecting the row.

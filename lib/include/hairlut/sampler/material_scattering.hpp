@@ -367,22 +367,12 @@ class MaterialScattering {
     for (int c = 0; c < 3; ++c) z += g.res[c] * ((1.0 - d.w) * r[c] + d.w * r[4 + c]);
     return 2.0 * 3.14159265358979323846 * z / 3.0;
   }
-  // M_p of every lobe at (θi cell, θr cell), bilinear; over the whole padded block (its padding
-  // holds zeros), with the block's size known at compile time where it is 4 or 8 so that the loop
-  // becomes vector operations.
+  // M_p of every lobe at (θi cell, θr cell), bilinear, over the whole padded block (its padding
+  // holds zeros).
   void mp_at(const Cell& ci, const Cell& co, double* m) const {
-    if (SM_ == 8) return mp_block<8>(ci, co, m);
-    if (SM_ == 4) return mp_block<4>(ci, co, m);
-    mp_block<0>(ci, co, m);
-  }
-  template <int N>
-  void mp_block(const Cell& ci, const Cell& co, double* m) const {
-    const int n = N ? N : SM_;
-    const std::size_t S = static_cast<std::size_t>(n), ni = static_cast<std::size_t>(ni_);
+    const std::size_t S = static_cast<std::size_t>(SM_), ni = static_cast<std::size_t>(ni_);
     const float* a = &mp_[(static_cast<std::size_t>(co.i) * ni + static_cast<std::size_t>(ci.i)) * S];
-    const float* b = a + ni * S;
-    const double w00 = (1.0 - co.w) * (1.0 - ci.w), w01 = (1.0 - co.w) * ci.w, w10 = co.w * (1.0 - ci.w), w11 = co.w * ci.w;
-    for (int p = 0; p < n; ++p) m[p] = w00 * a[p] + w01 * a[n + p] + w10 * b[p] + w11 * b[n + p];
+    linear_rows::bilinear_block(a, a + ni * S, SM_, (1.0 - co.w) * (1.0 - ci.w), (1.0 - co.w) * ci.w, co.w * (1.0 - ci.w), co.w * ci.w, m);
   }
   // The cells of (θo, θi, |φ| folded into [0, π]) and M_p there. cos θd comes from the sines and
   // cosines, cos((θo − θi)/2) = √((1 + cos θo cos θi + sin θo sin θi)/2), for a cos-spaced θd axis.

@@ -438,11 +438,10 @@ class PreparedScattering {
     if (f > pi) f = std::fabs(f - 2.0 * pi * std::floor(f / (2.0 * pi) + 0.5));
     s.ci = ti_.at(i.theta), s.co = tr_.at(o.theta), s.cf = ph_.at(f);
     s.cd = td_.at_t(std::sqrt(std::max(0.0, 0.5 * (1.0 + o.cos * i.cos + o.sin * i.sin))));
+    // M_p of every lobe, bilinear over the padded block (its padding holds zeros).
     const std::size_t S = static_cast<std::size_t>(SM_), ni = static_cast<std::size_t>(ni_);
     const float* a = &mp_[(static_cast<std::size_t>(s.co.i) * ni + static_cast<std::size_t>(s.ci.i)) * S];
-    const float* b = a + ni * S;
-    const double w00 = (1.0 - s.co.w) * (1.0 - s.ci.w), w01 = (1.0 - s.co.w) * s.ci.w, w10 = s.co.w * (1.0 - s.ci.w), w11 = s.co.w * s.ci.w;
-    for (int p = 0; p < L_; ++p) s.m[p] = w00 * a[p] + w01 * a[S + static_cast<std::size_t>(p)] + w10 * b[p] + w11 * b[S + static_cast<std::size_t>(p)];
+    linear_rows::bilinear_block(a, a + ni * S, SM_, (1.0 - s.co.w) * (1.0 - s.ci.w), (1.0 - s.co.w) * s.ci.w, s.co.w * (1.0 - s.ci.w), s.co.w * s.ci.w, s.m);
   }
   // Ē_p at the located θd.
   void energies(const PreparedFiber& f, Terms& s) const {
