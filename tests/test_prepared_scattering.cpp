@@ -96,10 +96,10 @@ TEST_CASE("PreparedScattering: pdf() is sample()'s density and the weights are S
   }
 }
 
-TEST_CASE("PreparedScattering: pdf integrates to one and a white fiber's albedo() is the integral of S", "[scattering][prepared]") {
+TEST_CASE("PreparedScattering: pdf integrates to one and albedo() is the integral of S", "[scattering][prepared]") {
   // Midpoint rule in (θi, φ) on 1/16° × 1/8° cells; a white and a coloured fiber, θo up to 0.05°
-  // from the poles. A coloured fiber's albedo() is its row groups' normalisation, not its own
-  // ∫ S̄ (prepared_scattering.hpp).
+  // from the poles. A coloured fiber's albedo() is its fitted row groups' normalisation: held to
+  // the same 2e-3, which the √σa-linear group weights it replaced missed by 20%.
   const Runtime& src = source(true);
   sampler::Fiber rough;
   rough.beta_m = 10.0 * kPiP / 180.0, rough.beta_n = 12.0 * kPiP / 180.0;
@@ -126,7 +126,7 @@ TEST_CASE("PreparedScattering: pdf integrates to one and a white fiber's albedo(
       p *= (kPiP / nt) * (2.0 * kPiP / np), s *= (kPiP / nt) * (2.0 * kPiP / np);
       INFO("sigma_a " << grey << " theta_o " << deg << ": integral of pdf " << p << ", of S " << s << ", albedo() " << sp.albedo());
       CHECK(p == Approx(1.0).epsilon(1e-3));
-      if (grey == 0.0) CHECK(sp.albedo() == Approx(s).epsilon(2e-3));
+      CHECK(sp.albedo() == Approx(s).epsilon(2e-3));
     }
   }
 }

@@ -417,8 +417,7 @@ class HairScattering {
     /// lobe's energy interpolated linearly along θd and σa (Ê above; the tables interpolate E
     /// geometrically in σa and cubically in θd) and its φ integral taken as 1. For a white fiber
     /// the mean of the sample weights at this wo; 0 where nothing can be sampled. A prepared runtime's:
-    /// its step 1's normalisation, that of a coloured fiber only near its ∫ S dω
-    /// (prepared_scattering.hpp).
+    /// its step 1's normalisation, for a coloured fiber near its ∫ S dω (prepared_scattering.hpp).
     double albedo() const {
       if (!ok_) return 0.0;
       return rt_->material_ ? rt_->mat_.albedo(mpt_) : rt_->prepared_ ? rt_->prep_.albedo(ppt_) : pt_->total;

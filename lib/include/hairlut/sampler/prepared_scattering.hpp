@@ -24,10 +24,11 @@
 // Ē_p = (1/3) Σ_c E_p(σa_c, θd) in the place of its Z_p:
 //   1. θi from q(θi) ∝ Σ_g a_g [(1 − w) G_{g,r}(θi) + w G_{g,r+1}(θi)], where r, w locate θo on
 //      the θr nodes, G_{g,r} = Σ_p M_p(θi, θr_r) E_p(σ_g, θd) cos θi is row group g's density at
-//      θr node r (quadratic on each half θi cell, as MaterialScattering's rows), and a_g is the
-//      fiber's mean weight on group g (σa linear in √σa between the groups' σ_g). Group 0 is
-//      σa = 0, so a white fiber reads its own energies; a coloured fiber's q is a mixture of its
-//      neighbouring groups', close to its own marginal, and pdf() is that mixture's density;
+//      θr node r (quadratic on each θi cell or half cell, as MaterialScattering's rows), and the
+//      a_g ≥ 0 are fitted per fiber so that Σ_g a_g E_p(σ_g, θd) is nearest its Ē_p(θd) in least
+//      squares (fit_groups). Group 0 is σa = 0, so a white fiber reads its own energies; a
+//      coloured fiber's q is the nearest mixture of the groups' densities, and pdf() is that
+//      mixture's density;
 //   2. the lobe q at θi in proportion to M_q(θi, θo) Ē_q(θd);
 //   3. φ from Σ_c E_q(σa_c, θd) Ñ_q(σa_c; θd, φ), a mixture of stored rows (shape node, θd node)
 //      with nonnegative weights, each row normalised; the residual uniformly.
@@ -64,14 +65,15 @@ struct PreparedGrid {
 };
 
 /// A fiber's σa read by PreparedScattering: per channel its energies on the θd nodes and its
-/// weights on the shape nodes and row groups. Built by PreparedScattering::fiber().
+/// weights on the shape nodes; the row groups' weights fitted to its energies. Built by
+/// PreparedScattering::fiber().
 struct PreparedFiber {
   std::vector<float> e;           // [θd node][channel 0..2, then their mean][lobe, padded]
   int node[3] = {0, 0, 0};        // shape node j of each channel (with j + 1)
   double w[3] = {0.0, 0.0, 0.0};  // and the weight of j + 1
   int groups = 0;                 // row groups with weight
   int group[6] = {};
-  double gw[6] = {};              // their weights, summing to 1
+  double gw[6] = {};              // their weights
   bool ok = false;
 };
 
@@ -198,6 +200,10 @@ class PreparedScattering {
     split_ = ni_ < 128 ? 2 : 1;
     const std::size_t kSplit = static_cast<std::size_t>(split_);
     nq_ = (ni_ - 1) * split_ + 1, hq_ = ti_.h / static_cast<double>(kSplit);
+    gram_.assign(static_cast<std::size_t>(G_ * G_), 0.0);
+    for (std::size_t g = 0; g < static_cast<std::size_t>(G_); ++g)
+      for (std::size_t h = 0; h < static_cast<std::size_t>(G_); ++h)
+        for (std::size_t k = 0; k < nt * SM; ++k) gram_[g * static_cast<std::size_t>(G_) + h] += eg_[g * nt * SM + k] * eg_[h * nt * SM + k];
     const std::size_t nq = static_cast<std::size_t>(nq_), nc = nq - 1, G = static_cast<std::size_t>(G_);
     gq_.assign(G * nr * nc * 3, 0.0f);
     gcum_.assign(G * nr * nq, 0.0);
@@ -280,6 +286,7 @@ class PreparedScattering {
       float* e = &f.e[k * 4 * SM];
       for (int p = 0; p < L_; ++p) e[3 * SM + static_cast<std::size_t>(p)] = (e[p] + e[SM + static_cast<std::size_t>(p)] + e[2 * SM + static_cast<std::size_t>(p)]) / 3.0f;
     }
+    if (!(f.groups == 1 && f.gw[0] == 1.0)) fit_groups(f);
     f.ok = true;
     return f;
   }
@@ -313,8 +320,8 @@ class PreparedScattering {
     return pt;
   }
   /// The normalisation of step 1's density at the point's θo: ∫ S̄ dω for a white fiber (the mean
-  /// of its weights); for a coloured fiber that of its groups' mixture, which only approximates
-  /// its own ∫ S̄ dω (the weights' mean).
+  /// of its weights); for a coloured fiber that of its fitted groups' mixture, near its own ∫ S̄ dω
+  /// (the weights' mean) as the fit is near its energies.
   double albedo(const Point& pt) const { return pt.ok ? pt.total : 0.0; }
   /// The pdf per unit solid angle of drawing (θi, φ) at the point.
   double pdf(const Point& pt, const PreparedFiber& f, const Incl& i, double phi) const {
@@ -422,6 +429,69 @@ class PreparedScattering {
     c.w = s - c.i;
     return c;
   }
+  // The row groups' weights a_g ≥ 0 that bring Σ_g a_g E_p(σ_g, θd) closest to the fiber's mean
+  // energies Ē_p(θd) in least squares over the lobes and θd nodes: step 1's density is then the
+  // mixture nearest the fiber's own θi marginal that the rows allow, and its normalisation near
+  // the fiber's ∫ S̄ dω. Over the G ≤ 6 groups every subset is solved in turn (its normal
+  // equations by Cholesky) and the best one whose weights are all ≥ 0 kept: the exact
+  // nonnegative least-squares solution, at G ≤ 6 cheaper than an active-set iteration. Kept as
+  // they are (√σa-linear) where no subset fits.
+  void fit_groups(PreparedFiber& f) const {
+    const std::size_t nt = static_cast<std::size_t>(nt_), SM = static_cast<std::size_t>(SM_);
+    double b[6] = {};
+    for (int g = 0; g < G_; ++g) {
+      const double* eg = &eg_[static_cast<std::size_t>(g) * nt * SM];
+      double v = 0.0;
+      for (std::size_t k = 0; k < nt; ++k)
+        for (int p = 0; p < L_; ++p) v += eg[k * SM + static_cast<std::size_t>(p)] * f.e[(k * 4 + 3) * SM + static_cast<std::size_t>(p)];
+      b[g] = v;
+    }
+    double best = HUGE_VAL, best_a[6] = {};
+    for (unsigned mask = 1; mask < (1u << G_); ++mask) {
+      int idx[6], n = 0;
+      for (int g = 0; g < G_; ++g)
+        if (mask & (1u << g)) idx[n++] = g;
+      // Cholesky of the subset's Gram matrix, then the two triangular solves.
+      double L[6][6] = {}, y[6], a[6];
+      bool ok = true;
+      for (int i = 0; i < n && ok; ++i)
+        for (int j = 0; j <= i; ++j) {
+          double v = gram_[static_cast<std::size_t>(idx[i] * G_ + idx[j])];
+          for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+          if (i == j) {
+            ok = v > 1e-12 * gram_[static_cast<std::size_t>(idx[i] * G_ + idx[i])];
+            L[i][i] = ok ? std::sqrt(v) : 0.0;
+          } else {
+            L[i][j] = v / L[j][j];
+          }
+        }
+      if (!ok) continue;
+      for (int i = 0; i < n; ++i) {
+        double v = b[idx[i]];
+        for (int k = 0; k < i; ++k) v -= L[i][k] * y[k];
+        y[i] = v / L[i][i];
+      }
+      for (int i = n - 1; i >= 0; --i) {
+        double v = y[i];
+        for (int k = i + 1; k < n; ++k) v -= L[k][i] * a[k];
+        a[i] = v / L[i][i];
+        ok = ok && a[i] >= 0.0;
+      }
+      if (!ok) continue;
+      // The residual up to its constant: aᵀQa − 2aᵀb = −aᵀb at the subset's solution.
+      double r = 0.0;
+      for (int i = 0; i < n; ++i) r -= a[i] * b[idx[i]];
+      if (r < best) {
+        best = r;
+        for (int g = 0; g < 6; ++g) best_a[g] = 0.0;
+        for (int i = 0; i < n; ++i) best_a[idx[i]] = a[i];
+      }
+    }
+    if (!(best < HUGE_VAL)) return;
+    f.groups = 0;
+    for (int g = 0; g < G_; ++g)
+      if (best_a[g] > 0.0) f.group[f.groups] = g, f.gw[f.groups] = best_a[g], ++f.groups;
+  }
   static void add_group(PreparedFiber& f, int g, double w) {
     if (!(w > 0.0)) return;
     for (int m = 0; m < f.groups; ++m)
@@ -522,7 +592,7 @@ class PreparedScattering {
   double smax_ = 0.0, hq_ = 0.0;
   linear_rows::Located td_, ph_, ti_, tr_;
   std::vector<float> mp_, sh_, cum_, gq_;
-  std::vector<double> le_, eg_, gcum_;
+  std::vector<double> le_, eg_, gcum_, gram_;  // gram_: Σ E_p(σ_g) E_p(σ_h) over lobes and θd nodes
   std::vector<std::uint16_t> guide_, gguide_;
 };
 
