@@ -436,8 +436,7 @@ class HairScattering {
 
     // A material's or a prepared runtime's draw as a sample: φi = φo − φ by the angle-difference
     // identities (no atan2 for φo).
-    template <class Draw>
-    ScatteringSample drawn(const Draw& d) const {
+    ScatteringSample drawn(const linear_rows::Draw& d) const {
       ScatteringSample s;
       if (!(d.pdf > 0.0)) return s;
       const double cf = std::cos(d.phi), sf = std::sin(d.phi);

@@ -28,6 +28,22 @@ inline Incl incl_of_sin(double s) {
   return {std::asin(s), s, std::sqrt(std::max(0.0, 1.0 - s * s))};
 }
 
+/// A direction drawn by the material and prepared runtimes, in angles (HairScattering turns it into
+/// a vector): pdf 0 where nothing was drawn.
+struct Draw {
+  double theta_i = 0.0, sin_i = 0.0, cos_i = 1.0, phi = 0.0, pdf = 0.0, rgb[3] = {0.0, 0.0, 0.0};
+  int lobe = -1;
+};
+/// A draw of inclination i, azimuth phi and lobe with its pdf and S per channel; an empty draw
+/// where the pdf is not positive and finite.
+inline Draw drawn(double pdf, const Incl& i, double phi, int lobe, const double* rgb) {
+  Draw d;
+  if (!(pdf > 0.0) || !(pdf < HUGE_VAL)) return d;
+  d.pdf = pdf, d.theta_i = i.theta, d.sin_i = i.sin, d.cos_i = i.cos, d.phi = phi, d.lobe = lobe;
+  d.rgb[0] = rgb[0], d.rgb[1] = rgb[1], d.rgb[2] = rgb[2];
+  return d;
+}
+
 /// A cell of a linear axis and the weight of its upper node.
 struct Cell {
   int i = 0;

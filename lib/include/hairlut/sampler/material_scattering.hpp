@@ -77,11 +77,7 @@ class MaterialScattering {
     double a0 = 0.0, a1 = 0.0;     // (1 − w) ‖G_r‖, w ‖G_{r+1}‖
     bool ok = false;
   };
-  /// A drawn direction in angles (HairScattering turns it into a vector).
-  struct Draw {
-    double theta_i = 0.0, sin_i = 0.0, cos_i = 1.0, phi = 0.0, pdf = 0.0, rgb[3] = {0.0, 0.0, 0.0};
-    int lobe = -1;
-  };
+  using Draw = linear_rows::Draw;
 
   MaterialScattering() = default;
   explicit MaterialScattering(const MaterialTables<T>& t) {
@@ -300,14 +296,7 @@ class MaterialScattering {
     }
     s.cf = ph_.at(std::fabs(phi));
     combine(s);
-    d.pdf = density(pt, i, s);
-    if (!(d.pdf > 0.0) || !(d.pdf < HUGE_VAL)) {
-      d.pdf = 0.0;
-      return d;
-    }
-    d.theta_i = i.theta, d.sin_i = i.sin, d.cos_i = i.cos, d.phi = phi, d.lobe = q;
-    d.rgb[0] = s.rgb[0], d.rgb[1] = s.rgb[1], d.rgb[2] = s.rgb[2];
-    return d;
+    return linear_rows::drawn(density(pt, i, s), i, phi, q, s.rgb);
   }
 
  private:

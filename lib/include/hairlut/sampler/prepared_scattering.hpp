@@ -92,11 +92,7 @@ class PreparedScattering {
     double total = 0.0;
     bool ok = false;
   };
-  /// A drawn direction in angles.
-  struct Draw {
-    double theta_i = 0.0, sin_i = 0.0, cos_i = 1.0, phi = 0.0, pdf = 0.0, rgb[3] = {0.0, 0.0, 0.0};
-    int lobe = -1;
-  };
+  using Draw = linear_rows::Draw;
 
   PreparedScattering() = default;
   /// From a source at one roughness: `src` has lobes() (explicit), residual(), sigma_max() (the
@@ -400,14 +396,7 @@ class PreparedScattering {
     }
     s.cf = ph_.at(std::fabs(phi));
     combine(f, s, true, true);
-    d.pdf = density(pt, f, i, s);
-    if (!(d.pdf > 0.0) || !(d.pdf < HUGE_VAL)) {
-      d.pdf = 0.0;
-      return d;
-    }
-    d.theta_i = i.theta, d.sin_i = i.sin, d.cos_i = i.cos, d.phi = phi, d.lobe = q;
-    d.rgb[0] = s.rgb[0], d.rgb[1] = s.rgb[1], d.rgb[2] = s.rgb[2];
-    return d;
+    return linear_rows::drawn(density(pt, f, i, s), i, phi, q, s.rgb);
   }
 
  private:
